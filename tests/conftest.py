@@ -1,0 +1,81 @@
+"""Shared fixtures: small raw datasets written to temporary folders."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def reading_grid_mm(extent_mm, first_mm=0.05):
+    """Distances of the readings (tissue mm): 0.05 steps to 0.5, 0.25 to 3, 0.5 beyond."""
+    near = np.arange(first_mm, 0.5 + 1e-9, 0.05)
+    mid = np.arange(0.75, min(3.0, extent_mm) + 1e-9, 0.25)
+    far = np.arange(3.5, extent_mm + 1e-9, 0.5)
+    return np.round(np.concatenate([near, mid, far]), 6)
+
+
+def write_small_dataset(raw_dir, subjects=None, magnification=20.0, seed=7):
+    """Write a contract-conforming raw folder made from a simple known profile.
+
+    Each subject/depth profile is ``depth * (1 - x / extent)**2``: smooth,
+    monotone, zero at the extent, with 0.005 mm noise.  Returns the raw folder.
+
+    Parameters
+    ----------
+    raw_dir : pathlib.Path
+        Folder to create.
+    subjects : dict, optional
+        ``{subject: (species, [depths], extent_mm)}``.
+    """
+    subjects = subjects or {
+        "MK": ("monkey", [1.0, 2.0], 5.0),
+        "HU": ("human", [1.0], 9.0),
+    }
+    rng = np.random.default_rng(seed)
+    (raw_dir / "profiles").mkdir(parents=True, exist_ok=True)
+    lines = ["subject,species,magnification,label"]
+    for subject, (species, depths, extent_mm) in subjects.items():
+        lines.append(f"{subject},{species},{magnification:g},{species} {subject}")
+        rows = ["depth_mm,side,distance_image_mm,deflection_image_mm"]
+        for depth_mm in depths:
+            for side in ("left", "right"):
+                x = reading_grid_mm(extent_mm)
+                w = depth_mm * (1 - x / extent_mm) ** 2 + rng.normal(0, 0.005, x.size)
+                for xi, wi in zip(x, np.clip(w, 0, None)):
+                    rows.append(f"{depth_mm:g},{side},{xi * magnification:.3f},"
+                                f"{wi * magnification:.3f}")
+        (raw_dir / "profiles" / f"{subject}.csv").write_text("\n".join(rows) + "\n")
+    (raw_dir / "subjects.csv").write_text("\n".join(lines) + "\n")
+    return raw_dir
+
+
+@pytest.fixture
+def small_raw(tmp_path):
+    """A two-subject raw folder (monkey MK at 1 and 2 mm, human HU at 1 mm)."""
+    return write_small_dataset(tmp_path / "raw")
+
+
+def run_snakemake(*args, raw, results, cwd=REPO, timeout=600):
+    """Run snakemake on the repository's Snakefile with another raw/results folder."""
+    command = [
+        sys.executable, "-m", "snakemake", "--snakefile", str(REPO / "Snakefile"),
+        "--directory", str(cwd), "--cores", "2",
+        "--config", f"raw_data={raw}", f"results={results}", *args,
+    ]
+    env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
+    return subprocess.run(command, capture_output=True, text=True, timeout=timeout, env=env)
+
+
+@pytest.fixture(scope="session")
+def snakemake_available():
+    if shutil.which("snakemake") is None and not (Path(sys.executable).parent / "snakemake").exists():
+        pytest.fail("snakemake is not installed in this environment")
+    return True

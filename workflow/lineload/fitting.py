@@ -1,0 +1,361 @@
+"""Least-squares fits of the three deflection models to one averaged profile.
+
+Every fit takes the same points (distance and deflection in mm) and returns a
+:class:`FitResult` with its parameters and the same goodness-of-fit measures,
+so that models can be compared on equal terms.
+
+The waterbed fits keep ``W0`` fixed to the indentation depth, as in the paper,
+and fit ``L`` alone, constrained to ``L >= max(distance)`` so that every fitted
+point lies on the membrane (inside the wall).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .models import (
+    arc_deflection_mm,
+    arc_geometry,
+    boussinesq_deflection_mm,
+    waterbed_deflection_mm,
+)
+
+__all__ = [
+    "FitResult",
+    "fit_arc",
+    "fit_boussinesq",
+    "fit_waterbed",
+    "goodness_of_fit",
+    "in_fit_window",
+]
+
+#: Largest membrane half-width searched by the arc fit, as a multiple of the
+#: smallest admissible one (the waterbed fit has no such bound: it is exact).
+ARC_SEARCH_SPAN = 1000.0
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """Outcome of one least-squares fit.
+
+    Attributes
+    ----------
+    model : str
+        ``"waterbed"``, ``"arc"`` or ``"boussinesq"``.
+    params : dict of str to float
+        Fitted parameters, units in their names (``L_mm``, ``A_mm``, ``x0_mm``).
+    n_points : int
+        Number of points fitted.
+    n_params : int
+        Number of free model parameters (the noise variance not included).
+    sse_mm2 : float
+        Sum of squared residuals (mm^2).
+    rmse_mm : float
+        Root-mean-square residual (mm).
+    max_abs_residual_mm : float
+        Largest absolute residual (mm).
+    aicc : float
+        Small-sample corrected Akaike information criterion (see
+        :func:`goodness_of_fit`).
+    residual_mm : numpy.ndarray
+        Data minus model at each point, in input order.
+    """
+
+    model: str
+    params: dict
+    n_points: int
+    n_params: int
+    sse_mm2: float
+    rmse_mm: float
+    max_abs_residual_mm: float
+    aicc: float
+    residual_mm: np.ndarray = field(repr=False)
+
+
+def in_fit_window(distance_mm, window_mm):
+    """Mask of the points used in every fit: ``0 < distance <= window``.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        Distances from the load (mm).
+    window_mm : float
+        Outer edge of the fitted region (mm); ``inf`` keeps the whole profile.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+    """
+    distance_mm = np.asarray(distance_mm, dtype=float)
+    return (distance_mm > 0) & (distance_mm <= window_mm)
+
+
+def goodness_of_fit(residual_mm, n_params):
+    """RMSE, largest absolute residual and AICc of a least-squares fit.
+
+    The AICc assumes independent Gaussian errors of unknown variance, which
+    counts as one more parameter: with ``k = n_params + 1``,
+    ``AICc = n ln(SSE / n) + 2 k + 2 k (k + 1) / (n - k - 1)``.
+
+    Parameters
+    ----------
+    residual_mm : array_like
+        Data minus model (mm).
+    n_params : int
+        Number of free model parameters.
+
+    Returns
+    -------
+    dict
+        ``sse_mm2``, ``rmse_mm``, ``max_abs_residual_mm`` and ``aicc`` (NaN when
+        there are too few points for the correction).
+    """
+    residual_mm = np.asarray(residual_mm, dtype=float)
+    n = residual_mm.size
+    sse = float(np.sum(residual_mm**2))
+    k = n_params + 1
+    if n - k - 1 > 0:
+        with np.errstate(divide="ignore"):
+            aicc = n * np.log(sse / n) + 2 * k + 2 * k * (k + 1) / (n - k - 1)
+    else:
+        aicc = np.nan
+    return {
+        "sse_mm2": sse,
+        "rmse_mm": float(np.sqrt(sse / n)) if n else np.nan,
+        "max_abs_residual_mm": float(np.max(np.abs(residual_mm))) if n else np.nan,
+        "aicc": float(aicc),
+    }
+
+
+def _result(model, params, residual_mm, n_params):
+    return FitResult(
+        model=model,
+        params=params,
+        n_points=int(np.size(residual_mm)),
+        n_params=n_params,
+        residual_mm=np.asarray(residual_mm, dtype=float),
+        **goodness_of_fit(residual_mm, n_params),
+    )
+
+
+def _as_points(distance_mm, deflection_mm, minimum):
+    distance_mm = np.asarray(distance_mm, dtype=float)
+    deflection_mm = np.asarray(deflection_mm, dtype=float)
+    if distance_mm.shape != deflection_mm.shape or distance_mm.ndim != 1:
+        raise ValueError("distance_mm and deflection_mm must be 1-D arrays of equal length")
+    if distance_mm.size < minimum:
+        raise ValueError(f"at least {minimum} points are needed, got {distance_mm.size}")
+    if not (np.all(np.isfinite(distance_mm)) and np.all(np.isfinite(deflection_mm))):
+        raise ValueError("distances and deflections must be finite")
+    if np.any(distance_mm <= 0):
+        raise ValueError("distances must be > 0 (the load point itself is not fitted)")
+    return distance_mm, deflection_mm
+
+
+def fit_waterbed(distance_mm, deflection_mm, depth_mm):
+    """Fit the small-slope waterbed (eq. 19) with W0 fixed: exact global least squares.
+
+    With ``u = 1 / L`` the model ``W0 (3 u**2 x**2 - 4 u x + 1)`` is quadratic
+    in ``u``, so the sum of squared residuals is a quartic in ``u``.  Its global
+    minimum over ``0 <= u <= 1 / max(x)`` is at a real root of the cubic
+    derivative or at an end of that interval; all candidates are compared
+    exactly, so no start value or iterative optimiser is involved.  ``u = 0``
+    means a flat membrane (``L`` infinite).
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : array_like
+        Averaged profile points (mm); distances > 0.
+    depth_mm : float
+        Indentation depth, used as W0 (mm).
+
+    Returns
+    -------
+    FitResult
+        ``params = {"L_mm": L}``.
+    """
+    x, y = _as_points(distance_mm, deflection_mm, minimum=1)
+    a = y - depth_mm
+    b = 4.0 * depth_mm * x
+    c = -3.0 * depth_mm * x**2
+    # S(u) = sum (a + b u + c u^2)^2, coefficients from the highest power down
+    quartic = np.array(
+        [
+            np.sum(c * c),
+            2.0 * np.sum(b * c),
+            np.sum(b * b + 2.0 * a * c),
+            2.0 * np.sum(a * b),
+            np.sum(a * a),
+        ]
+    )
+    u_max = 1.0 / x.max()
+    roots = np.roots(np.polyder(quartic))
+    scale = max(1.0, float(np.max(np.abs(roots)))) if roots.size else 1.0
+    real = roots[np.abs(roots.imag) <= 1e-9 * scale].real
+    candidates = np.concatenate([[0.0, u_max], real[(real > 0) & (real < u_max)]])
+    sse = np.polyval(quartic, candidates)
+    u_best = float(candidates[np.argmin(sse)])
+    L_mm = np.inf if u_best == 0.0 else 1.0 / u_best
+    residual = y - waterbed_deflection_mm(x, depth_mm, L_mm)
+    return _result("waterbed", {"L_mm": L_mm}, residual, n_params=1)
+
+
+def _arc_sse(x, y, depth_mm, L_mm):
+    """Sum of squared residuals of the arc model for each L (vectorised over L)."""
+    L_mm = np.atleast_1d(np.asarray(L_mm, dtype=float))
+    geometry = arc_geometry(depth_mm, L_mm[:, None])
+    dx = x[None, :] - geometry["centre_x_mm"]
+    z = geometry["centre_z_mm"] + np.sqrt(np.maximum(geometry["radius_mm"] ** 2 - dx**2, 0.0))
+    model = np.where(x[None, :] <= L_mm[:, None], -z, 0.0)
+    sse = np.sum((y[None, :] - model) ** 2, axis=1)
+    return np.where(geometry["is_graph"][:, 0], sse, np.inf)
+
+
+def fit_arc(distance_mm, deflection_mm, depth_mm, n_grid=400, rtol=1e-10):
+    """Fit the exact circular-arc waterbed with W0 fixed and L free.
+
+    The one-dimensional least-squares problem in ``L`` is solved by a dense
+    log-spaced grid over ``[max(x), 1000 max(x)]`` (which finds the basin of
+    the global minimum) followed by golden-section refinement inside the two
+    grid cells around the best grid point.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : array_like
+        Averaged profile points (mm); distances > 0.
+    depth_mm : float
+        Indentation depth, used as W0 (mm).
+    n_grid : int, optional
+        Number of grid points.
+    rtol : float, optional
+        Relative width of the final bracket on L.
+
+    Returns
+    -------
+    FitResult
+        ``params = {"L_mm": L}``.
+    """
+    x, y = _as_points(distance_mm, deflection_mm, minimum=1)
+    L_lo = x.max()
+    grid = np.geomspace(L_lo, ARC_SEARCH_SPAN * L_lo, n_grid)
+    sse = _arc_sse(x, y, depth_mm, grid)
+    if not np.any(np.isfinite(sse)):
+        raise ValueError(f"no membrane half-width >= {L_lo:g} mm gives a valid arc")
+    best = int(np.argmin(sse))
+    lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, n_grid - 1)]
+    inv_phi = (np.sqrt(5.0) - 1.0) / 2.0
+    c, d = hi - inv_phi * (hi - lo), lo + inv_phi * (hi - lo)
+    fc, fd = _arc_sse(x, y, depth_mm, [c, d])
+    while hi - lo > rtol * hi:
+        if fc <= fd:
+            hi, d, fd = d, c, fc
+            c = hi - inv_phi * (hi - lo)
+            fc = _arc_sse(x, y, depth_mm, c)[0]
+        else:
+            lo, c, fc = c, d, fd
+            d = lo + inv_phi * (hi - lo)
+            fd = _arc_sse(x, y, depth_mm, d)[0]
+    L_candidates = np.array([grid[best], 0.5 * (lo + hi)])
+    L_mm = float(L_candidates[np.argmin(_arc_sse(x, y, depth_mm, L_candidates))])
+    residual = y - arc_deflection_mm(x, depth_mm, L_mm)
+    return _result("arc", {"L_mm": L_mm}, residual, n_params=1)
+
+
+def fit_boussinesq(distance_mm, deflection_mm):
+    """Fit the modified Boussinesq profile ``A ln(x0 / x)``: linear least squares.
+
+    The model is a straight line in ``ln x``: ``w = A ln x0 - A ln x``, so the
+    fit is an exact linear regression.  ``x0`` is reported as NaN when the
+    slope has the wrong sign (``A <= 0``), where the form has no zero crossing.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : array_like
+        Averaged profile points (mm); distances > 0, at least two distinct.
+
+    Returns
+    -------
+    FitResult
+        ``params = {"A_mm": A, "x0_mm": x0}``.
+    """
+    x, y = _as_points(distance_mm, deflection_mm, minimum=2)
+    log_x = np.log(x)
+    design = np.column_stack([np.ones_like(log_x), -log_x])
+    (intercept, A_mm), *_ = np.linalg.lstsq(design, y, rcond=None)
+    residual = y - design @ np.array([intercept, A_mm])
+    x0_mm = float(np.exp(intercept / A_mm)) if A_mm > 0 else np.nan
+    if A_mm > 0:
+        residual = y - boussinesq_deflection_mm(x, A_mm, x0_mm)
+    return _result("boussinesq", {"A_mm": float(A_mm), "x0_mm": x0_mm}, residual, n_params=2)
+
+
+#: Columns of the fit table, in order (one row per subject and depth).
+FIT_COLUMNS = [
+    "subject",
+    "species",
+    "depth_mm",
+    "fit_window_mm",
+    "n_points",
+    "max_distance_mm",
+    "waterbed_L_mm",
+    "waterbed_rmse_mm",
+    "waterbed_max_abs_residual_mm",
+    "waterbed_aicc",
+    "arc_L_mm",
+    "arc_rmse_mm",
+    "arc_max_abs_residual_mm",
+    "arc_aicc",
+    "boussinesq_A_mm",
+    "boussinesq_x0_mm",
+    "boussinesq_rmse_mm",
+    "boussinesq_max_abs_residual_mm",
+    "boussinesq_aicc",
+]
+
+
+def fit_trial(distance_mm, deflection_mm, depth_mm, window_mm):
+    """Fit all three models to one trial on the same points.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : array_like
+        The averaged profile of one subject at one depth (mm).
+    depth_mm : float
+        Indentation depth (mm), W0 of both waterbed fits.
+    window_mm : float
+        Points with ``0 < distance <= window_mm`` are fitted.
+
+    Returns
+    -------
+    dict
+        The model columns of :data:`FIT_COLUMNS` (all but ``subject`` and
+        ``species``).  A model that needs more points than the window holds
+        gets NaN.
+    """
+    distance_mm = np.asarray(distance_mm, dtype=float)
+    deflection_mm = np.asarray(deflection_mm, dtype=float)
+    keep = in_fit_window(distance_mm, window_mm) & np.isfinite(deflection_mm)
+    x, y = distance_mm[keep], deflection_mm[keep]
+    row = {
+        "depth_mm": float(depth_mm),
+        "fit_window_mm": float(window_mm),
+        "n_points": int(x.size),
+        "max_distance_mm": float(x.max()) if x.size else np.nan,
+    }
+    fits = {
+        "waterbed": (lambda: fit_waterbed(x, y, depth_mm), ["L_mm"]),
+        "arc": (lambda: fit_arc(x, y, depth_mm), ["L_mm"]),
+        "boussinesq": (lambda: fit_boussinesq(x, y), ["A_mm", "x0_mm"]),
+    }
+    for model, (fit, names) in fits.items():
+        try:
+            result = fit()
+        except ValueError:
+            result = None
+        for name in names:
+            row[f"{model}_{name}"] = result.params[name] if result else np.nan
+        for measure in ("rmse_mm", "max_abs_residual_mm", "aicc"):
+            row[f"{model}_{measure}"] = getattr(result, measure) if result else np.nan
+    return row

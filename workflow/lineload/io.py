@@ -1,0 +1,79 @@
+"""Reading schemas and writing reproducible, human-readable tables.
+
+Every file the workflow writes goes through :func:`write_csv` (or
+:func:`write_text`): fixed float formatting, ``\\n`` line endings and an
+atomic rename, so two builds give identical bytes and a failed step leaves no
+half-written file behind.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+__all__ = ["SCHEMA_DIR", "FLOAT_FORMAT", "load_schema", "write_csv", "write_text"]
+
+#: The JSON schemas (YAML) of the config and of each raw-data table.
+SCHEMA_DIR = Path(__file__).resolve().parents[1] / "schemas"
+
+#: Ten significant digits: exact enough to recompute any number downstream.
+FLOAT_FORMAT = "%.10g"
+
+
+def load_schema(name):
+    """Load ``workflow/schemas/<name>.schema.yaml`` as a dict.
+
+    Parameters
+    ----------
+    name : str
+        ``config``, ``subjects``, ``profiles`` or ``outlines``.
+
+    Returns
+    -------
+    dict
+    """
+    import yaml
+
+    with open(SCHEMA_DIR / f"{name}.schema.yaml", encoding="utf-8") as handle:
+        return yaml.safe_load(handle)
+
+
+def write_text(text, path):
+    """Write text atomically (temporary file in the same folder, then rename).
+
+    Parameters
+    ----------
+    text : str
+        Content; written as UTF-8 with ``\\n`` line endings.
+    path : str or os.PathLike
+        Destination; parent folders are created.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8", newline="\n") as stream:
+            stream.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_csv(frame, path, columns=None):
+    """Write a DataFrame as CSV with fixed formatting, atomically.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        Table to write (the index is not written).
+    path : str or os.PathLike
+        Destination.
+    columns : list of str, optional
+        Column order; defaults to the frame's.
+    """
+    text = frame.to_csv(
+        index=False, columns=columns, float_format=FLOAT_FORMAT, lineterminator="\n"
+    )
+    write_text(text, path)

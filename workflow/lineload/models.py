@@ -1,0 +1,230 @@
+"""Surface-deflection models for a fingertip under a line load.
+
+Three profiles, all giving the downward deflection of the skin surface as a
+function of the horizontal distance from the wedge (both in millimetres):
+
+* the waterbed membrane in its small-slope form (Srinivasan 1989, eq. 19),
+  with the horizontal shift of material points (eq. 20);
+* the exact finite-deformation waterbed: a circular arc from the load point to
+  the channel wall that encloses zero net area;
+* the modified Boussinesq (Flamant) half-space, ``A ln(x0 / x)``.
+
+The waterbed models live on ``0 <= X <= L``; beyond the wall (``X > L``) the
+surface does not move, so they return zero there.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "arc_geometry",
+    "arc_deflection_mm",
+    "boussinesq_deflection_mm",
+    "waterbed_deflection_mm",
+    "waterbed_load_angle_rad",
+    "waterbed_shift_mm",
+    "waterbed_strain",
+]
+
+
+def waterbed_deflection_mm(distance_mm, depth_mm, L_mm):
+    """Small-slope waterbed profile W(X) (eq. 19).
+
+    ``W = W0 (3 s**2 - 4 s + 1)`` with ``s = X / L`` on ``0 <= X <= L`` and
+    zero beyond the wall.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        Initial horizontal coordinate X from the load (mm, >= 0).
+    depth_mm : float
+        Deflection under the load, W0 (mm).
+    L_mm : float
+        Half-width of the membrane, L (mm, > 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        Downward deflection W(X) (mm); negative values are the upward bulge.
+    """
+    s = np.asarray(distance_mm, dtype=float) / L_mm
+    profile = depth_mm * (3.0 * s**2 - 4.0 * s + 1.0)
+    return np.where(s <= 1.0, profile, 0.0)
+
+
+def waterbed_shift_mm(distance_mm, depth_mm, L_mm):
+    """Horizontal shift U(X) of a membrane point in the small-slope solution (eq. 20).
+
+    ``U = -(6 W0**2 / L) s (s - 1)**2`` with ``s = X / L``; zero at both ends,
+    largest in magnitude at ``X = L / 3`` where it equals ``-8 W0**2 / (9 L)``.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        Initial horizontal coordinate X (mm, >= 0).
+    depth_mm : float
+        Deflection under the load, W0 (mm).
+    L_mm : float
+        Half-width of the membrane, L (mm).
+
+    Returns
+    -------
+    numpy.ndarray
+        Horizontal displacement U(X) (mm); negative means towards the load.
+    """
+    s = np.asarray(distance_mm, dtype=float) / L_mm
+    shift = -(6.0 * depth_mm**2 / L_mm) * s * (s - 1.0) ** 2
+    return np.where(s <= 1.0, shift, 0.0)
+
+
+def waterbed_strain(depth_mm, L_mm):
+    """Uniform membrane (Green) strain of the small-slope solution, ``2 W0**2 / L**2``.
+
+    Parameters
+    ----------
+    depth_mm : float or array_like
+        Deflection under the load, W0 (mm).
+    L_mm : float or array_like
+        Half-width of the membrane (mm).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Dimensionless strain.
+    """
+    return 2.0 * np.asarray(depth_mm, dtype=float) ** 2 / np.asarray(L_mm, dtype=float) ** 2
+
+
+def waterbed_load_angle_rad(depth_mm, L_mm):
+    """Angle theta0 between the membrane and the horizontal at the load.
+
+    In the small-slope solution the slope at ``X = 0`` is ``-4 W0 / L``, so
+    ``theta0 = arctan(4 W0 / L)``; the load balances ``F = 2 N sin(theta0)``.
+
+    Parameters
+    ----------
+    depth_mm : float or array_like
+        Deflection under the load, W0 (mm).
+    L_mm : float or array_like
+        Half-width of the membrane (mm).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        theta0 in radians.
+    """
+    return np.arctan(4.0 * np.asarray(depth_mm, dtype=float) / np.asarray(L_mm, dtype=float))
+
+
+def _segment_shape(phi):
+    """``(2 phi - sin 2 phi) / (4 sin**2 phi)``, increasing from 0 (like phi/3)."""
+    phi = np.asarray(phi, dtype=float)
+    small = phi < 1e-4
+    safe = np.where(small, 1.0, phi)
+    exact = (2.0 * safe - np.sin(2.0 * safe)) / (4.0 * np.sin(safe) ** 2)
+    return np.where(small, phi / 3.0, exact)
+
+
+def arc_geometry(depth_mm, L_mm):
+    """Circle through the load point and the wall that encloses zero net area.
+
+    The arc runs from ``(0, -W0)`` to ``(L, 0)`` (z upward).  With
+    ``delta = W0 / L`` and chord ``c = L sqrt(1 + delta**2)``, its half-angle
+    ``phi`` solves ``c**2 (2 phi - sin 2 phi) / (4 sin**2 phi) = W0 L``, so the
+    circular segment above the chord cancels the triangle below the baseline.
+
+    Parameters
+    ----------
+    depth_mm : float or array_like
+        Deflection under the load, W0 (mm, > 0).
+    L_mm : float or array_like
+        Half-width of the membrane (mm, > 0); broadcast against ``depth_mm``.
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``phi_rad`` (half-angle), ``radius_mm``, ``centre_x_mm``, ``centre_z_mm``
+        and ``is_graph`` (True where the arc is a single-valued function of x on
+        ``[0, L]``, i.e. it does not fold back past the load axis).
+    """
+    depth_mm, L_mm = np.broadcast_arrays(
+        np.asarray(depth_mm, dtype=float), np.asarray(L_mm, dtype=float)
+    )
+    target = depth_mm * L_mm / (L_mm**2 + depth_mm**2)  # delta / (1 + delta**2) <= 1/2
+    # _segment_shape is increasing on (0, pi/2] and reaches pi/4 > 1/2 there:
+    # bisection brackets the unique root for every admissible target.
+    lo = np.zeros_like(target)
+    hi = np.full_like(target, np.pi / 2)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        below = _segment_shape(mid) < target
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid)
+    phi = 0.5 * (lo + hi)
+    chord_mm = np.hypot(L_mm, depth_mm)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        radius_mm = chord_mm / (2.0 * np.sin(phi))
+        # distance from the chord's midpoint to the centre, away from the bulge
+        offset_mm = radius_mm * np.cos(phi)
+        centre_x_mm = L_mm / 2.0 + offset_mm * depth_mm / chord_mm
+        centre_z_mm = -depth_mm / 2.0 - offset_mm * L_mm / chord_mm
+    is_graph = np.tan(phi) * depth_mm <= L_mm
+    return {
+        "phi_rad": phi,
+        "radius_mm": radius_mm,
+        "centre_x_mm": centre_x_mm,
+        "centre_z_mm": centre_z_mm,
+        "is_graph": is_graph,
+    }
+
+
+def arc_deflection_mm(distance_mm, depth_mm, L_mm):
+    """Exact waterbed profile: the zero-area circular arc, as downward deflection.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        Horizontal distance x from the load in the deformed state (mm, >= 0).
+    depth_mm : float
+        Deflection under the load, W0 (mm, > 0).
+    L_mm : float
+        Half-width of the membrane (mm, > 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        Downward deflection w(x) (mm); zero beyond the wall and NaN everywhere
+        when the arc is not a function of x (extreme W0 / L).
+    """
+    distance_mm = np.asarray(distance_mm, dtype=float)
+    geometry = arc_geometry(depth_mm, L_mm)
+    if not bool(geometry["is_graph"]):
+        return np.full(distance_mm.shape, np.nan)
+    dx = distance_mm - geometry["centre_x_mm"]
+    z_mm = geometry["centre_z_mm"] + np.sqrt(np.maximum(geometry["radius_mm"] ** 2 - dx**2, 0.0))
+    return np.where(distance_mm <= L_mm, -z_mm, 0.0)
+
+
+def boussinesq_deflection_mm(distance_mm, A_mm, x0_mm):
+    """Modified Boussinesq (Flamant) surface profile ``A ln(x0 / x)``.
+
+    The half-space solution is infinite under the load; the modified form is
+    used away from it only.  With a measured force per unit length ``P`` and
+    Poisson's ratio 1/2, ``A = 3 P / (2 pi E)``.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        Distance from the load (mm, > 0).
+    A_mm : float
+        Amplitude (mm): the drop in deflection per unit of natural log distance.
+    x0_mm : float
+        Distance at which the deflection reaches zero (mm, > 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        Downward deflection (mm); negative beyond ``x0``.
+    """
+    return A_mm * np.log(x0_mm / np.asarray(distance_mm, dtype=float))

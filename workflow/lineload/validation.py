@@ -1,0 +1,267 @@
+"""Checks of the raw-data contract, with messages that point at the bad cell.
+
+Each table of the contract (``subjects.csv``, ``profiles/<subject>.csv``,
+``outlines/<subject>.csv``) has a JSON schema describing one row.  The column
+rules of that schema (required columns, ``type``, ``enum``, ``pattern``,
+``minimum``/``exclusiveMinimum``/``maximum``) are applied here to whole
+columns at once, so that thousands of files validate in seconds, and every
+failure is reported as one :class:`InputError` naming the file, the line
+(the header is line 1) and the column, with what was expected and what was
+found.  Rules that span rows (unique ids, duplicate readings, a profile file
+for each subject) are checked here too, since a row schema cannot say them.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+import re
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "InputError",
+    "check_no_duplicate_readings",
+    "check_subjects",
+    "read_table",
+]
+
+
+class InputError(ValueError):
+    """Raw input that breaks the data contract; the message says where and why."""
+
+
+def _where(path, line, column):
+    place = f"{path}, line {line}" if line is not None else f"{path}"
+    return f"{place}, column '{column}'" if column is not None else place
+
+
+def _fail(path, line, column, message):
+    raise InputError(f"{_where(path, line, column)}: {message}")
+
+
+def _expected_number(rules):
+    bounds = []
+    if "exclusiveMinimum" in rules:
+        bounds.append(f"> {rules['exclusiveMinimum']:g}")
+    if "minimum" in rules:
+        bounds.append(f">= {rules['minimum']:g}")
+    if "maximum" in rules:
+        bounds.append(f"<= {rules['maximum']:g}")
+    return "a number" + (" " + " and ".join(bounds) if bounds else "")
+
+
+def _shown(value):
+    return "an empty cell" if value == "" else repr(value)
+
+
+def _check_column(path, column, raw, rules):
+    """Apply one column's schema rules; return the typed column."""
+    kind = rules.get("type", "string")
+    if isinstance(kind, list):
+        kind = next(k for k in kind if k != "null")
+    if kind in ("number", "integer"):
+        values = pd.to_numeric(raw, errors="coerce").to_numpy(dtype=float)
+        bad = ~np.isfinite(values)
+        if kind == "integer":
+            bad |= np.isfinite(values) & (values != np.round(values))
+        expected = _expected_number(rules).replace("a number", f"an {kind}" if kind == "integer" else "a number")
+        if bad.any():
+            i = int(np.argmax(bad))
+            _fail(path, i + 2, column, f"expected {expected}, got {_shown(raw.iloc[i])}")
+        checks = []
+        if "exclusiveMinimum" in rules:
+            checks.append(values <= rules["exclusiveMinimum"])
+        if "minimum" in rules:
+            checks.append(values < rules["minimum"])
+        if "maximum" in rules:
+            checks.append(values > rules["maximum"])
+        for out_of_range in checks:
+            if out_of_range.any():
+                i = int(np.argmax(out_of_range))
+                _fail(path, i + 2, column, f"expected {expected}, got {_shown(raw.iloc[i])}")
+        return values
+    values = raw.to_numpy(dtype=object)
+    if "enum" in rules:
+        allowed = set(rules["enum"])
+        bad = ~raw.isin(allowed).to_numpy()
+        if bad.any():
+            i = int(np.argmax(bad))
+            choices = " or ".join(repr(v) for v in rules["enum"])
+            _fail(path, i + 2, column, f"expected {choices}, got {_shown(raw.iloc[i])}")
+    if "pattern" in rules:
+        pattern = re.compile(rules["pattern"])
+        bad = np.array([pattern.search(v) is None for v in values], dtype=bool)
+        if bad.any():
+            i = int(np.argmax(bad))
+            what = rules.get("description", f"text matching {rules['pattern']}")
+            _fail(path, i + 2, column, f"expected {what}, got {_shown(values[i])}")
+    return values
+
+
+def read_table(path, schema, display_path=None):
+    """Read one contract table and check it against its row schema.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        CSV file to read.
+    schema : dict
+        JSON schema of one row: ``properties`` (column rules) and ``required``.
+    display_path : str, optional
+        How to name the file in messages (defaults to ``path``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        The table with schema columns typed (numbers as float, text as str) and
+        any extra columns kept as text.
+
+    Raises
+    ------
+    InputError
+        For a missing, empty or header-only file, a missing column, or the
+        first cell that breaks a column rule.
+    """
+    shown = display_path or os.fspath(path)
+    if not os.path.isfile(path):
+        _fail(shown, None, None, "file not found")
+    with open(path, newline="", encoding="utf-8") as handle:
+        reader = csv.reader(handle)
+        header = next(reader, None)
+        if header is None or not any(cell.strip() for cell in header):
+            _fail(shown, None, None, "file is empty; expected a header line naming the columns "
+                  + ", ".join(schema.get("required", [])))
+        header = [cell.strip() for cell in header]
+        rows = list(reader)
+    rows = [row for row in rows if any(cell.strip() for cell in row)]
+    for column in schema.get("required", []):
+        if column not in header:
+            _fail(shown, 1, column, "missing from the header; expected columns "
+                  + ", ".join(schema["required"]))
+    if len(set(header)) != len(header):
+        column = next(c for c in header if header.count(c) > 1)
+        _fail(shown, 1, column, "appears twice in the header")
+    if not rows:
+        _fail(shown, None, None, "has a header but no data rows")
+    for index, row in enumerate(rows):
+        if len(row) != len(header):
+            _fail(shown, index + 2, None,
+                  f"expected {len(header)} comma-separated fields as in the header, got {len(row)}")
+    table = pd.DataFrame(rows, columns=header, dtype=object).apply(lambda col: col.str.strip())
+    for column, rules in schema.get("properties", {}).items():
+        if column in table.columns:
+            table[column] = _check_column(shown, column, table[column], rules)
+    return table
+
+
+def check_no_duplicate_readings(profile, path, keys=("depth_mm", "side", "distance_image_mm")):
+    """Refuse a reading given twice (same depth, side and distance).
+
+    Parameters
+    ----------
+    profile : pandas.DataFrame
+        Output of :func:`read_table` for one profile file (rows in file order).
+    path : str
+        File name used in the message.
+    keys : tuple of str
+        Columns that identify a reading.
+
+    Raises
+    ------
+    InputError
+        Naming both lines and the columns that coincide.
+    """
+    duplicated = profile.duplicated(subset=list(keys), keep="first").to_numpy()
+    if duplicated.any():
+        i = int(np.argmax(duplicated))
+        row = profile.iloc[i]
+        same = (profile[list(keys)] == row[list(keys)]).all(axis=1).to_numpy()
+        first = int(np.argmax(same))
+        reading = ", ".join(f"{k}={row[k]:g}" if isinstance(row[k], float) else f"{k}={row[k]}"
+                            for k in keys)
+        _fail(path, i + 2, "/".join(keys),
+              f"duplicate reading ({reading}) already given on line {first + 2}; "
+              "expected one reading per depth, side and distance")
+
+
+def check_subjects(subjects, path, profile_dir, profile_dir_shown=None):
+    """Rules on the subject sheet that span rows or files.
+
+    Subject ids must be unique, and each listed subject must have its profile
+    file ``<profile_dir>/<subject>.csv``.
+
+    Parameters
+    ----------
+    subjects : pandas.DataFrame
+        Output of :func:`read_table` for ``subjects.csv``.
+    path : str
+        Name of the subject sheet in messages.
+    profile_dir : str
+        Folder of the profile files.
+    profile_dir_shown : str, optional
+        How to name that folder in messages.
+
+    Raises
+    ------
+    InputError
+    """
+    shown_dir = profile_dir_shown or profile_dir
+    ids = subjects["subject"]
+    duplicated = ids.duplicated().to_numpy()
+    if duplicated.any():
+        i = int(np.argmax(duplicated))
+        first = int(np.argmax((ids == ids.iloc[i]).to_numpy()))
+        _fail(path, i + 2, "subject",
+              f"subject {ids.iloc[i]!r} is already listed on line {first + 2}; expected unique ids")
+    for i, subject in enumerate(ids):
+        if not os.path.isfile(os.path.join(profile_dir, f"{subject}.csv")):
+            _fail(path, i + 2, "subject",
+                  f"no profile file for subject {subject!r}; expected {shown_dir}/{subject}.csv")
+
+
+def check_dataset(raw_dir, schemas, raw_dir_shown=None):
+    """Validate a whole raw-data folder before anything is computed.
+
+    Parameters
+    ----------
+    raw_dir : str
+        Folder with ``subjects.csv``, ``profiles/`` and optionally ``outlines/``.
+    schemas : dict
+        Row schemas keyed ``subjects``, ``profiles`` and ``outlines``.
+    raw_dir_shown : str, optional
+        How to name the folder in messages (defaults to ``raw_dir``).
+
+    Returns
+    -------
+    dict
+        ``subjects`` (the typed subject sheet), ``depths_mm`` (subject -> sorted
+        list of depths) and ``outlines`` (subject -> sorted list of depths with
+        an outline file, for listed subjects that have one).
+
+    Raises
+    ------
+    InputError
+        At the first rule broken, naming file, line and column.
+    """
+    shown = raw_dir_shown or raw_dir
+
+    def here(*parts):
+        return os.path.join(raw_dir, *parts), "/".join([shown.rstrip("/"), *parts])
+
+    path, path_shown = here("subjects.csv")
+    subjects = read_table(path, schemas["subjects"], path_shown)
+    profile_dir, profile_dir_shown = here("profiles")
+    check_subjects(subjects, path_shown, profile_dir, profile_dir_shown)
+    depths_mm, outlines = {}, {}
+    for subject in subjects["subject"]:
+        path, path_shown = here("profiles", f"{subject}.csv")
+        profile = read_table(path, schemas["profiles"], path_shown)
+        check_no_duplicate_readings(profile, path_shown)
+        depths_mm[subject] = sorted(float(d) for d in set(profile["depth_mm"]))
+        path, path_shown = here("outlines", f"{subject}.csv")
+        if os.path.isfile(path):
+            outline = read_table(path, schemas["outlines"], path_shown)
+            outlines[subject] = sorted(float(d) for d in set(outline["depth_mm"]))
+    return {"subjects": subjects, "depths_mm": depths_mm, "outlines": outlines}
