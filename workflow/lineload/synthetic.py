@@ -1,0 +1,688 @@
+"""Seeded generator of the synthetic reconstruction shipped in ``data/raw``.
+
+The digitised profiles behind Srinivasan (1989) were never published.  This
+module builds a stand-in dataset that follows every experimental number the
+paper gives (subjects, depths, reading grid, magnification, extent of the
+deformed region) from a *true* profile that is deliberately neither of the
+models the workflow fits, plus seeded digitising noise.
+
+True profile
+------------
+For one side of the wedge, with ``s = 1 - x / e`` on ``0 <= x <= e`` and zero
+beyond the edge ``e`` of the deformed region::
+
+    w(x) = depth * ((1 - beta) * s**p + beta * s**q)
+
+a broad power-law decay (exponent ``p``) plus a narrow near-field term
+(exponent ``q``, weight ``beta``) that makes the skin next to the wedge drop
+faster than the broad term alone.  ``w(0) = depth``, ``w(e) = 0``, ``w`` falls
+strictly on ``[0, e]`` and, for ``p > 1``, meets the resting surface with zero
+slope: there is no bulge.  Per subject, ``e`` and ``p`` vary linearly with depth
+between their values at 0.5 and 2 mm, and ``beta`` grows linearly from 0 at
+0.5 mm; each side's edge is ``e (1 + a)`` (left) or ``e (1 - a)`` (right).
+
+Everything here is a pure function: no file is read or written.  The CLI
+``workflow/scripts/make_synthetic_data.py`` writes what :func:`build_dataset`
+returns.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "DEFAULT_SEED",
+    "DEPTHS_MM",
+    "MAGNIFICATION",
+    "SubjectParameters",
+    "TrialParameters",
+    "build_dataset",
+    "draw_subjects",
+    "outline_table",
+    "parameter_markdown",
+    "parameter_table",
+    "profile_table",
+    "reading_distances_mm",
+    "shipped_subjects",
+    "subject_markdown",
+    "subject_rng",
+    "subjects_table",
+    "trial_parameters",
+    "true_deflection_mm",
+]
+
+#: Seed of the shipped dataset (the paper's year).
+DEFAULT_SEED = 1989
+#: Enlargement of the photographs on which readings are taken.
+MAGNIFICATION = 20.0
+#: Indentation depths given to every subject (tissue mm).
+DEPTHS_MM = (0.5, 1.0, 1.5, 2.0)
+#: Depths of the third human (the paper gave it 1 and 2 mm only).
+SHORT_DEPTHS_MM = (1.0, 2.0)
+#: Depths at which the per-subject parameters are specified; linear in between.
+SHALLOW_DEPTH_MM, DEEP_DEPTH_MM = 0.5, 2.0
+#: Exponent of the narrow near-field term (same for every trial).
+NEAR_EXPONENT = 10.0
+#: Standard deviation of the digitising error, tissue mm.
+NOISE_SD_MM = 0.01
+#: Resolution of a reading on the enlargement (image mm).
+IMAGE_RESOLUTION_MM = 0.1
+#: Spacing of the reading positions, tissue mm: the finest step of the grid.
+GRID_TICK_MM = 0.05
+#: Reading grid in ticks of 0.05 mm: every tick to 0.5 mm, every 5 ticks
+#: (0.25 mm) to 3 mm, then every 10 ticks (0.5 mm).
+FINE_END_TICKS, MEDIUM_END_TICKS = 10, 60
+MEDIUM_STEP_TICKS, COARSE_STEP_TICKS = 5, 10
+#: First reading of a side is 0.05 mm with this probability, else 0.1 mm (glare).
+P_FIRST_AT_FINEST = 0.6
+#: Sampling step of the drawn outlines (tissue mm) and their margin beyond the edge.
+OUTLINE_STEP_MM = 0.1
+OUTLINE_MARGIN_MM = 2.0
+#: Outlines stop at this fraction of the resting radius (a circle cannot go further).
+OUTLINE_MAX_FRACTION_OF_RADIUS = 0.9
+#: Depths at which outlines are drawn (Figure 1).
+OUTLINE_DEPTHS_MM = (1.0, 2.0)
+
+SPECIES_CODE = {"monkey": 0, "human": 1}
+SPECIES_PREFIX = {"monkey": "M", "human": "H"}
+SPECIES_LABEL = {"monkey": "Monkey", "human": "Human"}
+
+#: Ranges (low, high) from which scale-mode subjects draw their parameters.
+#: They enclose the hand-chosen values of the shipped subjects.
+PARAMETER_RANGES = {
+    "monkey": {
+        "extent_shallow_mm": (3.3, 4.2),
+        "extent_deep_mm": (5.4, 6.6),
+        "exponent_shallow": (1.25, 1.45),
+        "exponent_deep": (1.48, 1.70),
+        "near_fraction_deep": (0.18, 0.24),
+        "side_asymmetry": (-0.03, 0.03),
+        "resting_radius_mm": (6.0, 8.0),
+    },
+    "human": {
+        "extent_shallow_mm": (6.6, 7.4),
+        "extent_deep_mm": (10.0, 11.2),
+        "exponent_shallow": (2.00, 2.20),
+        "exponent_deep": (2.40, 2.65),
+        "near_fraction_deep": (0.20, 0.26),
+        "side_asymmetry": (-0.03, 0.03),
+        "resting_radius_mm": (40.0, 60.0),
+    },
+}
+
+
+@dataclass(frozen=True)
+class SubjectParameters:
+    """True-profile parameters of one synthetic finger.
+
+    Attributes
+    ----------
+    subject : str
+        Id (``M1``, ``H2``...), also the profile file name.
+    species : str
+        ``monkey`` or ``human``.
+    index : int
+        1-based number within the species; with the species it keys the
+        subject's random stream.
+    label : str
+        Display label (``Monkey 1``).
+    depths_mm : tuple of float
+        Indentation depths given to this finger (tissue mm).
+    extent_shallow_mm, extent_deep_mm : float
+        Edge of the deformed region (mean of the sides) at 0.5 and 2 mm depth.
+    exponent_shallow, exponent_deep : float
+        Power ``p`` of the broad term at 0.5 and 2 mm depth (> 1).
+    near_fraction_deep : float
+        Weight ``beta`` of the near-field term at 2 mm (0 at 0.5 mm).
+    side_asymmetry : float
+        ``a``: the left edge is ``e (1 + a)``, the right edge ``e (1 - a)``.
+    resting_radius_mm : float or None
+        Radius of the circular resting outline drawn for Figure 1; ``None``
+        for fingers without an outline file.
+    """
+
+    subject: str
+    species: str
+    index: int
+    label: str
+    depths_mm: tuple
+    extent_shallow_mm: float
+    extent_deep_mm: float
+    exponent_shallow: float
+    exponent_deep: float
+    near_fraction_deep: float
+    side_asymmetry: float
+    resting_radius_mm: float | None = None
+
+
+@dataclass(frozen=True)
+class TrialParameters:
+    """True-profile parameters of one subject at one depth.
+
+    Attributes
+    ----------
+    depth_mm : float
+        Indentation depth, equal to the true deflection at the wedge (mm).
+    extent_left_mm, extent_right_mm : float
+        Edge of the deformed region on each side (mm, multiples of 0.05 mm).
+    exponent : float
+        Power ``p`` of the broad term.
+    near_fraction : float
+        Weight ``beta`` of the near-field term.
+    near_exponent : float
+        Power ``q`` of the near-field term.
+    """
+
+    depth_mm: float
+    extent_left_mm: float
+    extent_right_mm: float
+    exponent: float
+    near_fraction: float
+    near_exponent: float
+
+    def extent_mm(self, side):
+        """Edge of the deformed region on ``side`` (``left`` or ``right``), mm."""
+        return {"left": self.extent_left_mm, "right": self.extent_right_mm}[side]
+
+
+def _subject(species, index, depths_mm, **values):
+    prefix, label = SPECIES_PREFIX[species], SPECIES_LABEL[species]
+    return SubjectParameters(
+        subject=f"{prefix}{index}",
+        species=species,
+        index=index,
+        label=f"{label} {index}",
+        depths_mm=tuple(float(d) for d in depths_mm),
+        **values,
+    )
+
+
+def shipped_subjects():
+    """The seven hand-chosen fingers of the shipped dataset.
+
+    Four monkeys and three humans; the third human has 1 and 2 mm only.  Only
+    ``M1`` (markedly curved at rest) and ``H1`` (nearly flat) get outlines.
+    The values were tuned once, offline, so that fits of the averaged profiles
+    within 3 mm show what the paper reports; see ``data/README.md``.
+
+    Returns
+    -------
+    list of SubjectParameters
+    """
+    rows = [
+        # species, index, extent 0.5 / 2 mm, exponent 0.5 / 2 mm, beta at 2 mm, a, radius
+        ("monkey", 1, 3.6, 5.9, 1.35, 1.53, 0.20, 0.020, 8.0),
+        ("monkey", 2, 3.9, 6.4, 1.40, 1.63, 0.22, -0.030, None),
+        ("monkey", 3, 3.4, 5.6, 1.25, 1.48, 0.18, 0.015, None),
+        ("monkey", 4, 4.1, 6.5, 1.45, 1.68, 0.24, -0.020, None),
+        ("human", 1, 7.0, 10.6, 2.10, 2.55, 0.24, 0.025, 45.0),
+        ("human", 2, 6.7, 10.2, 2.00, 2.40, 0.22, -0.020, None),
+        ("human", 3, 7.3, 11.0, 2.20, 2.60, 0.26, 0.030, None),
+    ]
+    subjects = []
+    for species, index, e_lo, e_hi, p_lo, p_hi, beta, asym, radius in rows:
+        depths = SHORT_DEPTHS_MM if (species, index) == ("human", 3) else DEPTHS_MM
+        subjects.append(
+            _subject(
+                species, index, depths,
+                extent_shallow_mm=e_lo, extent_deep_mm=e_hi,
+                exponent_shallow=p_lo, exponent_deep=p_hi,
+                near_fraction_deep=beta, side_asymmetry=asym,
+                resting_radius_mm=radius,
+            )
+        )
+    return subjects
+
+
+def subject_rng(seed, species, index, stream):
+    """Random generator of one subject, independent of the other subjects.
+
+    The stream is keyed by ``(seed, species, index, stream)`` through a
+    :class:`numpy.random.SeedSequence`, so a subject's numbers do not depend on
+    how many subjects are generated or in which order.
+
+    Parameters
+    ----------
+    seed : int
+        Dataset seed.
+    species : str
+        ``monkey`` or ``human``.
+    index : int
+        1-based number within the species.
+    stream : int
+        0 for parameter draws, 1 for readings, 2 for row shuffling.
+
+    Returns
+    -------
+    numpy.random.Generator
+    """
+    sequence = np.random.SeedSequence(seed, spawn_key=(SPECIES_CODE[species], index, stream))
+    return np.random.default_rng(sequence)
+
+
+def draw_subjects(n_monkeys, n_humans, seed=DEFAULT_SEED):
+    """Scale-mode fingers with parameters drawn uniformly from :data:`PARAMETER_RANGES`.
+
+    Every finger gets all four depths.  The first monkey and the first human
+    get a resting radius (and so an outline file), as in the shipped data.
+
+    Parameters
+    ----------
+    n_monkeys, n_humans : int
+        Number of fingers of each species (>= 0).
+    seed : int
+        Dataset seed.
+
+    Returns
+    -------
+    list of SubjectParameters
+        Monkeys ``M1..Mn`` then humans ``H1..Hm``.
+    """
+    subjects = []
+    for species, count in (("monkey", n_monkeys), ("human", n_humans)):
+        if count < 0:
+            raise ValueError(f"number of {species}s must be >= 0, got {count}")
+        ranges = PARAMETER_RANGES[species]
+        names = list(ranges)
+        low = np.array([ranges[name][0] for name in names])
+        high = np.array([ranges[name][1] for name in names])
+        for index in range(1, count + 1):
+            drawn = subject_rng(seed, species, index, 0).uniform(low, high)
+            values = {name: round(float(v), 3) for name, v in zip(names, drawn, strict=True)}
+            if index != 1:
+                values["resting_radius_mm"] = None
+            subjects.append(_subject(species, index, DEPTHS_MM, **values))
+    return subjects
+
+
+def trial_parameters(subject, depth_mm):
+    """True-profile parameters of ``subject`` at ``depth_mm``.
+
+    ``e`` and ``p`` are interpolated linearly in depth between their 0.5 and
+    2 mm values, ``beta`` rises linearly from 0 at 0.5 mm to its 2 mm value
+    (depths outside [0.5, 2] mm take the nearer end).  Each side's edge is
+    rounded to the 0.05 mm reading grid.
+
+    Parameters
+    ----------
+    subject : SubjectParameters
+    depth_mm : float
+        Indentation depth (mm, > 0).
+
+    Returns
+    -------
+    TrialParameters
+    """
+    t = float(np.clip((depth_mm - SHALLOW_DEPTH_MM) / (DEEP_DEPTH_MM - SHALLOW_DEPTH_MM), 0, 1))
+    extent_mm = subject.extent_shallow_mm + t * (subject.extent_deep_mm - subject.extent_shallow_mm)
+    exponent = subject.exponent_shallow + t * (subject.exponent_deep - subject.exponent_shallow)
+
+    def on_grid(value_mm):
+        return round(value_mm / GRID_TICK_MM) * GRID_TICK_MM
+
+    return TrialParameters(
+        depth_mm=float(depth_mm),
+        extent_left_mm=on_grid(extent_mm * (1.0 + subject.side_asymmetry)),
+        extent_right_mm=on_grid(extent_mm * (1.0 - subject.side_asymmetry)),
+        exponent=round(exponent, 4),
+        near_fraction=round(t * subject.near_fraction_deep, 4),
+        near_exponent=NEAR_EXPONENT,
+    )
+
+
+def true_deflection_mm(distance_mm, depth_mm, extent_mm, exponent,
+                       near_fraction=0.0, near_exponent=NEAR_EXPONENT):
+    """True (noise-free) downward deflection of one side of the wedge.
+
+    ``w = depth ((1 - beta) s**p + beta s**q)`` with ``s = 1 - x / e`` for
+    ``x < e`` and ``w = 0`` beyond the edge.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        Horizontal distance from the wedge (mm, >= 0).
+    depth_mm : float
+        Indentation depth, the deflection at the wedge (mm).
+    extent_mm : float
+        Edge of the deformed region, ``e`` (mm, > 0).
+    exponent : float
+        Power ``p`` of the broad term (> 1 for a smooth join at the edge).
+    near_fraction : float, optional
+        Weight ``beta`` of the near-field term, in [0, 1).
+    near_exponent : float, optional
+        Power ``q`` of the near-field term.
+
+    Returns
+    -------
+    numpy.ndarray
+        Deflection (mm), downward positive, never negative.
+    """
+    distance_mm = np.asarray(distance_mm, dtype=float)
+    s = np.clip(1.0 - np.abs(distance_mm) / extent_mm, 0.0, 1.0)
+    return depth_mm * ((1.0 - near_fraction) * s**exponent + near_fraction * s**near_exponent)
+
+
+def _trial_deflection_mm(distance_mm, trial, side):
+    return true_deflection_mm(
+        distance_mm, trial.depth_mm, trial.extent_mm(side),
+        trial.exponent, trial.near_fraction, trial.near_exponent,
+    )
+
+
+def reading_distances_mm(extent_mm, first_mm=0.05):
+    """Distances at which one side is read, in tissue mm.
+
+    Every 0.05 mm up to 0.5 mm, every 0.25 mm up to 3 mm, then every 0.5 mm,
+    keeping the positions strictly inside the deformed region, and a last
+    reading at its edge.  Readings closer to the wedge than ``first_mm`` are
+    lost to glare.
+
+    Parameters
+    ----------
+    extent_mm : float
+        Edge of the deformed region (mm; rounded to the 0.05 mm grid).
+    first_mm : float, optional
+        First readable distance (mm), 0.05 or 0.1 in the shipped data.
+
+    Returns
+    -------
+    numpy.ndarray
+        Increasing distances (mm), the last one equal to the edge.
+    """
+    return _reading_ticks(extent_mm, first_mm) * GRID_TICK_MM
+
+
+def _reading_ticks(extent_mm, first_mm):
+    """Reading positions as integer multiples of 0.05 mm."""
+    edge = round(extent_mm / GRID_TICK_MM)
+    first = round(first_mm / GRID_TICK_MM)
+    if edge < 1:
+        raise ValueError(f"extent must be at least {GRID_TICK_MM} mm, got {extent_mm}")
+    fine = np.arange(1, FINE_END_TICKS + 1)
+    medium = np.arange(
+        FINE_END_TICKS + MEDIUM_STEP_TICKS, MEDIUM_END_TICKS + 1, MEDIUM_STEP_TICKS
+    )
+    coarse = np.arange(MEDIUM_END_TICKS + COARSE_STEP_TICKS, edge, COARSE_STEP_TICKS)
+    ticks = np.concatenate([fine, medium, coarse])
+    ticks = ticks[(ticks >= first) & (ticks < edge)]
+    return np.append(ticks, edge)
+
+
+def _to_image(value_mm, magnification):
+    """Tissue mm to image mm, rounded to the digitising resolution, no ``-0.0``."""
+    steps = np.round(np.asarray(value_mm) * magnification / IMAGE_RESOLUTION_MM)
+    return steps * IMAGE_RESOLUTION_MM + 0.0
+
+
+def profile_table(subject, seed=DEFAULT_SEED, magnification=MAGNIFICATION, shuffle=False):
+    """Simulated digitised readings of one finger, in image units.
+
+    For each depth and side: the reading grid up to that side's edge (first
+    reading at 0.05 mm with probability 0.6, else 0.1 mm), true deflection
+    plus Gaussian digitising error of SD 0.01 tissue mm, clipped at 0 and
+    rounded to 0.1 mm on the enlargement.  The reading at the edge, where the
+    outlines rejoin, is 0 by definition.
+
+    Parameters
+    ----------
+    subject : SubjectParameters
+    seed : int, optional
+        Dataset seed.
+    magnification : float, optional
+        Enlargement factor (image mm per tissue mm).
+    shuffle : bool, optional
+        Shuffle the rows (seeded); otherwise sorted by depth, side, distance.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``depth_mm``, ``side``, ``distance_image_mm``,
+        ``deflection_image_mm``.
+    """
+    rng = subject_rng(seed, subject.species, subject.index, 1)
+    depth, side, distance, deflection = [], [], [], []
+    for depth_mm in subject.depths_mm:
+        trial = trial_parameters(subject, depth_mm)
+        for side_name in ("left", "right"):
+            first_mm = GRID_TICK_MM if rng.random() < P_FIRST_AT_FINEST else 2 * GRID_TICK_MM
+            distance_mm = reading_distances_mm(trial.extent_mm(side_name), first_mm)
+            noise_mm = rng.normal(0.0, NOISE_SD_MM, distance_mm.size)
+            noise_mm[-1] = 0.0  # the edge itself: outlines meet, nothing to read
+            true_mm = _trial_deflection_mm(distance_mm, trial, side_name)
+            read_mm = np.maximum(true_mm + noise_mm, 0.0)
+            depth.append(np.full(distance_mm.size, depth_mm))
+            side.append(np.full(distance_mm.size, side_name, dtype=object))
+            distance.append(_to_image(distance_mm, magnification))
+            deflection.append(_to_image(read_mm, magnification))
+    table = pd.DataFrame(
+        {
+            "depth_mm": np.concatenate(depth),
+            "side": np.concatenate(side),
+            "distance_image_mm": np.concatenate(distance),
+            "deflection_image_mm": np.concatenate(deflection),
+        }
+    )
+    if shuffle:
+        order = subject_rng(seed, subject.species, subject.index, 2).permutation(len(table))
+        table = table.iloc[order].reset_index(drop=True)
+    return table
+
+
+def outline_table(subject, magnification=MAGNIFICATION):
+    """Resting and deformed outlines of one finger for Figure 1, in image units.
+
+    The resting outline is a circle of radius ``resting_radius_mm`` whose top
+    touches the wedge (``z = 0`` at ``x = 0``, z upward); the deformed outline
+    is the resting one lowered by the true deflection (left side at x < 0).
+    Both are sampled every 0.1 mm from the wedge to 2 mm beyond each side's
+    edge, but no further than 0.9 of the radius.  No noise is added.
+
+    Parameters
+    ----------
+    subject : SubjectParameters
+        Must have a ``resting_radius_mm``.
+    magnification : float, optional
+        Enlargement factor.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``depth_mm``, ``state``, ``x_image_mm``, ``z_image_mm``, sorted
+        by depth, state (resting first) and x.
+    """
+    radius_mm = subject.resting_radius_mm
+    if radius_mm is None:
+        raise ValueError(f"subject {subject.subject} has no resting outline")
+    frames = []
+    for depth_mm in OUTLINE_DEPTHS_MM:
+        if depth_mm not in subject.depths_mm:
+            continue
+        trial = trial_parameters(subject, depth_mm)
+        limit_mm = OUTLINE_MAX_FRACTION_OF_RADIUS * radius_mm
+        n_left, n_right = (
+            int(np.floor(min(trial.extent_mm(side) + OUTLINE_MARGIN_MM, limit_mm)
+                         / OUTLINE_STEP_MM + 1e-9))
+            for side in ("left", "right")
+        )
+        x_mm = np.arange(-n_left, n_right + 1) * OUTLINE_STEP_MM
+        resting_mm = np.sqrt(radius_mm**2 - x_mm**2) - radius_mm
+        deflection_mm = np.where(
+            x_mm < 0,
+            _trial_deflection_mm(-x_mm, trial, "left"),
+            _trial_deflection_mm(x_mm, trial, "right"),
+        )
+        for state, z_mm in (("resting", resting_mm), ("deformed", resting_mm - deflection_mm)):
+            frames.append(
+                pd.DataFrame(
+                    {
+                        "depth_mm": depth_mm,
+                        "state": state,
+                        "x_image_mm": _to_image(x_mm, magnification),
+                        "z_image_mm": _to_image(z_mm, magnification),
+                    }
+                )
+            )
+    return pd.concat(frames, ignore_index=True)
+
+
+def subjects_table(subjects, magnification=MAGNIFICATION):
+    """The subject sheet: ``subject``, ``species``, ``magnification``, ``label``.
+
+    Parameters
+    ----------
+    subjects : list of SubjectParameters
+    magnification : float, optional
+
+    Returns
+    -------
+    pandas.DataFrame
+    """
+    return pd.DataFrame(
+        {
+            "subject": [s.subject for s in subjects],
+            "species": [s.species for s in subjects],
+            "magnification": float(magnification),
+            "label": [s.label for s in subjects],
+        }
+    )
+
+
+def parameter_table(subjects):
+    """True-profile parameters of every trial (one row per subject and depth).
+
+    Parameters
+    ----------
+    subjects : list of SubjectParameters
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``subject``, ``species``, ``depth_mm``, ``extent_left_mm``,
+        ``extent_right_mm``, ``exponent``, ``near_fraction``, ``near_exponent``.
+    """
+    rows = []
+    for subject in subjects:
+        for depth_mm in subject.depths_mm:
+            trial = trial_parameters(subject, depth_mm)
+            rows.append({"subject": subject.subject, "species": subject.species,
+                         **trial.__dict__})
+    columns = ["subject", "species", "depth_mm", "extent_left_mm", "extent_right_mm",
+               "exponent", "near_fraction", "near_exponent"]
+    return pd.DataFrame(rows)[columns]
+
+
+def parameter_markdown(subjects):
+    """The per-trial parameter table as Markdown, as printed in ``data/README.md``.
+
+    Parameters
+    ----------
+    subjects : list of SubjectParameters
+
+    Returns
+    -------
+    str
+        A Markdown table ending with a newline.
+    """
+    table = parameter_table(subjects)
+    lines = [
+        "| subject | species | depth (mm) | edge left e_L (mm) | edge right e_R (mm) "
+        "| p | beta | q |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for row in table.itertuples(index=False):
+        lines.append(
+            f"| {row.subject} | {row.species} | {row.depth_mm:.2f} | {row.extent_left_mm:.2f} "
+            f"| {row.extent_right_mm:.2f} | {row.exponent:.3f} | {row.near_fraction:.4f} "
+            f"| {row.near_exponent:g} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def subject_markdown(subjects):
+    """The per-subject parameters as a Markdown table, as printed in ``data/README.md``.
+
+    Parameters
+    ----------
+    subjects : list of SubjectParameters
+
+    Returns
+    -------
+    str
+        A Markdown table ending with a newline.
+    """
+    lines = [
+        "| subject | species | depths (mm) | e at 0.5 mm | e at 2 mm | p at 0.5 mm | p at 2 mm "
+        "| beta at 2 mm | a (left/right) | resting radius (mm) |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for s in subjects:
+        depths = ", ".join(f"{d:g}" for d in s.depths_mm)
+        radius = "-" if s.resting_radius_mm is None else f"{s.resting_radius_mm:g}"
+        lines.append(
+            f"| {s.subject} | {s.species} | {depths} | {s.extent_shallow_mm:g} "
+            f"| {s.extent_deep_mm:g} | {s.exponent_shallow:g} | {s.exponent_deep:g} "
+            f"| {s.near_fraction_deep:g} | {s.side_asymmetry:+g} | {radius} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def _csv_text(table, formats):
+    """CSV text with one fixed format per column and ``\\n`` line endings."""
+    columns = list(formats)
+    cells = []
+    for column in columns:
+        fmt = formats[column]
+        values = table[column].tolist()
+        cells.append([format(v, fmt) if fmt else str(v) for v in values])
+    lines = [",".join(columns)] + [",".join(row) for row in zip(*cells, strict=True)]
+    return "\n".join(lines) + "\n"
+
+
+SUBJECT_FORMATS = {"subject": "", "species": "", "magnification": ".1f", "label": ""}
+PROFILE_FORMATS = {"depth_mm": ".2f", "side": "", "distance_image_mm": ".1f",
+                   "deflection_image_mm": ".1f"}
+OUTLINE_FORMATS = {"depth_mm": ".2f", "state": "", "x_image_mm": ".1f", "z_image_mm": ".1f"}
+
+
+def build_dataset(seed=DEFAULT_SEED, n_monkeys=None, n_humans=None, shuffle=False,
+                  magnification=MAGNIFICATION):
+    """Every file of a synthetic raw-data folder, as text.
+
+    Parameters
+    ----------
+    seed : int, optional
+        Dataset seed (1989 for the shipped data).
+    n_monkeys, n_humans : int, optional
+        Scale mode: that many fingers with drawn parameters.  Leave both
+        ``None`` for the seven hand-chosen fingers of the shipped data.
+    shuffle : bool, optional
+        Shuffle the rows of each profile file (seeded).
+    magnification : float, optional
+        Enlargement factor written to the subject sheet and applied to readings.
+
+    Returns
+    -------
+    dict of str to str
+        Relative POSIX path (``subjects.csv``, ``profiles/M1.csv``,
+        ``outlines/M1.csv``...) to file content, in a stable order.
+    """
+    if n_monkeys is None and n_humans is None:
+        subjects = shipped_subjects()
+    else:
+        subjects = draw_subjects(n_monkeys or 0, n_humans or 0, seed)
+    if not subjects:
+        raise ValueError("a dataset needs at least one subject")
+    files = {"subjects.csv": _csv_text(subjects_table(subjects, magnification), SUBJECT_FORMATS)}
+    for subject in subjects:
+        readings = profile_table(subject, seed, magnification, shuffle)
+        files[f"profiles/{subject.subject}.csv"] = _csv_text(readings, PROFILE_FORMATS)
+    for subject in subjects:
+        if subject.resting_radius_mm is not None:
+            files[f"outlines/{subject.subject}.csv"] = _csv_text(
+                outline_table(subject, magnification), OUTLINE_FORMATS
+            )
+    return files
+
