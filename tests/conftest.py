@@ -63,12 +63,16 @@ def small_raw(tmp_path):
     return write_small_dataset(tmp_path / "raw")
 
 
-def run_snakemake(*args, raw, results, cwd=REPO, timeout=600):
-    """Run snakemake on the repository's Snakefile with another raw/results folder."""
+def run_snakemake(*args, raw, results, config=(), cwd=REPO, timeout=600):
+    """Run snakemake on the repository's Snakefile with another raw/results folder.
+
+    ``args`` (targets and options) go before ``--config``, which takes every
+    word after it as a KEY=VALUE; ``config`` adds more KEY=VALUE settings.
+    """
     command = [
         sys.executable, "-m", "snakemake", "--snakefile", str(REPO / "Snakefile"),
-        "--directory", str(cwd), "--cores", "2",
-        "--config", f"raw_data={raw}", f"results={results}", *args,
+        "--directory", str(cwd), "--cores", "2", *args,
+        "--config", f"raw_data={raw}", f"results={results}", *config,
     ]
     env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
     return subprocess.run(command, capture_output=True, text=True, timeout=timeout, env=env)

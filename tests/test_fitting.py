@@ -1,0 +1,136 @@
+"""Each fit recovers known parameters from profiles made by its own model."""
+
+import numpy as np
+import pytest
+
+from lineload import fitting, models
+
+# the reading grid of the study within the 3 mm fit window (tissue mm)
+DISTANCE_MM = np.round(np.r_[np.arange(0.05, 0.5001, 0.05), np.arange(0.75, 3.0001, 0.25)], 6)
+NOISE_MM = 0.01
+
+
+def noisy(profile_mm, seed):
+    return profile_mm + np.random.default_rng(seed).normal(0.0, NOISE_MM, profile_mm.size)
+
+
+@pytest.mark.parametrize("depth_mm", [0.5, 1.0, 2.0])
+@pytest.mark.parametrize("L_mm", [8.0, 12.0, 15.0])
+def test_waterbed_recovers_L(depth_mm, L_mm):
+    exact = models.waterbed_deflection_mm(DISTANCE_MM, depth_mm, L_mm)
+    assert fitting.fit_waterbed(DISTANCE_MM, exact, depth_mm).params["L_mm"] == pytest.approx(
+        L_mm, rel=1e-9
+    )
+    estimates = [
+        fitting.fit_waterbed(DISTANCE_MM, noisy(exact, seed), depth_mm).params["L_mm"]
+        for seed in range(20)
+    ]
+    # unbiased within its scatter, and each estimate close
+    assert abs(np.mean(estimates) - L_mm) < 3 * np.std(estimates) / np.sqrt(20) + 1e-3 * L_mm
+    assert np.all(np.abs(np.array(estimates) / L_mm - 1) < 0.05)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_waterbed_minimum_is_global(seed):
+    # compare with a brute-force scan of the objective over L
+    rng = np.random.default_rng(100 + seed)
+    depth_mm = rng.uniform(0.5, 2.0)
+    y = noisy(depth_mm * np.exp(-DISTANCE_MM / rng.uniform(1.0, 3.0)), seed)
+    fit = fitting.fit_waterbed(DISTANCE_MM, y, depth_mm)
+    scan_L = np.geomspace(DISTANCE_MM.max(), 1e4, 200001)
+    scan_sse = [
+        np.sum((y - models.waterbed_deflection_mm(DISTANCE_MM, depth_mm, L)) ** 2)
+        for L in scan_L[::50]
+    ]
+    assert fit.sse_mm2 <= min(scan_sse) + 1e-12
+    assert fit.params["L_mm"] >= DISTANCE_MM.max()
+
+
+def test_waterbed_respects_the_wall():
+    # data that want a membrane narrower than the fitted region: L stops at max(x)
+    y = models.waterbed_deflection_mm(DISTANCE_MM, 1.0, 2.0)
+    fit = fitting.fit_waterbed(DISTANCE_MM, y, 1.0)
+    assert fit.params["L_mm"] == pytest.approx(DISTANCE_MM.max())
+
+
+@pytest.mark.parametrize("depth_mm", [0.5, 2.0])
+@pytest.mark.parametrize("L_mm", [6.0, 12.0])
+def test_arc_recovers_L(depth_mm, L_mm):
+    exact = models.arc_deflection_mm(DISTANCE_MM, depth_mm, L_mm)
+    assert fitting.fit_arc(DISTANCE_MM, exact, depth_mm).params["L_mm"] == pytest.approx(
+        L_mm, rel=1e-7
+    )
+    estimates = np.array(
+        [fitting.fit_arc(DISTANCE_MM, noisy(exact, s), depth_mm).params["L_mm"] for s in range(10)]
+    )
+    assert np.all(np.abs(estimates / L_mm - 1) < 0.05)
+
+
+def test_arc_and_parabola_disagree_at_large_depth():
+    # the parabola fitted to an exact arc at W0/L = 0.2 misses by more than the noise
+    exact = models.arc_deflection_mm(DISTANCE_MM, 2.0, 10.0)
+    assert fitting.fit_arc(DISTANCE_MM, exact, 2.0).rmse_mm < 1e-8
+    assert fitting.fit_waterbed(DISTANCE_MM, exact, 2.0).rmse_mm > 2 * NOISE_MM
+
+
+@pytest.mark.parametrize("A_mm, x0_mm", [(0.2, 4.0), (0.5, 9.0)])
+def test_boussinesq_recovers_A_and_x0(A_mm, x0_mm):
+    exact = models.boussinesq_deflection_mm(DISTANCE_MM, A_mm, x0_mm)
+    fit = fitting.fit_boussinesq(DISTANCE_MM, exact)
+    assert fit.params["A_mm"] == pytest.approx(A_mm, rel=1e-10)
+    assert fit.params["x0_mm"] == pytest.approx(x0_mm, rel=1e-10)
+    fits = [fitting.fit_boussinesq(DISTANCE_MM, noisy(exact, s)) for s in range(10)]
+    assert np.all([abs(f.params["A_mm"] / A_mm - 1) < 0.1 for f in fits])
+    assert np.all([abs(f.params["x0_mm"] / x0_mm - 1) < 0.1 for f in fits])
+
+
+def test_models_tell_each_other_apart():
+    waterbed = noisy(models.waterbed_deflection_mm(DISTANCE_MM, 1.0, 12.0), 1)
+    boussinesq = noisy(models.boussinesq_deflection_mm(DISTANCE_MM, 0.25, 5.0), 2)
+    assert (fitting.fit_waterbed(DISTANCE_MM, waterbed, 1.0).aicc
+            < fitting.fit_boussinesq(DISTANCE_MM, waterbed).aicc)
+    assert (fitting.fit_boussinesq(DISTANCE_MM, boussinesq).aicc
+            < fitting.fit_waterbed(DISTANCE_MM, boussinesq, boussinesq[0]).aicc)
+
+
+def test_goodness_of_fit_matches_gaussian_likelihood():
+    residual = np.random.default_rng(3).normal(0, 0.02, 25)
+    n, p = residual.size, 2
+    measures = fitting.goodness_of_fit(residual, n_params=p)
+    sigma2 = np.mean(residual**2)
+    log_likelihood = -0.5 * n * (np.log(2 * np.pi * sigma2) + 1)
+    k = p + 1
+    aicc = -2 * log_likelihood + 2 * k + 2 * k * (k + 1) / (n - k - 1)
+    # AICc up to the constant n (ln 2 pi + 1), which cancels in comparisons
+    assert measures["aicc"] == pytest.approx(aicc - n * (np.log(2 * np.pi) + 1))
+    assert measures["rmse_mm"] == pytest.approx(np.sqrt(sigma2))
+    assert measures["max_abs_residual_mm"] == np.abs(residual).max()
+
+
+def test_fit_trial_uses_only_the_window():
+    x = np.r_[0.0, DISTANCE_MM, 3.5, 5.0, 8.0]
+    y = np.r_[1.0, models.waterbed_deflection_mm(DISTANCE_MM, 1.0, 12.0), 0.0, 0.0, 0.0]
+    row = fitting.fit_trial(x, y, 1.0, 3.0)
+    y_changed = y.copy()
+    y_changed[[0, -3, -2, -1]] = [5.0, 9.0, 9.0, 9.0]
+    assert fitting.fit_trial(x, y_changed, 1.0, 3.0) == row
+    assert row["n_points"] == DISTANCE_MM.size
+    assert row["max_distance_mm"] == 3.0
+    assert row["waterbed_L_mm"] == pytest.approx(12.0)
+    assert set(row) == set(fitting.FIT_COLUMNS) - {"subject", "species"}
+
+
+def test_fit_trial_with_too_few_points_gives_nan():
+    row = fitting.fit_trial([0.1, 5.0], [0.9, 0.0], 1.0, 3.0)
+    assert row["n_points"] == 1
+    assert np.isnan(row["boussinesq_A_mm"])
+    assert np.isfinite(row["waterbed_L_mm"])
+
+
+@pytest.mark.parametrize(
+    "x, y",
+    [([0.1, 0.2], [1.0]), ([0.0, 0.2], [1.0, 0.9]), ([0.1, np.nan], [1.0, 0.9])],
+)
+def test_bad_points_are_refused(x, y):
+    with pytest.raises(ValueError):
+        fitting.fit_waterbed(x, y, 1.0)

@@ -1,0 +1,118 @@
+"""The model equations against their analytic identities and limits."""
+
+import numpy as np
+import pytest
+
+from lineload import models
+
+
+@pytest.mark.parametrize("depth_mm, L_mm", [(0.5, 10.0), (1.0, 12.5), (2.0, 15.0), (1.3, 4.0)])
+class TestWaterbedParabola:
+    def test_ends(self, depth_mm, L_mm):
+        W = models.waterbed_deflection_mm([0.0, L_mm], depth_mm, L_mm)
+        assert W[0] == pytest.approx(depth_mm)
+        assert W[1] == pytest.approx(0.0, abs=1e-12)
+
+    def test_zero_net_area(self, depth_mm, L_mm):
+        # Simpson's rule is exact for a quadratic
+        X = np.linspace(0.0, L_mm, 3)
+        W = models.waterbed_deflection_mm(X, depth_mm, L_mm)
+        area = (L_mm / 6.0) * (W[0] + 4 * W[1] + W[2])
+        assert area == pytest.approx(0.0, abs=1e-12 * depth_mm * L_mm)
+
+    def test_zero_crossing_at_third(self, depth_mm, L_mm):
+        W = models.waterbed_deflection_mm([L_mm / 3.0], depth_mm, L_mm)
+        assert W[0] == pytest.approx(0.0, abs=1e-12)
+        # positive (downward) inside, negative (bulge) outside
+        X = np.linspace(0, L_mm, 301)
+        W = models.waterbed_deflection_mm(X, depth_mm, L_mm)
+        assert np.all(W[X < L_mm / 3 - 1e-9] > 0)
+        assert np.all(W[(X > L_mm / 3 + 1e-9) & (X < L_mm - 1e-9)] < 0)
+        assert W.min() == pytest.approx(-depth_mm / 3.0, rel=1e-4)
+
+    def test_largest_shift_at_third(self, depth_mm, L_mm):
+        X = np.linspace(0.0, L_mm, 30001)
+        U = models.waterbed_shift_mm(X, depth_mm, L_mm)
+        assert U[0] == 0.0 and U[-1] == pytest.approx(0.0, abs=1e-15)
+        assert X[np.argmax(np.abs(U))] == pytest.approx(L_mm / 3.0, abs=L_mm / 15000)
+        assert np.abs(U).max() == pytest.approx(8 * depth_mm**2 / (9 * L_mm), rel=1e-8)
+        exact = models.waterbed_shift_mm([L_mm / 3.0], depth_mm, L_mm)[0]
+        assert exact == pytest.approx(-8 * depth_mm**2 / (9 * L_mm), rel=1e-12)
+
+    def test_uniform_strain(self, depth_mm, L_mm):
+        # Green strain U' + (U'^2 + W'^2)/2 with U' << 1: U' + W'^2/2 = 2 W0^2 / L^2
+        X = np.linspace(0.01, 0.99, 99) * L_mm
+        h = 1e-6 * L_mm
+        dU = (models.waterbed_shift_mm(X + h, depth_mm, L_mm)
+              - models.waterbed_shift_mm(X - h, depth_mm, L_mm)) / (2 * h)
+        dW = (models.waterbed_deflection_mm(X + h, depth_mm, L_mm)
+              - models.waterbed_deflection_mm(X - h, depth_mm, L_mm)) / (2 * h)
+        strain = dU + dW**2 / 2
+        assert np.allclose(strain, models.waterbed_strain(depth_mm, L_mm), rtol=1e-6)
+
+    def test_zero_beyond_wall(self, depth_mm, L_mm):
+        X = np.array([1.01, 2.0, 10.0]) * L_mm
+        assert np.all(models.waterbed_deflection_mm(X, depth_mm, L_mm) == 0)
+        assert np.all(models.waterbed_shift_mm(X, depth_mm, L_mm) == 0)
+
+    def test_load_angle_matches_slope(self, depth_mm, L_mm):
+        h = 1e-7 * L_mm
+        slope = (models.waterbed_deflection_mm([h], depth_mm, L_mm)[0] - depth_mm) / h
+        assert np.tan(models.waterbed_load_angle_rad(depth_mm, L_mm)) == pytest.approx(
+            -slope, rel=1e-5
+        )
+
+
+class TestArc:
+    @pytest.mark.parametrize("delta", [0.01, 0.05, 0.1, 0.2, 0.3, 0.5])
+    def test_passes_through_ends_and_encloses_zero_area(self, delta):
+        L_mm = 12.0
+        depth_mm = delta * L_mm
+        x = np.linspace(0.0, L_mm, 200001)
+        w = models.arc_deflection_mm(x, depth_mm, L_mm)
+        assert w[0] == pytest.approx(depth_mm, rel=1e-9)
+        assert w[-1] == pytest.approx(0.0, abs=1e-9 * depth_mm)
+        assert np.trapezoid(w, x) == pytest.approx(0.0, abs=1e-6 * depth_mm * L_mm)
+
+    @pytest.mark.parametrize("delta", [0.05, 0.2, 0.4])
+    def test_is_a_circle(self, delta):
+        L_mm, depth_mm = 10.0, delta * 10.0
+        g = models.arc_geometry(depth_mm, L_mm)
+        x = np.linspace(0, L_mm, 101)
+        z = -models.arc_deflection_mm(x, depth_mm, L_mm)
+        distance = np.hypot(x - g["centre_x_mm"], z - g["centre_z_mm"])
+        assert np.allclose(distance, g["radius_mm"], rtol=1e-10)
+
+    def test_tends_to_parabola(self):
+        L_mm = 10.0
+        x = np.linspace(0, L_mm, 4001)
+        gaps = []
+        for delta in [0.4, 0.2, 0.1, 0.05, 0.025, 0.0125]:
+            depth_mm = delta * L_mm
+            arc = models.arc_deflection_mm(x, depth_mm, L_mm)
+            parabola = models.waterbed_deflection_mm(x, depth_mm, L_mm)
+            gaps.append(np.max(np.abs(arc - parabola)) / depth_mm)
+        gaps = np.array(gaps)
+        assert np.all(np.diff(gaps) < 0)
+        # the relative gap falls like delta^2: halving delta divides it by about 4
+        assert np.allclose(gaps[1:] / gaps[:-1], 0.25, atol=0.03)
+        assert gaps[-1] < 1e-3
+
+    def test_curvature_matches_parabola_in_the_limit(self):
+        # parabola curvature W'' = 6 W0 / L^2; circle curvature 1/R
+        L_mm, depth_mm = 10.0, 0.01
+        g = models.arc_geometry(depth_mm, L_mm)
+        assert 1.0 / g["radius_mm"] == pytest.approx(6 * depth_mm / L_mm**2, rel=1e-3)
+
+    def test_folded_arc_is_not_a_graph(self):
+        assert not bool(models.arc_geometry(3.0, 3.0)["is_graph"])
+        assert np.all(np.isnan(models.arc_deflection_mm([0.5, 1.0], 3.0, 3.0)))
+
+
+class TestBoussinesq:
+    def test_zero_at_x0_and_log_linear(self):
+        x = np.array([0.1, 1.0, 10.0])
+        w = models.boussinesq_deflection_mm(x, 0.3, 4.0)
+        assert models.boussinesq_deflection_mm([4.0], 0.3, 4.0)[0] == 0.0
+        # equal steps in log distance give equal drops of A ln 10
+        assert np.allclose(-np.diff(w), 0.3 * np.log(10.0))

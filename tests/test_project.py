@@ -1,0 +1,57 @@
+"""Project plumbing: pinned dependencies, documented columns, CI runs the README's tests."""
+
+import re
+from pathlib import Path
+
+import yaml
+
+from lineload.fitting import FIT_COLUMNS
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def pins_from_requirements():
+    lines = (REPO / "requirements.txt").read_text().splitlines()
+    return dict(
+        line.split("==") for line in (ln.split("#")[0].strip() for ln in lines) if line
+    )
+
+
+def test_requirements_are_all_pinned():
+    lines = [ln.split("#")[0].strip() for ln in (REPO / "requirements.txt").read_text().splitlines()]
+    assert all(re.fullmatch(r"[A-Za-z0-9_.\-\[\]]+==[0-9][A-Za-z0-9.]*", ln) for ln in lines if ln)
+
+
+def test_environment_pins_match_requirements():
+    environment = yaml.safe_load((REPO / "environment.yml").read_text())
+    pip_section = next(d["pip"] for d in environment["dependencies"] if isinstance(d, dict))
+    conda_pins = dict(item.split("==") for item in pip_section)
+    assert conda_pins == pins_from_requirements()
+    assert "python=3.11" in environment["dependencies"]
+
+
+def readme_block_after(marker):
+    text = (REPO / "README.md").read_text()
+    after = text[text.index(marker):]
+    return re.search(r"```bash\n(.+?)\n```", after, re.S).group(1).strip()
+
+
+def test_ci_runs_the_readme_test_command():
+    test_command = readme_block_after("to run the tests")
+    command = test_command.split("&&")[-1].strip()
+    ci = (REPO / ".ci" / "run").read_text().splitlines()
+    assert command in [line.strip() for line in ci]
+    assert "-r requirements.txt" in (REPO / ".ci" / "run").read_text()
+
+
+def test_readme_main_command_installs_and_builds():
+    command = readme_block_after("On a fresh machine")
+    assert "pip install -r requirements.txt" in command
+    assert command.endswith("snakemake --cores 2")
+
+
+def test_every_fit_column_is_in_the_data_dictionary():
+    text = (REPO / "README.md").read_text()
+    dictionary = text[text.index("## Data dictionary"):]
+    documented = set(re.findall(r"^\| `([A-Za-z0-9_]+)` \|", dictionary, re.M))
+    assert set(FIT_COLUMNS) <= documented

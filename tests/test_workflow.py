@@ -1,0 +1,97 @@
+"""The workflow end to end, on small datasets in temporary folders and on the shipped data."""
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from conftest import REPO, reading_grid_mm, run_snakemake, write_small_dataset
+from lineload import models
+from lineload.fitting import FIT_COLUMNS
+
+
+def check_ok(process):
+    assert process.returncode == 0, process.stderr[-3000:]
+    return process
+
+
+def test_fits_target_on_a_small_dataset(small_raw, tmp_path):
+    out = tmp_path / "out"
+    check_ok(run_snakemake("fits", raw=small_raw, results=out))
+    fits = pd.read_csv(out / "tables" / "fits.csv")
+    assert list(fits.columns) == FIT_COLUMNS
+    # one row per subject and depth, in subject-sheet order, depths ascending
+    assert list(zip(fits["subject"], fits["depth_mm"])) == [("MK", 1.0), ("MK", 2.0), ("HU", 1.0)]
+    assert list(fits["species"]) == ["monkey", "monkey", "human"]
+    for subject in ("MK", "HU"):
+        for stage in ("converted", "averaged"):
+            assert (out / "data" / stage / f"{subject}.csv").is_file()
+        assert (out / "logs" / "fit_subject" / f"{subject}.log").is_file()
+    assert (fits["n_points"] == len(reading_grid_mm(5.0)[reading_grid_mm(5.0) <= 3.0])).all()
+    # nothing to do on a second run
+    again = check_ok(run_snakemake("fits", "--dry-run", raw=small_raw, results=out))
+    assert "Nothing to be done" in again.stdout + again.stderr
+
+
+def write_model_dataset(raw_dir, magnification=20.0, seed=11):
+    """Subjects whose profiles come from the fitted models themselves (both sides, noise)."""
+    truth = {
+        "WB": ("human", 1.5, lambda x: models.waterbed_deflection_mm(x, 1.5, 13.0)),
+        "BQ": ("monkey", 1.0, lambda x: models.boussinesq_deflection_mm(x, 0.3, 6.0)),
+        "ARC": ("monkey", 2.0, lambda x: models.arc_deflection_mm(x, 2.0, 9.0)),
+    }
+    rng = np.random.default_rng(seed)
+    (raw_dir / "profiles").mkdir(parents=True)
+    sheet = ["subject,species,magnification"]
+    for subject, (species, depth_mm, profile) in truth.items():
+        sheet.append(f"{subject},{species},{magnification:g}")
+        rows = ["depth_mm,side,distance_image_mm,deflection_image_mm"]
+        x = reading_grid_mm(3.0)
+        for side in ("right", "left"):
+            w = profile(x) + rng.normal(0, 0.005, x.size)
+            rows += [f"{depth_mm:g},{side},{xi * magnification:.4f},{wi * magnification:.4f}"
+                     for xi, wi in zip(x, w)]
+        (raw_dir / "profiles" / f"{subject}.csv").write_text("\n".join(rows) + "\n")
+    (raw_dir / "subjects.csv").write_text("\n".join(sheet) + "\n")
+
+
+def test_workflow_recovers_known_parameters(tmp_path):
+    raw, out = tmp_path / "raw", tmp_path / "out"
+    write_model_dataset(raw)
+    check_ok(run_snakemake("fits", raw=raw, results=out))
+    fits = pd.read_csv(out / "tables" / "fits.csv").set_index("subject")
+    assert fits.loc["WB", "waterbed_L_mm"] == pytest.approx(13.0, rel=0.03)
+    assert fits.loc["ARC", "arc_L_mm"] == pytest.approx(9.0, rel=0.03)
+    assert fits.loc["BQ", "boussinesq_A_mm"] == pytest.approx(0.3, rel=0.03)
+    assert fits.loc["BQ", "boussinesq_x0_mm"] == pytest.approx(6.0, rel=0.03)
+    # each model wins on its own data
+    assert fits.loc["WB", "waterbed_aicc"] < fits.loc["WB", "boussinesq_aicc"]
+    assert fits.loc["BQ", "boussinesq_aicc"] < fits.loc["BQ", "waterbed_aicc"]
+    assert fits.loc["ARC", "arc_aicc"] < fits.loc["ARC", "waterbed_aicc"]
+
+
+def test_relative_results_folder_and_fit_window(tmp_path):
+    raw = write_small_dataset(tmp_path / "raw")
+    out = tmp_path / "narrow"
+    check_ok(run_snakemake("fits", raw=raw, results=out, config=["fit_window_mm=1"]))
+    fits = pd.read_csv(out / "tables" / "fits.csv")
+    assert (fits["max_distance_mm"] <= 1.0).all()
+    assert (fits["fit_window_mm"] == 1.0).all()
+
+
+@pytest.fixture(scope="module")
+def shipped_fits(tmp_path_factory):
+    out = tmp_path_factory.mktemp("shipped") / "results"
+    check_ok(run_snakemake("fits", raw=REPO / "data" / "raw", results=out))
+    return pd.read_csv(out / "tables" / "fits.csv")
+
+
+def test_shipped_data_give_26_trials(shipped_fits):
+    assert len(shipped_fits) == 26
+    counts = shipped_fits.groupby("species")["subject"].nunique().to_dict()
+    assert counts == {"monkey": 4, "human": 3}
+    depths = shipped_fits.groupby("subject")["depth_mm"].apply(list).to_dict()
+    assert depths.pop("H3") == [1.0, 2.0]
+    assert all(d == [0.5, 1.0, 1.5, 2.0] for d in depths.values())
+    assert shipped_fits[FIT_COLUMNS].drop(columns=["boussinesq_x0_mm"]).notna().all().all()
