@@ -3,6 +3,8 @@
 #   common  - config and raw inputs validated before anything runs
 #   data    - image units -> tissue mm -> left/right mean per subject
 #   fits    - waterbed (parabola and exact arc) and Boussinesq fits, fit table
+#   figures - the paper's seven figures and the supplementary ones
+#   tables  - fit tables, per-species summary and the claims table
 
 
 configfile: "config/config.yaml"
@@ -11,6 +13,8 @@ configfile: "config/config.yaml"
 include: "workflow/rules/common.smk"
 include: "workflow/rules/data.smk"
 include: "workflow/rules/fits.smk"
+include: "workflow/rules/figures.smk"
+include: "workflow/rules/tables.smk"
 
 
 rule all:
@@ -18,6 +22,8 @@ rule all:
     default_target: True
     input:
         rules.fits_table.output,
+        FIGURE_OUTPUTS,
+        TABLE_OUTPUTS,
 
 
 rule fits:

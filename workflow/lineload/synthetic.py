@@ -647,6 +647,16 @@ PROFILE_FORMATS = {"depth_mm": ".2f", "side": "", "distance_image_mm": ".1f",
 OUTLINE_FORMATS = {"depth_mm": ".2f", "state": "", "x_image_mm": ".1f", "z_image_mm": ".1f"}
 
 
+#: Written as NOTICE.txt into every generated folder; its first line becomes the
+#: footer of each figure and table built from these data.
+DATA_NOTICE = (
+    "Synthetic reconstruction made by a seeded generator; not the original measurements "
+    "of Srinivasan (1989).\n"
+    "The study's digitised profiles were never published. See data/README.md for how these "
+    "files were made.\n"
+)
+
+
 def build_dataset(seed=DEFAULT_SEED, n_monkeys=None, n_humans=None, shuffle=False,
                   magnification=MAGNIFICATION):
     """Every file of a synthetic raw-data folder, as text.
@@ -666,8 +676,10 @@ def build_dataset(seed=DEFAULT_SEED, n_monkeys=None, n_humans=None, shuffle=Fals
     Returns
     -------
     dict of str to str
-        Relative POSIX path (``subjects.csv``, ``profiles/M1.csv``,
-        ``outlines/M1.csv``...) to file content, in a stable order.
+        Relative POSIX path (``NOTICE.txt``, ``subjects.csv``,
+        ``profiles/M1.csv``, ``outlines/M1.csv``...) to file content, in a
+        stable order.  ``NOTICE.txt`` marks the folder as synthetic: the
+        workflow prints its first line under every figure and table.
     """
     if n_monkeys is None and n_humans is None:
         subjects = shipped_subjects()
@@ -675,7 +687,10 @@ def build_dataset(seed=DEFAULT_SEED, n_monkeys=None, n_humans=None, shuffle=Fals
         subjects = draw_subjects(n_monkeys or 0, n_humans or 0, seed)
     if not subjects:
         raise ValueError("a dataset needs at least one subject")
-    files = {"subjects.csv": _csv_text(subjects_table(subjects, magnification), SUBJECT_FORMATS)}
+    files = {
+        "NOTICE.txt": DATA_NOTICE,
+        "subjects.csv": _csv_text(subjects_table(subjects, magnification), SUBJECT_FORMATS),
+    }
     for subject in subjects:
         readings = profile_table(subject, seed, magnification, shuffle)
         files[f"profiles/{subject.subject}.csv"] = _csv_text(readings, PROFILE_FORMATS)

@@ -62,3 +62,63 @@ wildcard_constraints:
 def result(*parts):
     """Path of an output under the results folder."""
     return str(Path(RES, *parts))
+
+
+SPECIES_SUBJECTS = {
+    species: [s for s in SUBJECT_IDS if SUBJECTS.loc[s, "species"] == species]
+    for species in ("monkey", "human")
+}
+
+
+def first_of_each_species(candidates):
+    """The first monkey and the first human among candidates, in subject-sheet order."""
+    return [
+        next(s for s in SPECIES_SUBJECTS[sp] if s in candidates)
+        for sp in ("monkey", "human")
+        if any(s in candidates for s in SPECIES_SUBJECTS[sp])
+    ]
+
+
+def chosen_subjects(key, candidates, need):
+    """Subjects named in config['figures'][key], checked, or the default choice."""
+    requested = config["figures"][key]
+    for subject in requested:
+        if subject not in candidates:
+            abort(f"config, key 'figures/{key}': subject {subject!r} {need}")
+    return list(requested) or first_of_each_species(candidates)
+
+
+OUTLINE_SUBJECTS = chosen_subjects(
+    "outline_subjects", DATASET["outlines"], f"has no outline file in {RAW}/outlines/"
+)
+OUTLINE_DEPTH_MM = config["figures"]["outline_depth_mm"]
+if OUTLINE_SUBJECTS:
+    common_depths = set.intersection(*(set(DATASET["outlines"][s]) for s in OUTLINE_SUBJECTS))
+    if OUTLINE_DEPTH_MM is None and common_depths:
+        OUTLINE_DEPTH_MM = min(common_depths)
+    if OUTLINE_DEPTH_MM not in common_depths:
+        abort(
+            "config, key 'figures/outline_depth_mm': expected a depth outlined for "
+            f"{', '.join(OUTLINE_SUBJECTS)} ({', '.join(f'{d:g}' for d in sorted(common_depths))}),"
+            f" got {OUTLINE_DEPTH_MM}"
+        )
+EXAMPLE_DEPTH_MM = config["figures"]["example_depth_mm"]
+EXAMPLE_SUBJECTS = chosen_subjects(
+    "example_subjects",
+    [s for s in SUBJECT_IDS if EXAMPLE_DEPTH_MM in DATASET["depths_mm"][s]],
+    f"is not in {RAW}/subjects.csv or has no profile at the figure depth",
+)
+
+
+def read_notice():
+    """Footer for figures and tables: config, else the raw folder's NOTICE.txt, else none."""
+    if config["data_notice"] is not None:
+        return config["data_notice"]
+    path = Path(RAW, "NOTICE.txt")
+    if path.is_file():
+        lines = path.read_text(encoding="utf-8").splitlines()
+        return lines[0].strip() if lines else ""
+    return ""
+
+
+NOTICE = read_notice()
