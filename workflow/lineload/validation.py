@@ -127,7 +127,7 @@ def read_table(path, schema, display_path=None):
     shown = display_path or os.fspath(path)
     if not os.path.isfile(path):
         _fail(shown, None, None, "file not found")
-    with open(path, newline="", encoding="utf-8") as handle:
+    with open(path, newline="", encoding="utf-8-sig") as handle:
         reader = csv.reader(handle)
         header = next(reader, None)
         if header is None or not any(cell.strip() for cell in header):
@@ -144,7 +144,7 @@ def read_table(path, schema, display_path=None):
         column = next(c for c in header if header.count(c) > 1)
         _fail(shown, 1, column, "appears twice in the header")
     if not rows:
-        _fail(shown, None, None, "has a header but no data rows")
+        _fail(shown, None, None, "has a header but no data rows; expected at least one data row")
     for index, row in enumerate(rows):
         if len(row) != len(header):
             _fail(shown, index + 2, None,
