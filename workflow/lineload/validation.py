@@ -34,7 +34,11 @@ class InputError(ValueError):
 
 def _where(path, line, column):
     place = f"{path}, line {line}" if line is not None else f"{path}"
-    return f"{place}, column '{column}'" if column is not None else place
+    if column is None:
+        return place
+    if isinstance(column, (list, tuple)):
+        return place + ", columns " + ", ".join(f"'{c}'" for c in column)
+    return f"{place}, column '{column}'"
 
 
 def _fail(path, line, column, message):
@@ -57,46 +61,47 @@ def _shown(value):
 
 
 def _check_column(path, column, raw, rules):
-    """Apply one column's schema rules; return the typed column."""
+    """Apply one column's schema rules; return the typed column.
+
+    ``raw`` holds the cells as text, indexed by their line number in the file;
+    the first cell (in file order) that breaks any rule is reported.
+    """
+    lines = raw.index.to_numpy()
     kind = rules.get("type", "string")
     if isinstance(kind, list):
         kind = next(k for k in kind if k != "null")
     if kind in ("number", "integer"):
         values = pd.to_numeric(raw, errors="coerce").to_numpy(dtype=float)
-        bad = ~np.isfinite(values)
-        if kind == "integer":
-            bad |= np.isfinite(values) & (values != np.round(values))
-        expected = _expected_number(rules).replace("a number", f"an {kind}" if kind == "integer" else "a number")
+        with np.errstate(invalid="ignore"):
+            bad = ~np.isfinite(values)
+            if kind == "integer":
+                bad |= values != np.round(values)
+            if "exclusiveMinimum" in rules:
+                bad |= values <= rules["exclusiveMinimum"]
+            if "minimum" in rules:
+                bad |= values < rules["minimum"]
+            if "maximum" in rules:
+                bad |= values > rules["maximum"]
         if bad.any():
             i = int(np.argmax(bad))
-            _fail(path, i + 2, column, f"expected {expected}, got {_shown(raw.iloc[i])}")
-        checks = []
-        if "exclusiveMinimum" in rules:
-            checks.append(values <= rules["exclusiveMinimum"])
-        if "minimum" in rules:
-            checks.append(values < rules["minimum"])
-        if "maximum" in rules:
-            checks.append(values > rules["maximum"])
-        for out_of_range in checks:
-            if out_of_range.any():
-                i = int(np.argmax(out_of_range))
-                _fail(path, i + 2, column, f"expected {expected}, got {_shown(raw.iloc[i])}")
+            expected = _expected_number(rules)
+            if kind == "integer":
+                expected = expected.replace("a number", "an integer")
+            _fail(path, lines[i], column, f"expected {expected}, got {_shown(raw.iloc[i])}")
         return values
     values = raw.to_numpy(dtype=object)
+    bad = np.zeros(values.shape, dtype=bool)
+    expected = []
     if "enum" in rules:
-        allowed = set(rules["enum"])
-        bad = ~raw.isin(allowed).to_numpy()
-        if bad.any():
-            i = int(np.argmax(bad))
-            choices = " or ".join(repr(v) for v in rules["enum"])
-            _fail(path, i + 2, column, f"expected {choices}, got {_shown(raw.iloc[i])}")
+        bad |= ~raw.isin(set(rules["enum"])).to_numpy()
+        expected.append(" or ".join(repr(v) for v in rules["enum"]))
     if "pattern" in rules:
         pattern = re.compile(rules["pattern"])
-        bad = np.array([pattern.search(v) is None for v in values], dtype=bool)
-        if bad.any():
-            i = int(np.argmax(bad))
-            what = rules.get("description", f"text matching {rules['pattern']}")
-            _fail(path, i + 2, column, f"expected {what}, got {_shown(values[i])}")
+        bad |= np.array([pattern.search(v) is None for v in values], dtype=bool)
+        expected.append(rules.get("description", f"text matching {rules['pattern']}"))
+    if bad.any():
+        i = int(np.argmax(bad))
+        _fail(path, lines[i], column, f"expected {', '.join(expected)}, got {_shown(values[i])}")
     return values
 
 
@@ -116,7 +121,9 @@ def read_table(path, schema, display_path=None):
     -------
     pandas.DataFrame
         The table with schema columns typed (numbers as float, text as str) and
-        any extra columns kept as text.
+        any extra columns kept as text.  Its index is each row's line number in
+        the file (the header is line 1 unless blank lines precede it), which
+        later checks use in their messages.
 
     Raises
     ------
@@ -127,29 +134,45 @@ def read_table(path, schema, display_path=None):
     shown = display_path or os.fspath(path)
     if not os.path.isfile(path):
         _fail(shown, None, None, "file not found")
-    with open(path, newline="", encoding="utf-8-sig") as handle:
-        reader = csv.reader(handle)
-        header = next(reader, None)
-        if header is None or not any(cell.strip() for cell in header):
-            _fail(shown, None, None, "file is empty; expected a header line naming the columns "
-                  + ", ".join(schema.get("required", [])))
-        header = [cell.strip() for cell in header]
-        rows = list(reader)
-    rows = [row for row in rows if any(cell.strip() for cell in row)]
+    header, header_line, rows, lines = None, None, [], []
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as handle:
+            reader = csv.reader(handle)
+            while True:
+                start = reader.line_num + 1  # a row may span lines: report where it starts
+                row = next(reader, None)
+                if row is None:
+                    break
+                if not any(cell.strip() for cell in row):
+                    continue
+                if header is None:
+                    header, header_line = [cell.strip() for cell in row], start
+                else:
+                    rows.append(row)
+                    lines.append(start)
+    except UnicodeDecodeError as error:
+        _fail(shown, None, None, f"expected UTF-8 text, found a byte that is not ({error.reason} "
+              f"at byte {error.start})")
+    except csv.Error as error:
+        _fail(shown, reader.line_num, None, f"expected comma-separated values ({error})")
+    if header is None:
+        _fail(shown, None, None, "file is empty; expected a header line naming the columns "
+              + ", ".join(schema.get("required", [])))
     for column in schema.get("required", []):
         if column not in header:
-            _fail(shown, 1, column, "missing from the header; expected columns "
+            _fail(shown, header_line, column, "missing from the header; expected columns "
                   + ", ".join(schema["required"]))
     if len(set(header)) != len(header):
         column = next(c for c in header if header.count(c) > 1)
-        _fail(shown, 1, column, "appears twice in the header")
+        _fail(shown, header_line, column, "appears twice in the header")
     if not rows:
         _fail(shown, None, None, "has a header but no data rows; expected at least one data row")
-    for index, row in enumerate(rows):
+    for row, line in zip(rows, lines):
         if len(row) != len(header):
-            _fail(shown, index + 2, None,
+            _fail(shown, line, None,
                   f"expected {len(header)} comma-separated fields as in the header, got {len(row)}")
-    table = pd.DataFrame(rows, columns=header, dtype=object).apply(lambda col: col.str.strip())
+    table = pd.DataFrame(rows, columns=header, dtype=object, index=pd.Index(lines, name="line"))
+    table = table.apply(lambda col: col.str.strip())
     for column, rules in schema.get("properties", {}).items():
         if column in table.columns:
             table[column] = _check_column(shown, column, table[column], rules)
@@ -181,8 +204,8 @@ def check_no_duplicate_readings(profile, path, keys=("depth_mm", "side", "distan
         first = int(np.argmax(same))
         reading = ", ".join(f"{k}={row[k]:g}" if isinstance(row[k], float) else f"{k}={row[k]}"
                             for k in keys)
-        _fail(path, i + 2, "/".join(keys),
-              f"duplicate reading ({reading}) already given on line {first + 2}; "
+        _fail(path, profile.index[i], list(keys),
+              f"duplicate reading ({reading}) already given on line {profile.index[first]}; "
               "expected one reading per depth, side and distance")
 
 
@@ -213,11 +236,12 @@ def check_subjects(subjects, path, profile_dir, profile_dir_shown=None):
     if duplicated.any():
         i = int(np.argmax(duplicated))
         first = int(np.argmax((ids == ids.iloc[i]).to_numpy()))
-        _fail(path, i + 2, "subject",
-              f"subject {ids.iloc[i]!r} is already listed on line {first + 2}; expected unique ids")
-    for i, subject in enumerate(ids):
+        _fail(path, ids.index[i], "subject",
+              f"subject {ids.iloc[i]!r} is already listed on line {ids.index[first]}; "
+              "expected unique ids")
+    for line, subject in ids.items():
         if not os.path.isfile(os.path.join(profile_dir, f"{subject}.csv")):
-            _fail(path, i + 2, "subject",
+            _fail(path, line, "subject",
                   f"no profile file for subject {subject!r}; expected {shown_dir}/{subject}.csv")
 
 

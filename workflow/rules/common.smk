@@ -28,7 +28,13 @@ def schema_message(error, what):
     if not hasattr(inner, "absolute_path"):
         return f"{what}: {error}"
     where = "/".join(str(p) for p in inner.absolute_path)
-    return f"{what}, key '{where}': {inner.message}" if where else f"{what}: {inner.message}"
+    message = inner.message
+    if inner.validator == "additionalProperties":
+        allowed = ", ".join(sorted(inner.schema.get("properties", {})))
+        message = f"{message}; expected only the keys {allowed}"
+    elif "description" in inner.schema:
+        message = f"{message} ({inner.schema['description'].rstrip('.')})"
+    return f"{what}, key '{where}': {message}" if where else f"{what}: {message}"
 
 
 try:
@@ -56,7 +62,7 @@ SUBJECT_IDS = list(SUBJECTS["subject"])
 
 
 wildcard_constraints:
-    subject="[A-Za-z0-9_-]+",
+    subject="[A-Za-z0-9][A-Za-z0-9_-]*",
 
 
 def result(*parts):

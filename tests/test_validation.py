@@ -1,0 +1,676 @@
+"""Broken raw data (or config) is refused before any job runs, with one clear line.
+
+Two layers:
+
+* end to end: a real ``snakemake --cores 2`` on the small dataset of conftest
+  with exactly one thing broken must exit non-zero, print exactly one
+  ``Error: ...`` line naming file, line and column and what was expected, show
+  no traceback and leave no results folder behind;
+* unit: ``lineload.validation`` called directly (fast), for typing, line
+  numbers and the rules that span rows or files.
+
+Line numbers in the expectations are computed from where the test puts the
+bad cell (the header is line 1), never copied from the program's output.
+"""
+
+from __future__ import annotations
+
+import random
+import re
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from conftest import run_snakemake, write_small_dataset
+from lineload.io import load_schema
+from lineload.validation import (
+    InputError,
+    check_dataset,
+    check_no_duplicate_readings,
+    check_subjects,
+    read_table,
+)
+
+SCHEMAS = {name: load_schema(name) for name in ("subjects", "profiles", "outlines")}
+PROFILE_KEYS = ("depth_mm", "side", "distance_image_mm")
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def read_lines(path):
+    return Path(path).read_text().splitlines()
+
+
+def write_lines(path, lines):
+    Path(path).write_text("\n".join(lines) + "\n")
+
+
+def find_line(path, predicate, nth=0):
+    """1-based number of the ``nth`` data line (header excluded) satisfying ``predicate``."""
+    hits = [i + 1 for i, text in enumerate(read_lines(path)) if i > 0 and predicate(text)]
+    return hits[nth]
+
+
+def set_cell(path, line_no, column, value):
+    """Replace one cell (line ``line_no``, 1-based, header is 1) and return the old text."""
+    lines = read_lines(path)
+    header = lines[0].split(",")
+    cells = lines[line_no - 1].split(",")
+    j = header.index(column)
+    old, cells[j] = cells[j], value
+    lines[line_no - 1] = ",".join(cells)
+    write_lines(path, lines)
+    return old
+
+
+def drop_column(path, column):
+    lines = read_lines(path)
+    j = lines[0].split(",").index(column)
+    write_lines(path, [",".join(c for k, c in enumerate(t.split(",")) if k != j) for t in lines])
+
+
+def write_outline(path, depths=(1.0,), bad_state_at=None, bad_state="relaxed"):
+    """A valid outline file (resting and deformed traces); optionally one bad state.
+
+    Returns the 1-based line of the bad row (or None).
+    """
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lines = ["depth_mm,state,x_image_mm,z_image_mm"]
+    for depth in depths:
+        for state in ("resting", "deformed"):
+            for x in np.linspace(-60, 60, 7):
+                lines.append(f"{depth:g},{state},{x:.3f},{-abs(x) / 10:.3f}")
+    bad_line = None
+    if bad_state_at is not None:
+        bad_line = bad_state_at
+        cells = lines[bad_line - 1].split(",")
+        cells[1] = bad_state
+        lines[bad_line - 1] = ",".join(cells)
+    write_lines(path, lines)
+    return bad_line
+
+
+def reported_line(message):
+    """The first 'line <n>' of a message (where the error is), as an int."""
+    found = re.search(r"\bline (\d+)\b", message)
+    return int(found.group(1)) if found else None
+
+
+def error(call, *args, **kwargs):
+    with pytest.raises(InputError) as caught:
+        call(*args, **kwargs)
+    return str(caught.value)
+
+
+# ------------------------------------------------------------- end to end: one corruption
+
+
+@dataclass
+class Expect:
+    file: str | None  # relative to the raw folder; None for config errors
+    line: int | None  # None when the error is about the whole file
+    columns: tuple = ()  # column names the message must name
+    words: tuple = ()  # words of what was expected / what was found
+    config: tuple = ()  # extra --config KEY=VALUE
+    prefix: str | None = None  # required start of the message instead of the file
+
+
+def _mk(raw):
+    return raw / "profiles" / "MK.csv"
+
+
+def _hu(raw):
+    return raw / "profiles" / "HU.csv"
+
+
+def _subjects(raw):
+    return raw / "subjects.csv"
+
+
+def _bad_number(column, value, *words, subject="MK", block="2,left,", offset=3):
+    """A bad cell a few rows into a block of a profile (not its first row)."""
+
+    def corrupt(raw):
+        path = raw / "profiles" / f"{subject}.csv"
+        n = find_line(path, lambda t: t.startswith(block), nth=offset)
+        set_cell(path, n, column, value)
+        return Expect(f"profiles/{subject}.csv", n, (column,), ("number", *words))
+
+    return corrupt
+
+
+def _bad_side(raw):
+    n = find_line(_mk(raw), lambda t: t.startswith("2,right,"), nth=5)
+    set_cell(_mk(raw), n, "side", "middle")
+    return Expect("profiles/MK.csv", n, ("side",),
+                  (*SCHEMAS["profiles"]["properties"]["side"]["enum"], "middle"))
+
+
+def _missing_column(raw):
+    drop_column(_mk(raw), "side")
+    return Expect("profiles/MK.csv", 1, ("side",), ("missing",))
+
+
+def _empty_file(raw):
+    _hu(raw).write_text("")
+    return Expect("profiles/HU.csv", None, (), ("empty",))
+
+
+def _header_only(raw):
+    write_lines(_hu(raw), read_lines(_hu(raw))[:1])
+    return Expect("profiles/HU.csv", None, (), ("row",))
+
+
+def _duplicate_reading(raw):
+    path = _mk(raw)
+    lines = read_lines(path)
+    first = find_line(path, lambda t: t.startswith("1,right,"), nth=4)
+    copy = lines[first - 1].split(",")
+    copy[3] = "99.999"  # same depth, side and distance, other deflection
+    at = find_line(path, lambda t: t.startswith("2,left,"), nth=2)  # later in the file
+    lines.insert(at - 1, ",".join(copy))
+    write_lines(path, lines)
+    return Expect("profiles/MK.csv", at, PROFILE_KEYS, ("duplicate", f"line {first}"))
+
+
+def _missing_profile(raw):
+    _hu(raw).unlink()
+    n = find_line(_subjects(raw), lambda t: t.startswith("HU,"))
+    return Expect("subjects.csv", n, ("subject",), ("profile", "HU.csv"))
+
+
+def _bad_species(raw):
+    n = find_line(_subjects(raw), lambda t: t.startswith("HU,"))
+    set_cell(_subjects(raw), n, "species", "dog")
+    return Expect("subjects.csv", n, ("species",),
+                  (*SCHEMAS["subjects"]["properties"]["species"]["enum"], "dog"))
+
+
+def _bad_magnification(value):
+    def corrupt(raw):
+        n = find_line(_subjects(raw), lambda t: t.startswith("HU,"))
+        set_cell(_subjects(raw), n, "magnification", value)
+        return Expect("subjects.csv", n, ("magnification",), ("number", "> 0", value))
+
+    return corrupt
+
+
+def _unsafe_subject(raw):
+    n = find_line(_subjects(raw), lambda t: t.startswith("HU,"))
+    set_cell(_subjects(raw), n, "subject", "../x")
+    # make the traversal real: profiles/../x.csv exists, so only the id's form is wrong
+    shutil.copy(_hu(raw), raw / "x.csv")
+    return Expect("subjects.csv", n, ("subject",), ("'../x'", "letters"))
+
+
+def _ragged(extra):
+    def corrupt(raw):
+        path = _mk(raw)
+        n = find_line(path, lambda t: t.startswith("1,right,"), nth=6)
+        lines = read_lines(path)
+        lines[n - 1] = lines[n - 1] + ",7" if extra else lines[n - 1].rsplit(",", 1)[0]
+        write_lines(path, lines)
+        return Expect("profiles/MK.csv", n, (), ("fields", "4", "5" if extra else "3"))
+
+    return corrupt
+
+
+def _duplicate_subject(raw):
+    lines = read_lines(_subjects(raw))
+    first = find_line(_subjects(raw), lambda t: t.startswith("MK,"))
+    lines.append("MK,monkey,20,again")
+    write_lines(_subjects(raw), lines)
+    return Expect("subjects.csv", len(lines), ("subject",), ("MK", "unique", f"line {first}"))
+
+
+def _bad_outline(raw):
+    path = raw / "outlines" / "MK.csv"
+    n = write_outline(path, depths=(1.0, 2.0), bad_state_at=11)
+    return Expect("outlines/MK.csv", n, ("state",),
+                  (*SCHEMAS["outlines"]["properties"]["state"]["enum"], "relaxed"))
+
+
+def _config(*settings, words):
+    def corrupt(raw):
+        return Expect(None, None, (), words, config=settings, prefix="Error: config")
+
+    return corrupt
+
+
+CASES = {
+    "text_in_number": _bad_number("deflection_image_mm", "abc", "'abc'"),
+    "nan_in_number": _bad_number("distance_image_mm", "NaN", "NaN", subject="HU", block="1,right,"),
+    "empty_number_cell": _bad_number("deflection_image_mm", "", "empty"),
+    "inf_in_number": _bad_number("deflection_image_mm", "inf", "inf", block="1,left,", offset=8),
+    "negative_distance": _bad_number("distance_image_mm", "-1.000", ">= 0", "-1.000"),
+    "zero_depth": _bad_number("depth_mm", "0", "> 0", offset=10),
+    "negative_depth": _bad_number("depth_mm", "-1", "> 0", "-1", block="1,right,"),
+    "bad_side": _bad_side,
+    "missing_column": _missing_column,
+    "empty_file": _empty_file,
+    "header_only_file": _header_only,
+    "duplicate_reading": _duplicate_reading,
+    "subject_without_profile": _missing_profile,
+    "bad_species": _bad_species,
+    "zero_magnification": _bad_magnification("0"),
+    "negative_magnification": _bad_magnification("-20"),
+    "unsafe_subject_id": _unsafe_subject,
+    "ragged_row_extra_field": _ragged(extra=True),
+    "ragged_row_missing_field": _ragged(extra=False),
+    "duplicate_subject_id": _duplicate_subject,
+    "bad_outline_state": _bad_outline,
+    "config_unknown_key": _config("colour=red", words=("colour",)),
+    "config_wrong_type": _config("fit_window_mm=abc", words=("fit_window_mm", "number")),
+    "config_not_positive": _config("fit_window_mm=0", words=("fit_window_mm", "0")),
+}
+
+# Signs of a traceback, in Python's or snakemake's own format.
+TRACEBACK = re.compile(r"Traceback|^\s*File \".*\", line \d+|\w+(Error|Exception) in file", re.M)
+
+
+@pytest.mark.parametrize("case", list(CASES.values()), ids=list(CASES))
+def test_broken_input_is_refused_with_one_line(case, tmp_path, snakemake_available):
+    raw = write_small_dataset(tmp_path / "raw")
+    expect = case(raw)
+    results = tmp_path / "out"
+
+    proc = run_snakemake(raw=str(raw), results=str(results), config=expect.config)
+    output = proc.stdout + proc.stderr
+
+    assert proc.returncode != 0, output
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert len(errors) == 1, output
+    message = errors[0]
+    assert not TRACEBACK.search(output), output
+    assert not results.exists(), "partial output written: " + str(list(results.rglob("*")))
+
+    if expect.file is not None:
+        assert message.startswith(f"Error: {raw}/{expect.file}"), message
+    if expect.prefix is not None:
+        assert message.startswith(expect.prefix), message
+    if expect.line is not None:
+        assert reported_line(message) == expect.line, message
+    else:
+        assert reported_line(message) is None, message
+    for column in expect.columns:
+        assert column in message, (column, message)
+    if len(expect.columns) == 1:
+        assert f"column '{expect.columns[0]}'" in message, message
+    if expect.file is not None:  # config messages are jsonschema's ("... is not of type ...")
+        assert "expected" in message, message
+    for word in expect.words:
+        assert word in message, (word, message)
+
+
+def test_clean_dataset_runs_green(tmp_path, snakemake_available):
+    """The unbroken dataset passes the same command: each refusal above is the corruption's."""
+    raw = write_small_dataset(tmp_path / "raw")
+    results = tmp_path / "out"
+
+    proc = run_snakemake("fits", raw=str(raw), results=str(results))
+    output = proc.stdout + proc.stderr
+    assert proc.returncode == 0, output
+    assert not [line for line in output.splitlines() if line.startswith("Error")], output
+    table = pd.read_csv(results / "tables" / "fits.csv")
+    assert sorted(set(zip(table["subject"], table["depth_mm"], strict=True))) == [
+        ("HU", 1.0), ("MK", 1.0), ("MK", 2.0)]
+
+    again = run_snakemake(raw=str(raw), results=str(results))  # default target: nothing left
+    assert again.returncode == 0, again.stdout + again.stderr
+    assert "Nothing to be done" in again.stdout + again.stderr
+
+
+def test_target_goes_before_config(tmp_path, snakemake_available):
+    """A target passed to run_snakemake must be a target, not a --config word."""
+    raw = write_small_dataset(tmp_path / "raw")
+    proc = run_snakemake("fits", "-n", raw=str(raw), results=str(tmp_path / "out"))
+    output = proc.stdout + proc.stderr
+    assert proc.returncode == 0, output
+    assert "fits_table" in output
+    assert not (tmp_path / "out").exists()  # dry run
+
+
+# ----------------------------------------------------------------------- unit: read_table
+
+
+@pytest.fixture
+def raw(tmp_path):
+    return write_small_dataset(tmp_path / "raw")
+
+
+def test_valid_profile_comes_back_typed(raw):
+    path = raw / "profiles" / "MK.csv"
+    table = read_table(path, SCHEMAS["profiles"])
+    rows = [line.split(",") for line in read_lines(path)[1:]]
+
+    header = read_lines(path)[0].split(",")
+    assert len(table) == len(rows)
+    for column in ("depth_mm", "distance_image_mm", "deflection_image_mm"):
+        k = header.index(column)
+        assert table[column].dtype == np.float64, column
+        np.testing.assert_array_equal(table[column].to_numpy(), [float(r[k]) for r in rows])
+    assert list(table["side"]) == [r[1] for r in rows]
+    assert all(isinstance(v, str) for v in table["side"])
+
+
+def test_valid_subjects_typed_and_extra_column_kept(raw):
+    table = read_table(raw / "subjects.csv", SCHEMAS["subjects"])
+    assert list(table["subject"]) == ["MK", "HU"]
+    assert table["magnification"].dtype == np.float64
+    assert list(table["magnification"]) == [20.0, 20.0]
+    assert "label" in table.columns
+    assert list(table["label"]) == ["monkey MK", "human HU"]
+
+
+def test_extra_column_in_profile_kept_as_text(raw):
+    path = raw / "profiles" / "HU.csv"
+    lines = read_lines(path)
+    write_lines(path, [lines[0] + ",note"] + [t + f",n{i:03d}" for i, t in enumerate(lines[1:])])
+    table = read_table(path, SCHEMAS["profiles"])
+    assert list(table["note"]) == [f"n{i:03d}" for i in range(len(lines) - 1)]
+    assert table["distance_image_mm"].dtype == np.float64
+
+
+def test_column_order_does_not_matter(raw):
+    path = raw / "profiles" / "MK.csv"
+    before = read_table(path, SCHEMAS["profiles"])
+    order = [3, 1, 0, 2]
+    write_lines(path, [",".join(t.split(",")[k] for k in order) for t in read_lines(path)])
+    after = read_table(path, SCHEMAS["profiles"])
+    pd.testing.assert_frame_equal(after[list(before.columns)], before)
+
+
+def test_row_order_does_not_matter(raw):
+    path = raw / "profiles" / "MK.csv"
+    before = read_table(path, SCHEMAS["profiles"])
+    depths_before = check_dataset(str(raw), SCHEMAS)["depths_mm"]
+    lines = read_lines(path)
+    body = lines[1:]
+    random.Random(3).shuffle(body)
+    assert body != lines[1:]
+    write_lines(path, [lines[0], *body])
+
+    after = read_table(path, SCHEMAS["profiles"])
+    check_no_duplicate_readings(after, str(path))
+    keys = list(before.columns)
+    pd.testing.assert_frame_equal(
+        after.sort_values(keys).reset_index(drop=True),
+        before.sort_values(keys).reset_index(drop=True))
+    assert check_dataset(str(raw), SCHEMAS)["depths_mm"] == depths_before
+
+
+@pytest.mark.parametrize("where", ["second", "middle", "last"])
+@pytest.mark.parametrize(
+    ("table", "column", "value"),
+    [("profiles/MK.csv", "deflection_image_mm", "oops"),
+     ("profiles/MK.csv", "distance_image_mm", "-3"),
+     ("profiles/MK.csv", "side", "up"),
+     ("profiles/MK.csv", "depth_mm", "0"),
+     ("subjects.csv", "subject", "a/b"),
+     ("subjects.csv", "species", "cat"),
+     ("subjects.csv", "magnification", "nan")])
+def test_message_names_the_bad_line_and_column(raw, table, column, value, where):
+    path = raw / table
+    n_lines = len(read_lines(path))
+    line = {"second": 3, "middle": n_lines // 2 + 1, "last": n_lines}[where]
+    set_cell(path, line, column, value)
+    schema = SCHEMAS[table.split("/")[0].removesuffix(".csv")]
+    message = error(read_table, path, schema, display_path="shown/" + table)
+    assert message.startswith(f"shown/{table}, "), message
+    assert reported_line(message) == line, message
+    assert f"column '{column}'" in message
+    assert "expected" in message and repr(value) in message
+
+
+def test_first_of_several_bad_rows_is_reported(raw):
+    path = raw / "profiles" / "HU.csv"
+    set_cell(path, 9, "side", "top")
+    set_cell(path, 20, "side", "bottom")
+    message = error(read_table, path, SCHEMAS["profiles"])
+    assert reported_line(message) == 9 and "'top'" in message
+
+
+@pytest.mark.parametrize("value", ["", "  ", "NaN", "nan", "inf", "-inf", "1e400", "1,5", "abc"])
+def test_every_non_finite_or_non_number_is_refused(raw, value):
+    path = raw / "profiles" / "HU.csv"
+    line = 6
+    lines = read_lines(path)
+    cells = lines[line - 1].split(",")
+    cells[3] = f'"{value}"' if "," in value else value
+    lines[line - 1] = ",".join(cells)
+    write_lines(path, lines)
+    message = error(read_table, path, SCHEMAS["profiles"])
+    assert reported_line(message) == line, message
+    assert "column 'deflection_image_mm'" in message and "number" in message
+
+
+def test_spaces_around_cells_and_crlf_are_accepted(raw):
+    path = raw / "profiles" / "HU.csv"
+    lines = read_lines(path)
+    spaced = [", ".join(t.split(",")) for t in lines]
+    path.write_bytes(("\r\n".join(spaced) + "\r\n").encode())
+    table = read_table(path, SCHEMAS["profiles"])
+    assert len(table) == len(lines) - 1
+    assert set(table["side"]) == {"left", "right"}
+    assert table["depth_mm"].dtype == np.float64
+
+
+def test_byte_order_mark_is_not_part_of_the_first_column(raw):
+    """Spreadsheets save 'CSV UTF-8' with a BOM; the first column must still be found."""
+    path = raw / "subjects.csv"
+    path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
+    table = read_table(path, SCHEMAS["subjects"])
+    assert list(table["subject"]) == ["MK", "HU"]
+
+
+def test_missing_file(raw):
+    message = error(read_table, raw / "profiles" / "ZZ.csv", SCHEMAS["profiles"], "p/ZZ.csv")
+    assert message.startswith("p/ZZ.csv") and "not found" in message
+
+
+@pytest.mark.parametrize("text", ["", "\n", "  \n\n"])
+def test_empty_file(raw, text):
+    path = raw / "profiles" / "HU.csv"
+    path.write_text(text)
+    message = error(read_table, path, SCHEMAS["profiles"])
+    assert message.startswith(str(path)) and "empty" in message
+    for column in SCHEMAS["profiles"]["required"]:
+        assert column in message  # says which header was expected
+
+
+@pytest.mark.parametrize("tail", ["", "\n", "\n\n  \n"])
+def test_header_only_file(raw, tail):
+    path = raw / "profiles" / "HU.csv"
+    path.write_text(read_lines(path)[0] + tail)
+    message = error(read_table, path, SCHEMAS["profiles"])
+    assert message.startswith(str(path)) and "no data rows" in message
+    assert "expected" in message
+
+
+@pytest.mark.parametrize("column", SCHEMAS["profiles"]["required"])
+def test_each_missing_required_column(raw, column):
+    path = raw / "profiles" / "MK.csv"
+    drop_column(path, column)
+    message = error(read_table, path, SCHEMAS["profiles"])
+    assert reported_line(message) == 1 and f"column '{column}'" in message
+    assert "missing" in message
+
+
+def test_column_named_twice(raw):
+    path = raw / "subjects.csv"
+    lines = read_lines(path)
+    write_lines(path, [lines[0] + ",species"] + [t + ",human" for t in lines[1:]])
+    message = error(read_table, path, SCHEMAS["subjects"])
+    assert reported_line(message) == 1 and "column 'species'" in message and "twice" in message
+
+
+@pytest.mark.parametrize("extra", [True, False])
+def test_ragged_row_line(raw, extra):
+    path = raw / "profiles" / "MK.csv"
+    lines = read_lines(path)
+    line = len(lines) - 4
+    lines[line - 1] = lines[line - 1] + ",x" if extra else lines[line - 1].rsplit(",", 1)[0]
+    write_lines(path, lines)
+    message = error(read_table, path, SCHEMAS["profiles"])
+    assert reported_line(message) == line, message
+    assert "fields" in message
+
+
+def test_outline_valid_and_bad_state(raw):
+    path = raw / "outlines" / "MK.csv"
+    write_outline(path, depths=(1.0, 2.0))
+    table = read_table(path, SCHEMAS["outlines"])
+    assert table["x_image_mm"].dtype == np.float64
+    assert set(table["state"]) == {"resting", "deformed"}
+    line = write_outline(path, depths=(1.0, 2.0), bad_state_at=17, bad_state="Resting")
+    message = error(read_table, path, SCHEMAS["outlines"])
+    assert reported_line(message) == line and "column 'state'" in message and "'Resting'" in message
+
+
+# ------------------------------------------------------- unit: duplicate readings
+
+
+HEADER = "depth_mm,side,distance_image_mm,deflection_image_mm\n"
+
+
+def test_no_duplicates_in_clean_profile(raw):
+    for subject in ("MK", "HU"):
+        path = raw / "profiles" / f"{subject}.csv"
+        check_no_duplicate_readings(read_table(path, SCHEMAS["profiles"]), str(path))
+
+
+def test_same_distance_on_other_side_or_depth_is_not_a_duplicate(tmp_path):
+    path = tmp_path / "p.csv"
+    path.write_text(HEADER + "1,left,2,5\n1,right,2,5\n2,left,2,5\n2,right,2,5\n1,left,3,5\n")
+    check_no_duplicate_readings(read_table(path, SCHEMAS["profiles"]), "p.csv")
+
+
+def test_duplicate_reading_names_both_lines(tmp_path):
+    path = tmp_path / "p.csv"
+    # line 5 repeats line 3 numerically ("1" == "1.0", "2" == "2.00"), other deflection
+    path.write_text(HEADER + "1,left,1,5\n1,left,2,5\n1,right,2,5\n1.0,left,2.00,9\n")
+    profile = read_table(path, SCHEMAS["profiles"])
+    message = error(check_no_duplicate_readings, profile, "shown.csv")
+    assert message.startswith("shown.csv, ")
+    assert reported_line(message) == 5
+    assert "line 3" in message
+    for key in PROFILE_KEYS:
+        assert key in message
+
+
+def test_duplicate_reading_after_shuffle_names_the_later_line(tmp_path):
+    path = tmp_path / "p.csv"
+    path.write_text(HEADER + "2,right,4,1\n1,left,1,5\n1,right,2,5\n2,right,4,3\n1,left,3,5\n")
+    message = error(check_no_duplicate_readings, read_table(path, SCHEMAS["profiles"]), "p")
+    assert reported_line(message) == 5 and "line 2" in message
+
+
+# ------------------------------------------------------------ unit: subjects sheet
+
+
+def test_check_subjects_clean(raw):
+    subjects = read_table(raw / "subjects.csv", SCHEMAS["subjects"])
+    check_subjects(subjects, "s.csv", str(raw / "profiles"))
+
+
+def test_check_subjects_duplicate_id(raw):
+    path = raw / "subjects.csv"
+    lines = read_lines(path)
+    write_lines(path, [*lines, "ZZ,human,20,z", "HU,human,10,again"])
+    (raw / "profiles" / "ZZ.csv").write_text((raw / "profiles" / "HU.csv").read_text())
+    subjects = read_table(path, SCHEMAS["subjects"])
+    message = error(check_subjects, subjects, "s.csv", str(raw / "profiles"))
+    assert reported_line(message) == len(lines) + 2
+    assert "'HU'" in message and f"line {find_line(path, lambda t: t.startswith('HU,'))}" in message
+    assert "column 'subject'" in message
+
+
+def test_check_subjects_missing_profile(raw):
+    (raw / "profiles" / "HU.csv").unlink()
+    subjects = read_table(raw / "subjects.csv", SCHEMAS["subjects"])
+    message = error(check_subjects, subjects, "s.csv", str(raw / "profiles"), "P")
+    assert message.startswith("s.csv, ")
+    assert reported_line(message) == find_line(raw / "subjects.csv", lambda t: t.startswith("HU,"))
+    assert "column 'subject'" in message and "P/HU.csv" in message
+
+
+@pytest.mark.parametrize("subject", ["../x", "a b", "x.csv", "", "/etc/passwd", "é"])
+def test_unsafe_subject_ids_are_refused(raw, subject):
+    path = raw / "subjects.csv"
+    set_cell(path, 3, "subject", subject)
+    message = error(read_table, path, SCHEMAS["subjects"])
+    assert reported_line(message) == 3 and "column 'subject'" in message
+
+
+# --------------------------------------------------------------- unit: check_dataset
+
+
+def test_check_dataset_clean(raw):
+    dataset = check_dataset(str(raw), SCHEMAS)
+    assert dataset["depths_mm"] == {"MK": [1.0, 2.0], "HU": [1.0]}
+    assert dataset["outlines"] == {}
+    assert list(dataset["subjects"]["subject"]) == ["MK", "HU"]
+
+
+def test_check_dataset_reads_outlines(raw):
+    write_outline(raw / "outlines" / "MK.csv", depths=(2.0, 1.0))
+    write_outline(raw / "outlines" / "NOT_LISTED.csv")  # not a listed subject: not reported
+    assert check_dataset(str(raw), SCHEMAS)["outlines"] == {"MK": [1.0, 2.0]}
+
+
+def test_check_dataset_names_files_as_shown(raw):
+    set_cell(raw / "profiles" / "HU.csv", 4, "side", "centre")
+    message = error(check_dataset, str(raw), SCHEMAS, "data/raw/")
+    assert message.startswith("data/raw/profiles/HU.csv, ")
+    assert reported_line(message) == 4
+
+
+def test_check_dataset_refuses_duplicate_reading_and_missing_sheet(raw):
+    path = raw / "profiles" / "HU.csv"
+    lines = read_lines(path)
+    write_lines(path, [*lines, lines[7]])
+    message = error(check_dataset, str(raw), SCHEMAS)
+    assert reported_line(message) == len(lines) + 1 and "line 8" in message
+    (raw / "subjects.csv").unlink()
+    message = error(check_dataset, str(raw), SCHEMAS)
+    assert message.startswith(f"{raw}/subjects.csv") and "not found" in message
+
+
+# ----------------------------------------------- line numbers, encodings and ids that once broke
+
+
+def test_line_number_after_a_blank_line(raw):
+    path = raw / "profiles" / "MK.csv"
+    lines = read_lines(path)
+    lines.insert(5, "")  # blank line 6
+    write_lines(path, lines)
+    set_cell(path, 10, "side", "up")
+    assert reported_line(error(read_table, path, SCHEMAS["profiles"])) == 10
+
+
+def test_line_number_after_a_multiline_cell(raw):
+    path = raw / "subjects.csv"
+    lines = read_lines(path)
+    lines[1] = lines[1].rsplit(",", 1)[0] + ',"two\nlines"'
+    write_lines(path, lines)  # HU is now on line 4
+    set_cell(path, 4, "species", "dog")
+    assert reported_line(error(read_table, path, SCHEMAS["subjects"])) == 4
+
+
+def test_file_not_in_utf8_is_an_input_error(raw):
+    path = raw / "subjects.csv"
+    path.write_bytes(path.read_text().replace("human HU", "Müller").encode("latin-1"))
+    message = error(read_table, path, SCHEMAS["subjects"])
+    assert message.startswith(str(path))
+    assert "UTF-8" in message
+
+
+def test_subject_id_starting_with_a_dash_is_refused(raw):
+    path = raw / "subjects.csv"
+    set_cell(path, 3, "subject", "-x")
+    error(read_table, path, SCHEMAS["subjects"])
