@@ -49,9 +49,10 @@ def write_small_dataset(raw_dir, subjects=None, magnification=20.0, seed=7):
             for side in ("left", "right"):
                 x = reading_grid_mm(extent_mm)
                 w = depth_mm * (1 - x / extent_mm) ** 2 + rng.normal(0, 0.005, x.size)
-                for xi, wi in zip(x, np.clip(w, 0, None)):
-                    rows.append(f"{depth_mm:g},{side},{xi * magnification:.3f},"
-                                f"{wi * magnification:.3f}")
+                for xi, wi in zip(x, np.clip(w, 0, None), strict=True):
+                    rows.append(
+                        f"{depth_mm:g},{side},{xi * magnification:.3f},{wi * magnification:.3f}"
+                    )
         (raw_dir / "profiles" / f"{subject}.csv").write_text("\n".join(rows) + "\n")
     (raw_dir / "subjects.csv").write_text("\n".join(lines) + "\n")
     return raw_dir
@@ -70,9 +71,20 @@ def run_snakemake(*args, raw, results, config=(), cwd=REPO, timeout=600):
     word after it as a KEY=VALUE; ``config`` adds more KEY=VALUE settings.
     """
     command = [
-        sys.executable, "-m", "snakemake", "--snakefile", str(REPO / "Snakefile"),
-        "--directory", str(cwd), "--cores", "2", *args,
-        "--config", f"raw_data={raw}", f"results={results}", *config,
+        sys.executable,
+        "-m",
+        "snakemake",
+        "--snakefile",
+        str(REPO / "Snakefile"),
+        "--directory",
+        str(cwd),
+        "--cores",
+        "2",
+        *args,
+        "--config",
+        f"raw_data={raw}",
+        f"results={results}",
+        *config,
     ]
     env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
     return subprocess.run(command, capture_output=True, text=True, timeout=timeout, env=env)
@@ -80,6 +92,9 @@ def run_snakemake(*args, raw, results, config=(), cwd=REPO, timeout=600):
 
 @pytest.fixture(scope="session")
 def snakemake_available():
-    if shutil.which("snakemake") is None and not (Path(sys.executable).parent / "snakemake").exists():
+    if (
+        shutil.which("snakemake") is None
+        and not (Path(sys.executable).parent / "snakemake").exists()
+    ):
         pytest.fail("snakemake is not installed in this environment")
     return True

@@ -8,7 +8,9 @@ from lineload.averaging import AVERAGED_COLUMNS, average_sides, to_tissue_mm
 
 
 def raw(rows):
-    return pd.DataFrame(rows, columns=["depth_mm", "side", "distance_image_mm", "deflection_image_mm"])
+    return pd.DataFrame(
+        rows, columns=["depth_mm", "side", "distance_image_mm", "deflection_image_mm"]
+    )
 
 
 def test_conversion_divides_image_units_by_magnification():
@@ -34,8 +36,14 @@ def averaged(rows, magnification=1.0):
 
 
 def test_equal_distances_are_averaged():
-    out = averaged([(1, "left", 0.1, 0.90), (1, "right", 0.1, 0.80),
-                    (1, "left", 0.5, 0.50), (1, "right", 0.5, 0.46)])
+    out = averaged(
+        [
+            (1, "left", 0.1, 0.90),
+            (1, "right", 0.1, 0.80),
+            (1, "left", 0.5, 0.50),
+            (1, "right", 0.5, 0.46),
+        ]
+    )
     assert list(out.columns) == AVERAGED_COLUMNS
     assert np.allclose(out["deflection_mm"], [0.85, 0.48])
     assert list(out["n_sides"]) == [2, 2]
@@ -43,8 +51,15 @@ def test_equal_distances_are_averaged():
 
 
 def test_missing_side_is_interpolated_within_its_readings():
-    out = averaged([(1, "left", 0.1, 0.9), (1, "left", 0.3, 0.7), (1, "left", 0.5, 0.5),
-                    (1, "right", 0.1, 0.8), (1, "right", 0.5, 0.4)])
+    out = averaged(
+        [
+            (1, "left", 0.1, 0.9),
+            (1, "left", 0.3, 0.7),
+            (1, "left", 0.5, 0.5),
+            (1, "right", 0.1, 0.8),
+            (1, "right", 0.5, 0.4),
+        ]
+    )
     row = out[np.isclose(out["distance_mm"], 0.3)].iloc[0]
     # right side at 0.3 lies halfway between its readings 0.8 and 0.4
     assert row["right_mm"] == pytest.approx(0.6)
@@ -55,8 +70,15 @@ def test_missing_side_is_interpolated_within_its_readings():
 
 
 def test_one_sided_value_outside_the_other_range_is_kept():
-    out = averaged([(1, "left", 0.05, 0.95), (1, "left", 0.1, 0.9), (1, "left", 4.0, 0.01),
-                    (1, "right", 0.1, 0.88), (1, "right", 3.0, 0.05)])
+    out = averaged(
+        [
+            (1, "left", 0.05, 0.95),
+            (1, "left", 0.1, 0.9),
+            (1, "left", 4.0, 0.01),
+            (1, "right", 0.1, 0.88),
+            (1, "right", 3.0, 0.05),
+        ]
+    )
     first = out.iloc[0]
     assert first["distance_mm"] == pytest.approx(0.05)
     assert first["n_sides"] == 1 and first["right_source"] == "none"
@@ -71,8 +93,14 @@ def test_one_sided_value_outside_the_other_range_is_kept():
 
 
 def test_depths_are_kept_apart_and_row_order_does_not_matter():
-    rows = [(1, "left", 0.1, 0.9), (1, "right", 0.1, 0.7), (2, "left", 0.1, 1.9),
-            (2, "right", 0.1, 1.7), (2, "left", 0.2, 1.8), (2, "right", 0.2, 1.6)]
+    rows = [
+        (1, "left", 0.1, 0.9),
+        (1, "right", 0.1, 0.7),
+        (2, "left", 0.1, 1.9),
+        (2, "right", 0.1, 1.7),
+        (2, "left", 0.2, 1.8),
+        (2, "right", 0.2, 1.6),
+    ]
     out = averaged(rows)
     shuffled = averaged([rows[i] for i in np.random.default_rng(0).permutation(len(rows))])
     pd.testing.assert_frame_equal(out, shuffled)

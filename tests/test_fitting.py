@@ -87,10 +87,14 @@ def test_boussinesq_recovers_A_and_x0(A_mm, x0_mm):
 def test_models_tell_each_other_apart():
     waterbed = noisy(models.waterbed_deflection_mm(DISTANCE_MM, 1.0, 12.0), 1)
     boussinesq = noisy(models.boussinesq_deflection_mm(DISTANCE_MM, 0.25, 5.0), 2)
-    assert (fitting.fit_waterbed(DISTANCE_MM, waterbed, 1.0).aicc
-            < fitting.fit_boussinesq(DISTANCE_MM, waterbed).aicc)
-    assert (fitting.fit_boussinesq(DISTANCE_MM, boussinesq).aicc
-            < fitting.fit_waterbed(DISTANCE_MM, boussinesq, boussinesq[0]).aicc)
+    assert (
+        fitting.fit_waterbed(DISTANCE_MM, waterbed, 1.0).aicc
+        < fitting.fit_boussinesq(DISTANCE_MM, waterbed).aicc
+    )
+    assert (
+        fitting.fit_boussinesq(DISTANCE_MM, boussinesq).aicc
+        < fitting.fit_waterbed(DISTANCE_MM, boussinesq, boussinesq[0]).aicc
+    )
 
 
 def test_goodness_of_fit_matches_gaussian_likelihood():

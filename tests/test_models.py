@@ -43,10 +43,14 @@ class TestWaterbedParabola:
         # Green strain U' + (U'^2 + W'^2)/2 with U' << 1: U' + W'^2/2 = 2 W0^2 / L^2
         X = np.linspace(0.01, 0.99, 99) * L_mm
         h = 1e-6 * L_mm
-        dU = (models.waterbed_shift_mm(X + h, depth_mm, L_mm)
-              - models.waterbed_shift_mm(X - h, depth_mm, L_mm)) / (2 * h)
-        dW = (models.waterbed_deflection_mm(X + h, depth_mm, L_mm)
-              - models.waterbed_deflection_mm(X - h, depth_mm, L_mm)) / (2 * h)
+        dU = (
+            models.waterbed_shift_mm(X + h, depth_mm, L_mm)
+            - models.waterbed_shift_mm(X - h, depth_mm, L_mm)
+        ) / (2 * h)
+        dW = (
+            models.waterbed_deflection_mm(X + h, depth_mm, L_mm)
+            - models.waterbed_deflection_mm(X - h, depth_mm, L_mm)
+        ) / (2 * h)
         strain = dU + dW**2 / 2
         assert np.allclose(strain, models.waterbed_strain(depth_mm, L_mm), rtol=1e-6)
 

@@ -12,13 +12,13 @@ REPO = Path(__file__).resolve().parents[1]
 
 def pins_from_requirements():
     lines = (REPO / "requirements.txt").read_text().splitlines()
-    return dict(
-        line.split("==") for line in (ln.split("#")[0].strip() for ln in lines) if line
-    )
+    return dict(line.split("==") for line in (ln.split("#")[0].strip() for ln in lines) if line)
 
 
 def test_requirements_are_all_pinned():
-    lines = [ln.split("#")[0].strip() for ln in (REPO / "requirements.txt").read_text().splitlines()]
+    lines = [
+        ln.split("#")[0].strip() for ln in (REPO / "requirements.txt").read_text().splitlines()
+    ]
     assert all(re.fullmatch(r"[A-Za-z0-9_.\-\[\]]+==[0-9][A-Za-z0-9.]*", ln) for ln in lines if ln)
 
 
@@ -32,7 +32,7 @@ def test_environment_pins_match_requirements():
 
 def readme_block_after(marker):
     text = (REPO / "README.md").read_text()
-    after = text[text.index(marker):]
+    after = text[text.index(marker) :]
     return re.search(r"```bash\n(.+?)\n```", after, re.S).group(1).strip()
 
 
@@ -52,6 +52,6 @@ def test_readme_main_command_installs_and_builds():
 
 def test_every_fit_column_is_in_the_data_dictionary():
     text = (REPO / "README.md").read_text()
-    dictionary = text[text.index("## Data dictionary"):]
+    dictionary = text[text.index("## Data dictionary") :]
     documented = set(re.findall(r"^\| `([A-Za-z0-9_]+)` \|", dictionary, re.M))
     assert set(FIT_COLUMNS) <= documented

@@ -26,13 +26,19 @@ ALL_DEPTHS = {0.5, 1.0, 1.5, 2.0}
 
 
 def files_under(folder):
-    return {p.relative_to(folder).as_posix(): p.read_bytes()
-            for p in sorted(folder.rglob("*")) if p.is_file()}
+    return {
+        p.relative_to(folder).as_posix(): p.read_bytes()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file()
+    }
 
 
 def shipped_trials():
-    return [(s, synthetic.trial_parameters(s, d))
-            for s in synthetic.shipped_subjects() for d in s.depths_mm]
+    return [
+        (s, synthetic.trial_parameters(s, d))
+        for s in synthetic.shipped_subjects()
+        for d in s.depths_mm
+    ]
 
 
 @pytest.fixture(scope="module")
@@ -55,10 +61,12 @@ def readings(subjects):
 
 # --- reproducibility -------------------------------------------------------------------------
 
+
 def test_cli_rebuilds_shipped_data_byte_for_byte(tmp_path):
     out = tmp_path / "raw"
-    subprocess.run([sys.executable, str(SCRIPT), "--out", str(out)], check=True,
-                   capture_output=True)
+    subprocess.run(
+        [sys.executable, str(SCRIPT), "--out", str(out)], check=True, capture_output=True
+    )
     shipped, rebuilt = files_under(RAW), files_under(out)
     assert sorted(rebuilt) == sorted(shipped)
     for name, content in shipped.items():
@@ -77,8 +85,10 @@ def test_subject_stream_does_not_depend_on_dataset_size():
     large = synthetic.build_dataset(n_monkeys=6, n_humans=4)
     for name in ("profiles/M1.csv", "profiles/M2.csv", "profiles/H1.csv", "outlines/H1.csv"):
         assert small[name] == large[name]
-    assert synthetic.build_dataset(seed=7, n_monkeys=2, n_humans=1)["profiles/M1.csv"] \
+    assert (
+        synthetic.build_dataset(seed=7, n_monkeys=2, n_humans=1)["profiles/M1.csv"]
         != small["profiles/M1.csv"]
+    )
 
 
 def test_shuffle_changes_order_only():
@@ -90,8 +100,11 @@ def test_shuffle_changes_order_only():
 
 
 def test_scale_mode_cli(tmp_path):
-    subprocess.run([sys.executable, str(SCRIPT), "--out", str(tmp_path), "--monkeys", "3",
-                    "--humans", "2"], check=True, capture_output=True)
+    subprocess.run(
+        [sys.executable, str(SCRIPT), "--out", str(tmp_path), "--monkeys", "3", "--humans", "2"],
+        check=True,
+        capture_output=True,
+    )
     sheet = pd.read_csv(tmp_path / "subjects.csv")
     assert list(sheet["subject"]) == ["M1", "M2", "M3", "H1", "H2"]
     assert {p.stem for p in (tmp_path / "profiles").glob("*.csv")} == set(sheet["subject"])
@@ -103,64 +116,93 @@ def test_cli_refuses_stale_profiles(tmp_path):
     stale = tmp_path / "profiles" / "OLD.csv"
     stale.parent.mkdir(parents=True)
     stale.write_text("x\n")
-    run = subprocess.run([sys.executable, str(SCRIPT), "--out", str(tmp_path)],
-                         capture_output=True, text=True)
+    run = subprocess.run(
+        [sys.executable, str(SCRIPT), "--out", str(tmp_path)], capture_output=True, text=True
+    )
     assert run.returncode != 0 and "OLD.csv" in run.stderr
-    subprocess.run([sys.executable, str(SCRIPT), "--out", str(tmp_path), "--clean"], check=True,
-                   capture_output=True)
+    subprocess.run(
+        [sys.executable, str(SCRIPT), "--out", str(tmp_path), "--clean"],
+        check=True,
+        capture_output=True,
+    )
     assert not stale.exists()
 
 
 # --- the true profile ------------------------------------------------------------------------
 
-@pytest.mark.parametrize(("subject", "trial"), shipped_trials(),
-                         ids=lambda v: getattr(v, "subject", None) or f"{v.depth_mm:g}mm")
+
+@pytest.mark.parametrize(
+    ("subject", "trial"),
+    shipped_trials(),
+    ids=lambda v: getattr(v, "subject", None) or f"{v.depth_mm:g}mm",
+)
 def test_true_profile_shape(subject, trial):
     for side in ("left", "right"):
         extent = trial.extent_mm(side)
         x = np.linspace(0.0, extent, 4001)
-        w = synthetic.true_deflection_mm(x, trial.depth_mm, extent, trial.exponent,
-                                         trial.near_fraction, trial.near_exponent)
+        w = synthetic.true_deflection_mm(
+            x, trial.depth_mm, extent, trial.exponent, trial.near_fraction, trial.near_exponent
+        )
         assert w[0] == pytest.approx(trial.depth_mm, abs=1e-12)
         assert w[-1] == pytest.approx(0.0, abs=1e-12)
         assert np.all(np.diff(w) < 0), "not strictly decreasing"
-        beyond = synthetic.true_deflection_mm(extent + np.array([0.1, 1.0, 5.0]), trial.depth_mm,
-                                              extent, trial.exponent, trial.near_fraction)
+        beyond = synthetic.true_deflection_mm(
+            extent + np.array([0.1, 1.0, 5.0]),
+            trial.depth_mm,
+            extent,
+            trial.exponent,
+            trial.near_fraction,
+        )
         assert np.all(beyond == 0.0), "no bulge, no lift beyond the edge"
         # meets the resting surface smoothly (no kink at the edge)
         assert trial.exponent > 1
     assert trial.extent_left_mm != trial.extent_right_mm
 
 
-@pytest.mark.parametrize(("subject", "trial"), shipped_trials(),
-                         ids=lambda v: getattr(v, "subject", None) or f"{v.depth_mm:g}mm")
+@pytest.mark.parametrize(
+    ("subject", "trial"),
+    shipped_trials(),
+    ids=lambda v: getattr(v, "subject", None) or f"{v.depth_mm:g}mm",
+)
 def test_true_profile_is_neither_fitted_model(subject, trial):
     for side in ("left", "right"):
         x = synthetic.reading_distances_mm(trial.extent_mm(side))
-        w = synthetic.true_deflection_mm(x, trial.depth_mm, trial.extent_mm(side), trial.exponent,
-                                         trial.near_fraction, trial.near_exponent)
+        w = synthetic.true_deflection_mm(
+            x,
+            trial.depth_mm,
+            trial.extent_mm(side),
+            trial.exponent,
+            trial.near_fraction,
+            trial.near_exponent,
+        )
         # not the same function: the best fit of either family misses somewhere
         for fit in (fitting.fit_waterbed(x, w, trial.depth_mm), fitting.fit_boussinesq(x, w)):
             assert fit.max_abs_residual_mm > 1e-3 * trial.depth_mm, fit.model
         # and at the deepest indentation the miss within 3 mm is far above the noise
         if trial.depth_mm == max(subject.depths_mm):
             near = x <= 3.0
-            for fit in (fitting.fit_waterbed(x[near], w[near], trial.depth_mm),
-                        fitting.fit_boussinesq(x[near], w[near])):
+            for fit in (
+                fitting.fit_waterbed(x[near], w[near], trial.depth_mm),
+                fitting.fit_boussinesq(x[near], w[near]),
+            ):
                 assert fit.max_abs_residual_mm > 5 * NOISE, fit.model
 
 
 def test_sides_differ_by_a_few_percent():
     for subject, trial in shipped_trials():
         x = np.linspace(0.0, max(trial.extent_left_mm, trial.extent_right_mm), 2001)
-        left, right = (synthetic.true_deflection_mm(x, trial.depth_mm, trial.extent_mm(side),
-                                                    trial.exponent, trial.near_fraction)
-                       for side in ("left", "right"))
+        left, right = (
+            synthetic.true_deflection_mm(
+                x, trial.depth_mm, trial.extent_mm(side), trial.exponent, trial.near_fraction
+            )
+            for side in ("left", "right")
+        )
         gap = np.max(np.abs(left - right)) / trial.depth_mm
         assert 0.005 < gap < 0.10, (subject.subject, trial.depth_mm, gap)
 
 
 # --- the shipped files -----------------------------------------------------------------------
+
 
 def test_subject_sheet(subjects):
     assert list(subjects.columns[:3]) == ["subject", "species", "magnification"]
@@ -201,7 +243,8 @@ def test_values_are_valid(readings):
 def test_reading_grid(readings):
     first_seen, last_seen = set(), []
     for (subject, species, depth, side), g in readings.groupby(
-            ["subject", "species", "depth_mm", "side"]):
+        ["subject", "species", "depth_mm", "side"]
+    ):
         x = np.sort(g["distance_mm"].to_numpy())
         first_seen.add(round(x[0], 6))
         assert 0.05 - 1e-9 <= x[0] <= 0.1 + 1e-9
@@ -210,8 +253,9 @@ def test_reading_grid(readings):
         assert g.loc[g["distance_mm"].idxmax(), "deflection_image_mm"] == 0.0
         steps = np.diff(x)
         inner_ends = x[1:-1]  # the step into each reading but the edge
-        expected = np.where(inner_ends <= 0.5 + 1e-9, 0.05,
-                            np.where(inner_ends <= 3.0 + 1e-9, 0.25, 0.5))
+        expected = np.where(
+            inner_ends <= 0.5 + 1e-9, 0.05, np.where(inner_ends <= 3.0 + 1e-9, 0.25, 0.5)
+        )
         assert np.allclose(steps[:-1], expected, atol=1e-9), (subject, depth, side)
         assert 0 < steps[-1] <= 0.5 + 1e-9
         last_seen.append((subject, depth, side, x[-1]))

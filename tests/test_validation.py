@@ -147,8 +147,12 @@ def _bad_number(column, value, *words, subject="MK", block="2,left,", offset=3):
 def _bad_side(raw):
     n = find_line(_mk(raw), lambda t: t.startswith("2,right,"), nth=5)
     set_cell(_mk(raw), n, "side", "middle")
-    return Expect("profiles/MK.csv", n, ("side",),
-                  (*SCHEMAS["profiles"]["properties"]["side"]["enum"], "middle"))
+    return Expect(
+        "profiles/MK.csv",
+        n,
+        ("side",),
+        (*SCHEMAS["profiles"]["properties"]["side"]["enum"], "middle"),
+    )
 
 
 def _missing_column(raw):
@@ -187,8 +191,12 @@ def _missing_profile(raw):
 def _bad_species(raw):
     n = find_line(_subjects(raw), lambda t: t.startswith("HU,"))
     set_cell(_subjects(raw), n, "species", "dog")
-    return Expect("subjects.csv", n, ("species",),
-                  (*SCHEMAS["subjects"]["properties"]["species"]["enum"], "dog"))
+    return Expect(
+        "subjects.csv",
+        n,
+        ("species",),
+        (*SCHEMAS["subjects"]["properties"]["species"]["enum"], "dog"),
+    )
 
 
 def _bad_magnification(value):
@@ -231,8 +239,12 @@ def _duplicate_subject(raw):
 def _bad_outline(raw):
     path = raw / "outlines" / "MK.csv"
     n = write_outline(path, depths=(1.0, 2.0), bad_state_at=11)
-    return Expect("outlines/MK.csv", n, ("state",),
-                  (*SCHEMAS["outlines"]["properties"]["state"]["enum"], "relaxed"))
+    return Expect(
+        "outlines/MK.csv",
+        n,
+        ("state",),
+        (*SCHEMAS["outlines"]["properties"]["state"]["enum"], "relaxed"),
+    )
 
 
 def _config(*settings, words):
@@ -318,7 +330,10 @@ def test_clean_dataset_runs_green(tmp_path, snakemake_available):
     assert not [line for line in output.splitlines() if line.startswith("Error")], output
     table = pd.read_csv(results / "tables" / "fits.csv")
     assert sorted(set(zip(table["subject"], table["depth_mm"], strict=True))) == [
-        ("HU", 1.0), ("MK", 1.0), ("MK", 2.0)]
+        ("HU", 1.0),
+        ("MK", 1.0),
+        ("MK", 2.0),
+    ]
 
     again = run_snakemake(raw=str(raw), results=str(results))  # default target: nothing left
     assert again.returncode == 0, again.stdout + again.stderr
@@ -400,20 +415,24 @@ def test_row_order_does_not_matter(raw):
     keys = list(before.columns)
     pd.testing.assert_frame_equal(
         after.sort_values(keys).reset_index(drop=True),
-        before.sort_values(keys).reset_index(drop=True))
+        before.sort_values(keys).reset_index(drop=True),
+    )
     assert check_dataset(str(raw), SCHEMAS)["depths_mm"] == depths_before
 
 
 @pytest.mark.parametrize("where", ["second", "middle", "last"])
 @pytest.mark.parametrize(
     ("table", "column", "value"),
-    [("profiles/MK.csv", "deflection_image_mm", "oops"),
-     ("profiles/MK.csv", "distance_image_mm", "-3"),
-     ("profiles/MK.csv", "side", "up"),
-     ("profiles/MK.csv", "depth_mm", "0"),
-     ("subjects.csv", "subject", "a/b"),
-     ("subjects.csv", "species", "cat"),
-     ("subjects.csv", "magnification", "nan")])
+    [
+        ("profiles/MK.csv", "deflection_image_mm", "oops"),
+        ("profiles/MK.csv", "distance_image_mm", "-3"),
+        ("profiles/MK.csv", "side", "up"),
+        ("profiles/MK.csv", "depth_mm", "0"),
+        ("subjects.csv", "subject", "a/b"),
+        ("subjects.csv", "species", "cat"),
+        ("subjects.csv", "magnification", "nan"),
+    ],
+)
 def test_message_names_the_bad_line_and_column(raw, table, column, value, where):
     path = raw / table
     n_lines = len(read_lines(path))

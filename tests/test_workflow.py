@@ -1,7 +1,5 @@
 """The workflow end to end, on small datasets in temporary folders and on the shipped data."""
 
-from pathlib import Path
-
 import numpy as np
 import pandas as pd
 import pytest
@@ -22,7 +20,11 @@ def test_fits_target_on_a_small_dataset(small_raw, tmp_path):
     fits = pd.read_csv(out / "tables" / "fits.csv")
     assert list(fits.columns) == FIT_COLUMNS
     # one row per subject and depth, in subject-sheet order, depths ascending
-    assert list(zip(fits["subject"], fits["depth_mm"])) == [("MK", 1.0), ("MK", 2.0), ("HU", 1.0)]
+    assert list(zip(fits["subject"], fits["depth_mm"], strict=True)) == [
+        ("MK", 1.0),
+        ("MK", 2.0),
+        ("HU", 1.0),
+    ]
     assert list(fits["species"]) == ["monkey", "monkey", "human"]
     for subject in ("MK", "HU"):
         for stage in ("converted", "averaged"):
@@ -50,8 +52,10 @@ def write_model_dataset(raw_dir, magnification=20.0, seed=11):
         x = reading_grid_mm(3.0)
         for side in ("right", "left"):
             w = profile(x) + rng.normal(0, 0.005, x.size)
-            rows += [f"{depth_mm:g},{side},{xi * magnification:.4f},{wi * magnification:.4f}"
-                     for xi, wi in zip(x, w)]
+            rows += [
+                f"{depth_mm:g},{side},{xi * magnification:.4f},{wi * magnification:.4f}"
+                for xi, wi in zip(x, w, strict=True)
+            ]
         (raw_dir / "profiles" / f"{subject}.csv").write_text("\n".join(rows) + "\n")
     (raw_dir / "subjects.csv").write_text("\n".join(sheet) + "\n")
 

@@ -12,7 +12,7 @@ import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["SCHEMA_DIR", "FLOAT_FORMAT", "load_schema", "write_csv", "write_text"]
+__all__ = ["FLOAT_FORMAT", "SCHEMA_DIR", "load_schema", "write_csv", "write_text"]
 
 #: The JSON schemas (YAML) of the config and of each raw-data table.
 SCHEMA_DIR = Path(__file__).resolve().parents[1] / "schemas"

@@ -18,8 +18,8 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
-    "arc_geometry",
     "arc_deflection_mm",
+    "arc_geometry",
     "boussinesq_deflection_mm",
     "waterbed_deflection_mm",
     "waterbed_load_angle_rad",

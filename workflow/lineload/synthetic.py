@@ -227,10 +227,15 @@ def shipped_subjects():
         depths = SHORT_DEPTHS_MM if (species, index) == ("human", 3) else DEPTHS_MM
         subjects.append(
             _subject(
-                species, index, depths,
-                extent_shallow_mm=e_lo, extent_deep_mm=e_hi,
-                exponent_shallow=p_lo, exponent_deep=p_hi,
-                near_fraction_deep=beta, side_asymmetry=asym,
+                species,
+                index,
+                depths,
+                extent_shallow_mm=e_lo,
+                extent_deep_mm=e_hi,
+                exponent_shallow=p_lo,
+                exponent_deep=p_hi,
+                near_fraction_deep=beta,
+                side_asymmetry=asym,
                 resting_radius_mm=radius,
             )
         )
@@ -333,8 +338,9 @@ def trial_parameters(subject, depth_mm):
     )
 
 
-def true_deflection_mm(distance_mm, depth_mm, extent_mm, exponent,
-                       near_fraction=0.0, near_exponent=NEAR_EXPONENT):
+def true_deflection_mm(
+    distance_mm, depth_mm, extent_mm, exponent, near_fraction=0.0, near_exponent=NEAR_EXPONENT
+):
     """True (noise-free) downward deflection of one side of the wedge.
 
     ``w = depth ((1 - beta) s**p + beta s**q)`` with ``s = 1 - x / e`` for
@@ -367,8 +373,12 @@ def true_deflection_mm(distance_mm, depth_mm, extent_mm, exponent,
 
 def _trial_deflection_mm(distance_mm, trial, side):
     return true_deflection_mm(
-        distance_mm, trial.depth_mm, trial.extent_mm(side),
-        trial.exponent, trial.near_fraction, trial.near_exponent,
+        distance_mm,
+        trial.depth_mm,
+        trial.extent_mm(side),
+        trial.exponent,
+        trial.near_fraction,
+        trial.near_exponent,
     )
 
 
@@ -402,9 +412,7 @@ def _reading_ticks(extent_mm, first_mm):
     if edge < 1:
         raise ValueError(f"extent must be at least {GRID_TICK_MM} mm, got {extent_mm}")
     fine = np.arange(1, FINE_END_TICKS + 1)
-    medium = np.arange(
-        FINE_END_TICKS + MEDIUM_STEP_TICKS, MEDIUM_END_TICKS + 1, MEDIUM_STEP_TICKS
-    )
+    medium = np.arange(FINE_END_TICKS + MEDIUM_STEP_TICKS, MEDIUM_END_TICKS + 1, MEDIUM_STEP_TICKS)
     coarse = np.arange(MEDIUM_END_TICKS + COARSE_STEP_TICKS, edge, COARSE_STEP_TICKS)
     ticks = np.concatenate([fine, medium, coarse])
     ticks = ticks[(ticks >= first) & (ticks < edge)]
@@ -503,8 +511,12 @@ def outline_table(subject, magnification=MAGNIFICATION):
         trial = trial_parameters(subject, depth_mm)
         limit_mm = OUTLINE_MAX_FRACTION_OF_RADIUS * radius_mm
         n_left, n_right = (
-            int(np.floor(min(trial.extent_mm(side) + OUTLINE_MARGIN_MM, limit_mm)
-                         / OUTLINE_STEP_MM + 1e-9))
+            int(
+                np.floor(
+                    min(trial.extent_mm(side) + OUTLINE_MARGIN_MM, limit_mm) / OUTLINE_STEP_MM
+                    + 1e-9
+                )
+            )
             for side in ("left", "right")
         )
         x_mm = np.arange(-n_left, n_right + 1) * OUTLINE_STEP_MM
@@ -567,10 +579,17 @@ def parameter_table(subjects):
     for subject in subjects:
         for depth_mm in subject.depths_mm:
             trial = trial_parameters(subject, depth_mm)
-            rows.append({"subject": subject.subject, "species": subject.species,
-                         **trial.__dict__})
-    columns = ["subject", "species", "depth_mm", "extent_left_mm", "extent_right_mm",
-               "exponent", "near_fraction", "near_exponent"]
+            rows.append({"subject": subject.subject, "species": subject.species, **trial.__dict__})
+    columns = [
+        "subject",
+        "species",
+        "depth_mm",
+        "extent_left_mm",
+        "extent_right_mm",
+        "exponent",
+        "near_fraction",
+        "near_exponent",
+    ]
     return pd.DataFrame(rows)[columns]
 
 
@@ -642,8 +661,12 @@ def _csv_text(table, formats):
 
 
 SUBJECT_FORMATS = {"subject": "", "species": "", "magnification": ".1f", "label": ""}
-PROFILE_FORMATS = {"depth_mm": ".2f", "side": "", "distance_image_mm": ".1f",
-                   "deflection_image_mm": ".1f"}
+PROFILE_FORMATS = {
+    "depth_mm": ".2f",
+    "side": "",
+    "distance_image_mm": ".1f",
+    "deflection_image_mm": ".1f",
+}
 OUTLINE_FORMATS = {"depth_mm": ".2f", "state": "", "x_image_mm": ".1f", "z_image_mm": ".1f"}
 
 
@@ -657,8 +680,9 @@ DATA_NOTICE = (
 )
 
 
-def build_dataset(seed=DEFAULT_SEED, n_monkeys=None, n_humans=None, shuffle=False,
-                  magnification=MAGNIFICATION):
+def build_dataset(
+    seed=DEFAULT_SEED, n_monkeys=None, n_humans=None, shuffle=False, magnification=MAGNIFICATION
+):
     """Every file of a synthetic raw-data folder, as text.
 
     Parameters
@@ -700,4 +724,3 @@ def build_dataset(seed=DEFAULT_SEED, n_monkeys=None, n_humans=None, shuffle=Fals
                 outline_table(subject, magnification), OUTLINE_FORMATS
             )
     return files
-

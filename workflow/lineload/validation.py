@@ -151,26 +151,43 @@ def read_table(path, schema, display_path=None):
                     rows.append(row)
                     lines.append(start)
     except UnicodeDecodeError as error:
-        _fail(shown, None, None, f"expected UTF-8 text, found a byte that is not ({error.reason} "
-              f"at byte {error.start})")
+        _fail(
+            shown,
+            None,
+            None,
+            f"expected UTF-8 text, found a byte that is not ({error.reason} at byte {error.start})",
+        )
     except csv.Error as error:
         _fail(shown, reader.line_num, None, f"expected comma-separated values ({error})")
     if header is None:
-        _fail(shown, None, None, "file is empty; expected a header line naming the columns "
-              + ", ".join(schema.get("required", [])))
+        _fail(
+            shown,
+            None,
+            None,
+            "file is empty; expected a header line naming the columns "
+            + ", ".join(schema.get("required", [])),
+        )
     for column in schema.get("required", []):
         if column not in header:
-            _fail(shown, header_line, column, "missing from the header; expected columns "
-                  + ", ".join(schema["required"]))
+            _fail(
+                shown,
+                header_line,
+                column,
+                "missing from the header; expected columns " + ", ".join(schema["required"]),
+            )
     if len(set(header)) != len(header):
         column = next(c for c in header if header.count(c) > 1)
         _fail(shown, header_line, column, "appears twice in the header")
     if not rows:
         _fail(shown, None, None, "has a header but no data rows; expected at least one data row")
-    for row, line in zip(rows, lines):
+    for row, line in zip(rows, lines, strict=True):
         if len(row) != len(header):
-            _fail(shown, line, None,
-                  f"expected {len(header)} comma-separated fields as in the header, got {len(row)}")
+            _fail(
+                shown,
+                line,
+                None,
+                f"expected {len(header)} comma-separated fields as in the header, got {len(row)}",
+            )
     table = pd.DataFrame(rows, columns=header, dtype=object, index=pd.Index(lines, name="line"))
     table = table.apply(lambda col: col.str.strip())
     for column, rules in schema.get("properties", {}).items():
@@ -202,11 +219,16 @@ def check_no_duplicate_readings(profile, path, keys=("depth_mm", "side", "distan
         row = profile.iloc[i]
         same = (profile[list(keys)] == row[list(keys)]).all(axis=1).to_numpy()
         first = int(np.argmax(same))
-        reading = ", ".join(f"{k}={row[k]:g}" if isinstance(row[k], float) else f"{k}={row[k]}"
-                            for k in keys)
-        _fail(path, profile.index[i], list(keys),
-              f"duplicate reading ({reading}) already given on line {profile.index[first]}; "
-              "expected one reading per depth, side and distance")
+        reading = ", ".join(
+            f"{k}={row[k]:g}" if isinstance(row[k], float) else f"{k}={row[k]}" for k in keys
+        )
+        _fail(
+            path,
+            profile.index[i],
+            list(keys),
+            f"duplicate reading ({reading}) already given on line {profile.index[first]}; "
+            "expected one reading per depth, side and distance",
+        )
 
 
 def check_subjects(subjects, path, profile_dir, profile_dir_shown=None):
@@ -236,13 +258,21 @@ def check_subjects(subjects, path, profile_dir, profile_dir_shown=None):
     if duplicated.any():
         i = int(np.argmax(duplicated))
         first = int(np.argmax((ids == ids.iloc[i]).to_numpy()))
-        _fail(path, ids.index[i], "subject",
-              f"subject {ids.iloc[i]!r} is already listed on line {ids.index[first]}; "
-              "expected unique ids")
+        _fail(
+            path,
+            ids.index[i],
+            "subject",
+            f"subject {ids.iloc[i]!r} is already listed on line {ids.index[first]}; "
+            "expected unique ids",
+        )
     for line, subject in ids.items():
         if not os.path.isfile(os.path.join(profile_dir, f"{subject}.csv")):
-            _fail(path, line, "subject",
-                  f"no profile file for subject {subject!r}; expected {shown_dir}/{subject}.csv")
+            _fail(
+                path,
+                line,
+                "subject",
+                f"no profile file for subject {subject!r}; expected {shown_dir}/{subject}.csv",
+            )
 
 
 def check_dataset(raw_dir, schemas, raw_dir_shown=None):

@@ -23,10 +23,12 @@ def main():
     for depth_mm, trial in averaged.groupby("depth_mm", sort=True):
         row = fit_trial(trial["distance_mm"], trial["deflection_mm"], depth_mm, args.window_mm)
         rows.append({"subject": args.subject, "species": args.species, **row})
-        print(f"{args.subject} {depth_mm:g} mm: {row['n_points']} points, "
-              f"waterbed L = {row['waterbed_L_mm']:.3f} mm, "
-              f"RMSE waterbed/arc/Boussinesq = {row['waterbed_rmse_mm']:.4f}/"
-              f"{row['arc_rmse_mm']:.4f}/{row['boussinesq_rmse_mm']:.4f} mm")
+        print(
+            f"{args.subject} {depth_mm:g} mm: {row['n_points']} points, "
+            f"waterbed L = {row['waterbed_L_mm']:.3f} mm, "
+            f"RMSE waterbed/arc/Boussinesq = {row['waterbed_rmse_mm']:.4f}/"
+            f"{row['arc_rmse_mm']:.4f}/{row['boussinesq_rmse_mm']:.4f} mm"
+        )
     write_csv(pd.DataFrame(rows, columns=FIT_COLUMNS), args.output)
 
 

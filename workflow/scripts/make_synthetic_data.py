@@ -30,22 +30,44 @@ GENERATED_FOLDERS = ("profiles", "outlines")
 
 def parse_args(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=Path("data/raw"),
-                        help="raw-data folder to write (default: data/raw)")
-    parser.add_argument("--seed", type=int, default=synthetic.DEFAULT_SEED,
-                        help=f"dataset seed (default: {synthetic.DEFAULT_SEED})")
-    parser.add_argument("--monkeys", type=int, default=None,
-                        help="scale mode: number of monkeys with drawn parameters")
-    parser.add_argument("--humans", type=int, default=None,
-                        help="scale mode: number of humans with drawn parameters")
-    parser.add_argument("--shuffle", action="store_true",
-                        help="shuffle the rows of each profile file (seeded)")
-    parser.add_argument("--clean", action="store_true",
-                        help="delete CSV files in profiles/ and outlines/ that this run "
-                             "does not write (otherwise they stop the run)")
-    parser.add_argument("--print-parameters", action="store_true",
-                        help="print the true parameters (per subject and per trial) as "
-                             "Markdown and exit")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("data/raw"),
+        help="raw-data folder to write (default: data/raw)",
+    )
+    parser.add_argument(
+        "--seed",
+        type=int,
+        default=synthetic.DEFAULT_SEED,
+        help=f"dataset seed (default: {synthetic.DEFAULT_SEED})",
+    )
+    parser.add_argument(
+        "--monkeys",
+        type=int,
+        default=None,
+        help="scale mode: number of monkeys with drawn parameters",
+    )
+    parser.add_argument(
+        "--humans",
+        type=int,
+        default=None,
+        help="scale mode: number of humans with drawn parameters",
+    )
+    parser.add_argument(
+        "--shuffle", action="store_true", help="shuffle the rows of each profile file (seeded)"
+    )
+    parser.add_argument(
+        "--clean",
+        action="store_true",
+        help="delete CSV files in profiles/ and outlines/ that this run "
+        "does not write (otherwise they stop the run)",
+    )
+    parser.add_argument(
+        "--print-parameters",
+        action="store_true",
+        help="print the true parameters (per subject and per trial) as Markdown and exit",
+    )
     args = parser.parse_args(argv)
     for name in ("monkeys", "humans"):
         value = getattr(args, name)
@@ -70,8 +92,11 @@ def main(argv=None):
     args = parse_args(argv)
     scale = args.monkeys is not None or args.humans is not None
     if args.print_parameters:
-        subjects = (synthetic.draw_subjects(args.monkeys or 0, args.humans or 0, args.seed)
-                    if scale else synthetic.shipped_subjects())
+        subjects = (
+            synthetic.draw_subjects(args.monkeys or 0, args.humans or 0, args.seed)
+            if scale
+            else synthetic.shipped_subjects()
+        )
         sys.stdout.write(synthetic.subject_markdown(subjects) + "\n")
         sys.stdout.write(synthetic.parameter_markdown(subjects))
         return 0
@@ -84,8 +109,10 @@ def main(argv=None):
     stale = stale_files(args.out, files)
     if stale and not args.clean:
         listed = ", ".join(str(p) for p in stale[:5]) + (" ..." if len(stale) > 5 else "")
-        sys.exit(f"error: {args.out} holds {len(stale)} CSV file(s) this run would not write "
-                 f"({listed}); they would be read as data. Remove them or pass --clean.")
+        sys.exit(
+            f"error: {args.out} holds {len(stale)} CSV file(s) this run would not write "
+            f"({listed}); they would be read as data. Remove them or pass --clean."
+        )
     for path in stale:
         path.unlink()
     for relative, text in files.items():

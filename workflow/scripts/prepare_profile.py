@@ -24,8 +24,10 @@ def main():
     write_csv(converted, args.converted, CONVERTED_COLUMNS)
     write_csv(averaged, args.averaged, AVERAGED_COLUMNS)
     one_sided = int((averaged["n_sides"] == 1).sum())
-    print(f"{args.subject}: {len(converted)} readings -> {len(averaged)} averaged points "
-          f"({one_sided} one-sided) at {averaged['depth_mm'].nunique()} depths")
+    print(
+        f"{args.subject}: {len(converted)} readings -> {len(averaged)} averaged points "
+        f"({one_sided} one-sided) at {averaged['depth_mm'].nunique()} depths"
+    )
 
 
 if __name__ == "__main__":
