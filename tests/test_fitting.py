@@ -138,3 +138,46 @@ def test_fit_trial_with_too_few_points_gives_nan():
 def test_bad_points_are_refused(x, y):
     with pytest.raises(ValueError):
         fitting.fit_waterbed(x, y, 1.0)
+
+
+def test_chi_square_quantile():
+    from scipy.stats import chi2
+
+    assert fitting.CHI2_1DOF_95 == pytest.approx(chi2.ppf(0.95, 1), rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "fit, model",
+    [
+        (fitting.fit_waterbed, models.waterbed_deflection_mm),
+        (fitting.fit_arc, models.arc_deflection_mm),
+    ],
+)
+def test_confidence_interval_covers_the_truth_about_95_percent(fit, model):
+    rng = np.random.default_rng(2024)
+    depth_mm, L_mm, trials = 1.5, 12.0, 120
+    covered = 0
+    for _ in range(trials):
+        y = model(DISTANCE_MM, depth_mm, L_mm) + rng.normal(0, NOISE_MM, DISTANCE_MM.size)
+        params = fit(DISTANCE_MM, y, depth_mm).params
+        assert params["L_ci_low_mm"] < params["L_mm"] < params["L_ci_high_mm"]
+        covered += params["L_ci_low_mm"] <= L_mm <= params["L_ci_high_mm"]
+    # binomial(120, 0.95): 3 standard deviations either side is 0.89 to 1.0
+    assert 0.89 <= covered / trials <= 0.995
+
+
+def test_confidence_interval_ends_are_likelihood_ratio_crossings():
+    y = noisy(models.waterbed_deflection_mm(DISTANCE_MM, 1.0, 12.0), 5)
+    fit = fitting.fit_waterbed(DISTANCE_MM, y, 1.0)
+    n = DISTANCE_MM.size
+    for end in ("L_ci_low_mm", "L_ci_high_mm"):
+        sse = np.sum((y - models.waterbed_deflection_mm(DISTANCE_MM, 1.0, fit.params[end])) ** 2)
+        assert n * np.log(sse / fit.sse_mm2) == pytest.approx(fitting.CHI2_1DOF_95, rel=1e-6)
+
+
+def test_confidence_interval_stops_at_the_wall():
+    # a profile that pushes L to its lower bound: the interval ends there too
+    y = models.waterbed_deflection_mm(DISTANCE_MM, 1.0, 2.0)
+    fit = fitting.fit_waterbed(DISTANCE_MM, y + noisy(np.zeros_like(y), 0), 1.0)
+    assert fit.params["L_mm"] == pytest.approx(DISTANCE_MM.max())
+    assert fit.params["L_ci_low_mm"] == pytest.approx(DISTANCE_MM.max())

@@ -31,6 +31,10 @@ __all__ = [
     "in_fit_window",
 ]
 
+#: 95 % quantile of the chi-square distribution with one degree of freedom
+#: (``scipy.stats.chi2.ppf(0.95, 1)``; a test checks the value).
+CHI2_1DOF_95 = 3.841458820694124
+
 #: Largest membrane half-width searched by the arc fit, as a multiple of the
 #: smallest admissible one (the waterbed fit has no such bound: it is exact).
 ARC_SEARCH_SPAN = 1000.0
@@ -154,6 +158,71 @@ def _as_points(distance_mm, deflection_mm, minimum):
     return distance_mm, deflection_mm
 
 
+def profile_interval(sse_of_L, L_best, L_min, L_max, sse_min, n_points, chi2=CHI2_1DOF_95):
+    """Profile-likelihood confidence interval of a one-parameter fit in L.
+
+    With Gaussian errors of unknown variance, the likelihood-ratio statistic
+    of a value L is ``n ln(SSE(L) / SSE_min)``; the interval holds the L where
+    it stays below the chi-square quantile.  Each end is found by stepping out
+    from the best fit until the statistic exceeds the quantile, then bisecting.
+    An end that reaches the admissible range without crossing is reported as
+    that bound (``L_min``) or as infinity (``L_max``).
+
+    The interval assumes independent errors; where the model misfits
+    systematically, neighbouring residuals are correlated and the interval is
+    too narrow.
+
+    Parameters
+    ----------
+    sse_of_L : callable
+        Sum of squared residuals as a function of L (mm), for a 1-D array of L.
+    L_best : float
+        Best-fit L (mm).
+    L_min, L_max : float
+        Admissible range of L (mm).
+    sse_min : float
+        ``SSE(L_best)``.
+    n_points : int
+        Number of fitted points.
+    chi2 : float, optional
+        Chi-square quantile (one degree of freedom); the default gives 95 %.
+
+    Returns
+    -------
+    tuple of float
+        ``(L_low_mm, L_high_mm)``.
+    """
+    if not np.isfinite(L_best) or n_points < 2:
+        return (np.nan, np.nan)
+    threshold = max(sse_min, np.finfo(float).tiny) * np.exp(chi2 / n_points)
+
+    def too_far(L):
+        return sse_of_L(np.array([L]))[0] > threshold
+
+    ends = []
+    for bound, step in ((L_min, 1 / 1.05), (L_max, 1.05)):
+        inside, outside = L_best, L_best
+        while not too_far(outside):
+            inside = outside
+            if outside == bound:
+                outside = None
+                break
+            outside = min(outside * step, bound) if step > 1 else max(outside * step, bound)
+        if outside is None:
+            ends.append(bound if step < 1 else np.inf)
+            continue
+        for _ in range(100):
+            middle = 0.5 * (inside + outside)
+            if too_far(middle):
+                outside = middle
+            else:
+                inside = middle
+            if abs(outside - inside) <= 1e-10 * inside:
+                break
+        ends.append(0.5 * (inside + outside))
+    return (float(ends[0]), float(ends[1]))
+
+
 def fit_waterbed(distance_mm, deflection_mm, depth_mm):
     """Fit the small-slope waterbed (eq. 19) with W0 fixed: exact global least squares.
 
@@ -174,7 +243,8 @@ def fit_waterbed(distance_mm, deflection_mm, depth_mm):
     Returns
     -------
     FitResult
-        ``params = {"L_mm": L}``.
+        ``params = {"L_mm": L, "L_ci_low_mm": ..., "L_ci_high_mm": ...}``, the
+        last two the 95 % profile-likelihood interval (:func:`profile_interval`).
     """
     x, y = _as_points(distance_mm, deflection_mm, minimum=1)
     a = y - depth_mm
@@ -199,7 +269,16 @@ def fit_waterbed(distance_mm, deflection_mm, depth_mm):
     u_best = float(candidates[np.argmin(sse)])
     L_mm = np.inf if u_best == 0.0 else 1.0 / u_best
     residual = y - waterbed_deflection_mm(x, depth_mm, L_mm)
-    return _result("waterbed", {"L_mm": L_mm}, residual, n_params=1)
+    low, high = profile_interval(
+        lambda L: np.polyval(quartic, 1.0 / np.asarray(L)),
+        L_mm,
+        x.max(),
+        np.inf,
+        float(np.sum(residual**2)),
+        x.size,
+    )
+    params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
+    return _result("waterbed", params, residual, n_params=1)
 
 
 def _arc_sse(x, y, depth_mm, L_mm):
@@ -235,7 +314,8 @@ def fit_arc(distance_mm, deflection_mm, depth_mm, n_grid=400, rtol=1e-10):
     Returns
     -------
     FitResult
-        ``params = {"L_mm": L}``.
+        ``params = {"L_mm": L, "L_ci_low_mm": ..., "L_ci_high_mm": ...}`` with
+        the 95 % profile-likelihood interval (:func:`profile_interval`).
     """
     x, y = _as_points(distance_mm, deflection_mm, minimum=1)
     L_lo = x.max()
@@ -260,7 +340,16 @@ def fit_arc(distance_mm, deflection_mm, depth_mm, n_grid=400, rtol=1e-10):
     L_candidates = np.array([grid[best], 0.5 * (lo + hi)])
     L_mm = float(L_candidates[np.argmin(_arc_sse(x, y, depth_mm, L_candidates))])
     residual = y - arc_deflection_mm(x, depth_mm, L_mm)
-    return _result("arc", {"L_mm": L_mm}, residual, n_params=1)
+    low, high = profile_interval(
+        lambda L: _arc_sse(x, y, depth_mm, L),
+        L_mm,
+        L_lo,
+        ARC_SEARCH_SPAN * L_lo,
+        float(np.sum(residual**2)),
+        x.size,
+    )
+    params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
+    return _result("arc", params, residual, n_params=1)
 
 
 def fit_boussinesq(distance_mm, deflection_mm):
@@ -300,10 +389,14 @@ FIT_COLUMNS = [
     "n_points",
     "max_distance_mm",
     "waterbed_L_mm",
+    "waterbed_L_ci_low_mm",
+    "waterbed_L_ci_high_mm",
     "waterbed_rmse_mm",
     "waterbed_max_abs_residual_mm",
     "waterbed_aicc",
     "arc_L_mm",
+    "arc_L_ci_low_mm",
+    "arc_L_ci_high_mm",
     "arc_rmse_mm",
     "arc_max_abs_residual_mm",
     "arc_aicc",
@@ -345,8 +438,8 @@ def fit_trial(distance_mm, deflection_mm, depth_mm, window_mm):
         "max_distance_mm": float(x.max()) if x.size else np.nan,
     }
     fits = {
-        "waterbed": (lambda: fit_waterbed(x, y, depth_mm), ["L_mm"]),
-        "arc": (lambda: fit_arc(x, y, depth_mm), ["L_mm"]),
+        "waterbed": (lambda: fit_waterbed(x, y, depth_mm), ["L_mm", "L_ci_low_mm", "L_ci_high_mm"]),
+        "arc": (lambda: fit_arc(x, y, depth_mm), ["L_mm", "L_ci_low_mm", "L_ci_high_mm"]),
         "boussinesq": (lambda: fit_boussinesq(x, y), ["A_mm", "x0_mm"]),
     }
     for model, (fit, names) in fits.items():
