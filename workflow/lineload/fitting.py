@@ -199,6 +199,10 @@ def profile_interval(sse_of_L, L_best, L_min, L_max, sse_min, n_points, chi2=CHI
     def too_far(L):
         return sse_of_L(np.array([L]))[0] > threshold
 
+    def log_ratio(L):
+        # an exact quartic can round to 0 or a hair below at a perfect fit
+        return np.log(max(sse_of_L(np.array([L]))[0], np.finfo(float).tiny) / threshold)
+
     ends = []
     for bound, step in ((L_min, 1 / 1.05), (L_max, 1.05)):
         inside, outside = L_best, L_best
@@ -211,16 +215,38 @@ def profile_interval(sse_of_L, L_best, L_min, L_max, sse_min, n_points, chi2=CHI
         if outside is None:
             ends.append(bound if step < 1 else np.inf)
             continue
-        for _ in range(100):
-            middle = 0.5 * (inside + outside)
-            if too_far(middle):
-                outside = middle
-            else:
-                inside = middle
-            if abs(outside - inside) <= 1e-10 * inside:
-                break
-        ends.append(0.5 * (inside + outside))
+        if inside == outside:  # the best fit itself is past the threshold (no noise)
+            ends.append(inside)
+            continue
+        ends.append(_crossing(log_ratio, inside, outside))
     return (float(ends[0]), float(ends[1]))
+
+
+def _crossing(g, inside, outside, rtol=1e-12):
+    """Root of ``g`` between ``inside`` (g <= 0) and ``outside`` (g > 0).
+
+    The Illinois variant of regula falsi: superlinear on smooth functions and,
+    unlike Newton's method, never leaves the bracket.
+    """
+    a, b = inside, outside
+    fa, fb = g(a), g(b)
+    last = 0
+    for _ in range(100):
+        c = (a * fb - b * fa) / (fb - fa)
+        fc = g(c)
+        if fc > 0:
+            b, fb = c, fc
+            if last == -1:
+                fa /= 2.0
+            last = -1
+        else:
+            a, fa = c, fc
+            if last == 1:
+                fb /= 2.0
+            last = 1
+        if abs(b - a) <= rtol * abs(c) or abs(fc) <= 1e-14:
+            break
+    return c
 
 
 def fit_waterbed(distance_mm, deflection_mm, depth_mm):
@@ -292,13 +318,14 @@ def _arc_sse(x, y, depth_mm, L_mm):
     return np.where(geometry["is_graph"][:, 0], sse, np.inf)
 
 
-def fit_arc(distance_mm, deflection_mm, depth_mm, n_grid=400, rtol=1e-10):
+def fit_arc(distance_mm, deflection_mm, depth_mm, n_grid=200, rtol=1e-10):
     """Fit the exact circular-arc waterbed with W0 fixed and L free.
 
     The one-dimensional least-squares problem in ``L`` is solved by a dense
     log-spaced grid over ``[max(x), 1000 max(x)]`` (which finds the basin of
-    the global minimum) followed by golden-section refinement inside the two
-    grid cells around the best grid point.
+    the global minimum) followed by a zoom inside the two grid cells around
+    the best grid point: 17 evenly spaced values per step, keeping the two
+    cells around the best each time, until the bracket is ``rtol`` wide.
 
     Parameters
     ----------
@@ -325,18 +352,11 @@ def fit_arc(distance_mm, deflection_mm, depth_mm, n_grid=400, rtol=1e-10):
         raise ValueError(f"no membrane half-width >= {L_lo:g} mm gives a valid arc")
     best = int(np.argmin(sse))
     lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, n_grid - 1)]
-    inv_phi = (np.sqrt(5.0) - 1.0) / 2.0
-    c, d = hi - inv_phi * (hi - lo), lo + inv_phi * (hi - lo)
-    fc, fd = _arc_sse(x, y, depth_mm, [c, d])
+    # zoom: 17 points across the bracket, keep the two cells around the best
     while hi - lo > rtol * hi:
-        if fc <= fd:
-            hi, d, fd = d, c, fc
-            c = hi - inv_phi * (hi - lo)
-            fc = _arc_sse(x, y, depth_mm, c)[0]
-        else:
-            lo, c, fc = c, d, fd
-            d = lo + inv_phi * (hi - lo)
-            fd = _arc_sse(x, y, depth_mm, d)[0]
+        points = np.linspace(lo, hi, 17)
+        k = int(np.argmin(_arc_sse(x, y, depth_mm, points)))
+        lo, hi = points[max(k - 1, 0)], points[min(k + 1, 16)]
     L_candidates = np.array([grid[best], 0.5 * (lo + hi)])
     L_mm = float(L_candidates[np.argmin(_arc_sse(x, y, depth_mm, L_candidates))])
     residual = y - arc_deflection_mm(x, depth_mm, L_mm)

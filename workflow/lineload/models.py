@@ -126,6 +126,35 @@ def _segment_shape(phi):
     return np.where(small, phi / 3.0, exact)
 
 
+def _segment_shape_slope(phi):
+    """Slope of :func:`_segment_shape`: ``1 - (2 phi - sin 2 phi) sin 2 phi / (4 sin^4 phi)``."""
+    phi = np.asarray(phi, dtype=float)
+    small = phi < 1e-3
+    safe = np.where(small, 1.0, phi)
+    exact = 1.0 - (2.0 * safe - np.sin(2.0 * safe)) * np.sin(2.0 * safe) / (4.0 * np.sin(safe) ** 4)
+    # series: 1/3 + 2 phi**2 / 15 near zero (the closed form cancels there)
+    return np.where(small, 1.0 / 3.0 + 2.0 * phi**2 / 15.0, exact)
+
+
+def _solve_half_angle(target):
+    """Solve ``_segment_shape(phi) = target`` for ``0 <= target <= 1/2``.
+
+    The shape function rises from 0 with slope 1/3 and is convex on
+    ``[0, pi/2]``, where it reaches ``pi/4 > 1/2``.  Being convex, it lies above
+    its tangent ``phi / 3`` at zero, so the start ``3 target`` is at or right of
+    the root, and Newton's method on a convex increasing function converges
+    monotonically from there (clipped to the bracket for safety).
+    """
+    target = np.asarray(target, dtype=float)
+    phi = np.minimum(3.0 * target, np.pi / 2)
+    for _ in range(50):
+        step = (_segment_shape(phi) - target) / _segment_shape_slope(phi)
+        phi = np.clip(phi - step, 0.0, np.pi / 2)
+        if np.all(np.abs(step) <= 1e-15 + 1e-13 * phi):
+            break
+    return phi
+
+
 def arc_geometry(depth_mm, L_mm):
     """Circle through the load point and the wall that encloses zero net area.
 
@@ -152,16 +181,7 @@ def arc_geometry(depth_mm, L_mm):
         np.asarray(depth_mm, dtype=float), np.asarray(L_mm, dtype=float)
     )
     target = depth_mm * L_mm / (L_mm**2 + depth_mm**2)  # delta / (1 + delta**2) <= 1/2
-    # _segment_shape is increasing on (0, pi/2] and reaches pi/4 > 1/2 there:
-    # bisection brackets the unique root for every admissible target.
-    lo = np.zeros_like(target)
-    hi = np.full_like(target, np.pi / 2)
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        below = _segment_shape(mid) < target
-        lo = np.where(below, mid, lo)
-        hi = np.where(below, hi, mid)
-    phi = 0.5 * (lo + hi)
+    phi = _solve_half_angle(target)
     chord_mm = np.hypot(L_mm, depth_mm)
     with np.errstate(divide="ignore", invalid="ignore"):
         radius_mm = chord_mm / (2.0 * np.sin(phi))
