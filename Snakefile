@@ -5,6 +5,7 @@
 #   fits    - waterbed (parabola and exact arc) and Boussinesq fits, fit table
 #   figures - the paper's seven figures and the supplementary ones
 #   tables  - fit tables, per-species summary and the claims table
+#   report  - provenance record (input hashes, config, versions, commit)
 
 
 configfile: "config/config.yaml"
@@ -15,6 +16,7 @@ include: "workflow/rules/data.smk"
 include: "workflow/rules/fits.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/tables.smk"
+include: "workflow/rules/report.smk"
 
 
 rule all:
@@ -24,6 +26,7 @@ rule all:
         rules.fits_table.output,
         FIGURE_OUTPUTS,
         TABLE_OUTPUTS,
+        rules.provenance.output,
 
 
 rule fits:

@@ -1,6 +1,7 @@
 # Loads and validates the config and every raw input before any job is planned.
 # A broken input stops the run here with one message naming file, line and
 # column: no job starts, so nothing partial is written.
+import json
 import sys
 from pathlib import Path
 
