@@ -24,6 +24,7 @@ rule all:
     default_target: True
     input:
         rules.fits_table.output,
+        rules.sensitivity_tables.output,
         FIGURE_OUTPUTS,
         TABLE_OUTPUTS,
         rules.provenance.output,

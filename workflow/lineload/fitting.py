@@ -27,8 +27,10 @@ __all__ = [
     "fit_arc",
     "fit_boussinesq",
     "fit_waterbed",
+    "fit_waterbed_free_depth",
     "goodness_of_fit",
     "in_fit_window",
+    "minimise_in_L",
 ]
 
 #: 95 % quantile of the chi-square distribution with one degree of freedom
@@ -318,14 +320,54 @@ def _arc_sse(x, y, depth_mm, L_mm):
     return np.where(geometry["is_graph"][:, 0], sse, np.inf)
 
 
-def fit_arc(distance_mm, deflection_mm, depth_mm, n_grid=200, rtol=1e-10):
+def minimise_in_L(sse_of_L, L_min, L_max, n_grid=200, rtol=1e-10):
+    """Minimise a least-squares objective over one length, ``L_min <= L <= L_max``.
+
+    A dense log-spaced grid finds the basin of the global minimum; a zoom then
+    refines it inside the two grid cells around the best grid point (17 evenly
+    spaced values per step, keeping the two cells around the best each time)
+    until the bracket is ``rtol`` wide.
+
+    Parameters
+    ----------
+    sse_of_L : callable
+        Objective for a 1-D array of L (mm); ``inf`` marks inadmissible values.
+    L_min, L_max : float
+        Search range (mm).
+    n_grid : int, optional
+        Number of grid points.
+    rtol : float, optional
+        Relative width of the final bracket.
+
+    Returns
+    -------
+    float
+        The minimising L (mm).
+
+    Raises
+    ------
+    ValueError
+        If the objective is infinite over the whole grid.
+    """
+    grid = np.geomspace(L_min, L_max, n_grid)
+    sse = sse_of_L(grid)
+    if not np.any(np.isfinite(sse)):
+        raise ValueError(f"no admissible L between {L_min:g} and {L_max:g} mm")
+    best = int(np.argmin(sse))
+    lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, n_grid - 1)]
+    while hi - lo > rtol * hi:
+        points = np.linspace(lo, hi, 17)
+        k = int(np.argmin(sse_of_L(points)))
+        lo, hi = points[max(k - 1, 0)], points[min(k + 1, 16)]
+    candidates = np.array([grid[best], 0.5 * (lo + hi)])
+    return float(candidates[np.argmin(sse_of_L(candidates))])
+
+
+def fit_arc(distance_mm, deflection_mm, depth_mm):
     """Fit the exact circular-arc waterbed with W0 fixed and L free.
 
-    The one-dimensional least-squares problem in ``L`` is solved by a dense
-    log-spaced grid over ``[max(x), 1000 max(x)]`` (which finds the basin of
-    the global minimum) followed by a zoom inside the two grid cells around
-    the best grid point: 17 evenly spaced values per step, keeping the two
-    cells around the best each time, until the bracket is ``rtol`` wide.
+    The one-dimensional least-squares problem in ``L`` over
+    ``[max(x), 1000 max(x)]`` is solved by :func:`minimise_in_L`.
 
     Parameters
     ----------
@@ -333,10 +375,6 @@ def fit_arc(distance_mm, deflection_mm, depth_mm, n_grid=200, rtol=1e-10):
         Averaged profile points (mm); distances > 0.
     depth_mm : float
         Indentation depth, used as W0 (mm).
-    n_grid : int, optional
-        Number of grid points.
-    rtol : float, optional
-        Relative width of the final bracket on L.
 
     Returns
     -------
@@ -345,31 +383,57 @@ def fit_arc(distance_mm, deflection_mm, depth_mm, n_grid=200, rtol=1e-10):
         the 95 % profile-likelihood interval (:func:`profile_interval`).
     """
     x, y = _as_points(distance_mm, deflection_mm, minimum=1)
-    L_lo = x.max()
-    grid = np.geomspace(L_lo, ARC_SEARCH_SPAN * L_lo, n_grid)
-    sse = _arc_sse(x, y, depth_mm, grid)
-    if not np.any(np.isfinite(sse)):
-        raise ValueError(f"no membrane half-width >= {L_lo:g} mm gives a valid arc")
-    best = int(np.argmin(sse))
-    lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, n_grid - 1)]
-    # zoom: 17 points across the bracket, keep the two cells around the best
-    while hi - lo > rtol * hi:
-        points = np.linspace(lo, hi, 17)
-        k = int(np.argmin(_arc_sse(x, y, depth_mm, points)))
-        lo, hi = points[max(k - 1, 0)], points[min(k + 1, 16)]
-    L_candidates = np.array([grid[best], 0.5 * (lo + hi)])
-    L_mm = float(L_candidates[np.argmin(_arc_sse(x, y, depth_mm, L_candidates))])
+    L_lo, L_hi = x.max(), ARC_SEARCH_SPAN * x.max()
+
+    def sse_of_L(L):
+        return _arc_sse(x, y, depth_mm, L)
+
+    try:
+        L_mm = minimise_in_L(sse_of_L, L_lo, L_hi)
+    except ValueError as error:
+        raise ValueError(f"no valid arc: {error}") from None
     residual = y - arc_deflection_mm(x, depth_mm, L_mm)
-    low, high = profile_interval(
-        lambda L: _arc_sse(x, y, depth_mm, L),
-        L_mm,
-        L_lo,
-        ARC_SEARCH_SPAN * L_lo,
-        float(np.sum(residual**2)),
-        x.size,
-    )
+    low, high = profile_interval(sse_of_L, L_mm, L_lo, L_hi, float(np.sum(residual**2)), x.size)
     params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
     return _result("arc", params, residual, n_params=1)
+
+
+def fit_waterbed_free_depth(distance_mm, deflection_mm):
+    """Fit the small-slope waterbed with both W0 and L free.
+
+    For a given L the model ``W0 g(x)``, ``g = 3 s**2 - 4 s + 1``, is linear in
+    W0, whose best value is ``sum(y g) / sum(g**2)``; what remains is a
+    one-dimensional problem in L (:func:`minimise_in_L`, ``L >= max(x)``).
+    The interval on L profiles W0 out.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : array_like
+        Averaged profile points (mm); distances > 0, at least two.
+
+    Returns
+    -------
+    FitResult
+        ``params = {"L_mm", "L_ci_low_mm", "L_ci_high_mm", "W0_mm"}``.
+    """
+    x, y = _as_points(distance_mm, deflection_mm, minimum=2)
+    L_lo, L_hi = x.max(), ARC_SEARCH_SPAN * x.max()
+
+    def shape_and_depth(L):
+        s = x[None, :] / np.atleast_1d(np.asarray(L, dtype=float))[:, None]
+        g = 3.0 * s**2 - 4.0 * s + 1.0
+        return g, np.sum(y * g, axis=1) / np.sum(g * g, axis=1)
+
+    def sse_of_L(L):
+        g, W0 = shape_and_depth(L)
+        return np.sum((y[None, :] - W0[:, None] * g) ** 2, axis=1)
+
+    L_mm = minimise_in_L(sse_of_L, L_lo, L_hi)
+    W0_mm = float(shape_and_depth(L_mm)[1][0])
+    residual = y - waterbed_deflection_mm(x, W0_mm, L_mm)
+    low, high = profile_interval(sse_of_L, L_mm, L_lo, L_hi, float(np.sum(residual**2)), x.size)
+    params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high, "W0_mm": W0_mm}
+    return _result("waterbed_free_depth", params, residual, n_params=2)
 
 
 def fit_boussinesq(distance_mm, deflection_mm):

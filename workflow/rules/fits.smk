@@ -33,3 +33,51 @@ rule fits_table:
         result("logs", "fits_table.log"),
     shell:
         "{params.python} {params.script:q} --output {output:q} {input:q} > {log:q} 2>&1"
+
+
+rule fit_sensitivity:
+    """Refit one subject with other windows, W0 free and the exact arc; U shift and reach."""
+    input:
+        averaged=result("data", "averaged", "{subject}.csv"),
+    output:
+        sensitivity=result("fits", "sensitivity", "{subject}.csv"),
+        checks=result("fits", "checks", "{subject}.csv"),
+    params:
+        python=PYTHON,
+        script=SCRIPTS / "fit_sensitivity.py",
+        species=lambda wildcards: SUBJECTS.loc[wildcards.subject, "species"],
+        window_mm=config["fit_window_mm"],
+        windows_mm=" ".join(
+            "whole" if w is None else str(w) for w in config["sensitivity"]["windows_mm"]
+        ),
+        reach_fraction=config["sensitivity"]["reach_fraction"],
+    log:
+        result("logs", "fit_sensitivity", "{subject}.log"),
+    shell:
+        "{params.python} {params.script:q} --subject {wildcards.subject}"
+        " --species {params.species} --window-mm {params.window_mm}"
+        " --windows-mm {params.windows_mm} --reach-fraction {params.reach_fraction}"
+        " --averaged {input.averaged:q} --sensitivity {output.sensitivity:q}"
+        " --checks {output.checks:q} > {log:q} 2>&1"
+
+
+rule sensitivity_tables:
+    """Collect the refits and per-trial checks; summarise them in Markdown."""
+    input:
+        sensitivity=expand(result("fits", "sensitivity", "{subject}.csv"), subject=SUBJECT_IDS),
+        checks=expand(result("fits", "checks", "{subject}.csv"), subject=SUBJECT_IDS),
+    output:
+        sensitivity=result("tables", "sensitivity.csv"),
+        checks=result("tables", "trial_checks.csv"),
+        markdown=result("tables", "sensitivity.md"),
+    params:
+        python=PYTHON,
+        script=SCRIPTS / "sensitivity_tables.py",
+        notice=NOTICE,
+    log:
+        result("logs", "sensitivity_tables.log"),
+    shell:
+        "{params.python} {params.script:q} --notice={params.notice:q}"
+        " --sensitivity-out {output.sensitivity:q} --checks-out {output.checks:q}"
+        " --markdown {output.markdown:q} --sensitivity {input.sensitivity:q}"
+        " --checks {input.checks:q} > {log:q} 2>&1"
