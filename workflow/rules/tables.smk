@@ -1,4 +1,55 @@
 # Stage 4, tables: fit tables in CSV/Markdown/LaTeX, species summary, claims.
 
+
+rule fit_tables:
+    """Fit table as Markdown and LaTeX; summary per species and depth (CSV, Markdown, LaTeX)."""
+    input:
+        fits=result("tables", "fits.csv"),
+    output:
+        fits_md=result("tables", "fits.md"),
+        fits_tex=result("tables", "fits.tex"),
+        summary_csv=result("tables", "summary.csv"),
+        summary_md=result("tables", "summary.md"),
+        summary_tex=result("tables", "summary.tex"),
+    params:
+        python=PYTHON,
+        script=SCRIPTS / "make_tables.py",
+        notice=NOTICE,
+    log:
+        result("logs", "fit_tables.log"),
+    shell:
+        "{params.python} {params.script:q} --fits {input.fits:q} --notice={params.notice:q}"
+        " --fits-md {output.fits_md:q} --fits-tex {output.fits_tex:q}"
+        " --summary-csv {output.summary_csv:q} --summary-md {output.summary_md:q}"
+        " --summary-tex {output.summary_tex:q} > {log:q} 2>&1"
+
+
+rule claims_table:
+    """Recompute the paper's claims C1-C10 from the fits and averaged profiles, with verdicts."""
+    input:
+        fits=result("tables", "fits.csv"),
+        averaged=expand(result("data", "averaged", "{subject}.csv"), subject=SUBJECT_IDS),
+    output:
+        csv=result("tables", "claims.csv"),
+        md=result("tables", "claims.md"),
+    params:
+        python=PYTHON,
+        script=SCRIPTS / "make_claims.py",
+        noise_mm=config["claims"]["noise_mm"],
+        large_depth_mm=config["claims"]["large_depth_mm"],
+        symmetry_tolerance=config["claims"]["symmetry_tolerance"],
+        notice=NOTICE,
+    log:
+        result("logs", "claims_table.log"),
+    shell:
+        "{params.python} {params.script:q} --fits {input.fits:q} --averaged {input.averaged:q}"
+        " --noise-mm {params.noise_mm} --large-depth-mm {params.large_depth_mm}"
+        " --symmetry-tolerance {params.symmetry_tolerance}"
+        " --notice={params.notice:q} --csv {output.csv:q} --md {output.md:q} > {log:q} 2>&1"
+
+
 # Every table file the default target builds.
-TABLE_OUTPUTS = []
+TABLE_OUTPUTS = [
+    *rules.fit_tables.output,
+    *rules.claims_table.output,
+]

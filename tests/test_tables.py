@@ -1,0 +1,177 @@
+"""Fit tables and species summary: one row per trial, booktabs LaTeX, statistics by numpy."""
+
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from lineload.fitting import FIT_COLUMNS
+from lineload.tables import (
+    SUMMARY_COLUMNS,
+    escape_latex,
+    fits_latex,
+    fits_markdown,
+    format_fixed,
+    markdown_table,
+    summarise_fits,
+    summary_latex,
+    summary_markdown,
+)
+
+TRIALS = [
+    ("Mk_1", "monkey", 0.5),
+    ("Mk_1", "monkey", 1.0),
+    ("Mk_1", "monkey", 2.0),
+    ("Hu_1", "human", 1.0),
+    ("Hu_1", "human", 2.0),
+    ("Mk_2", "monkey", 1.0),
+    ("Mk_2", "monkey", 2.0),
+    ("Hu_2", "human", 1.0),
+]
+
+
+@pytest.fixture
+def fits():
+    """A fit table made here: random but plausible values, not the workflow's output."""
+    rng = np.random.default_rng(42)
+    rows = []
+    for subject, species, depth_mm in TRIALS:
+        wb = rng.uniform(0.005, 0.1)
+        rows.append(
+            {
+                "subject": subject,
+                "species": species,
+                "depth_mm": depth_mm,
+                "fit_window_mm": 3.0,
+                "n_points": int(rng.integers(15, 25)),
+                "max_distance_mm": 3.0,
+                "waterbed_L_mm": rng.uniform(9.0, 16.0),
+                "waterbed_rmse_mm": wb,
+                "waterbed_max_abs_residual_mm": 2 * wb,
+                "waterbed_aicc": -100.0,
+                "arc_L_mm": rng.uniform(9.0, 16.0),
+                "arc_rmse_mm": wb * rng.uniform(0.8, 1.0),
+                "arc_max_abs_residual_mm": 2 * wb,
+                "arc_aicc": -101.0,
+                "boussinesq_A_mm": rng.uniform(0.1, 0.4),
+                "boussinesq_x0_mm": rng.uniform(8.0, 40.0),
+                "boussinesq_rmse_mm": wb * rng.uniform(1.1, 9.0),
+                "boussinesq_max_abs_residual_mm": 4 * wb,
+                "boussinesq_aicc": -80.0,
+            }
+        )
+    return pd.DataFrame(rows, columns=FIT_COLUMNS)
+
+
+def markdown_body(text):
+    """Cells of the body rows of the (first) pipe table in a Markdown text."""
+    lines = [ln for ln in text.splitlines() if ln.startswith("|")]
+    return [[c.strip() for c in ln.strip("|").split(" | ")] for ln in lines[2:]]
+
+
+def latex_body(text):
+    """Body lines of a booktabs table: between \\midrule and \\bottomrule."""
+    lines = text.splitlines()
+    return lines[lines.index(r"\midrule") + 1 : lines.index(r"\bottomrule")]
+
+
+def test_format_fixed_rounds_and_marks_missing():
+    assert format_fixed(0.04964, 4) == "0.0496"
+    assert format_fixed(12.345678, 2) == "12.35"
+    assert format_fixed(-0.00001, 3) == "0.000"
+    assert format_fixed(float("nan"), 2) == "–"
+    assert format_fixed(None, 2, missing="n/a") == "n/a"
+    assert format_fixed(float("inf"), 2, missing="x") == "x"
+
+
+def test_escape_latex_covers_the_special_characters():
+    assert escape_latex("a_b & 5% #1 $x$ {y}") == r"a\_b \& 5\% \#1 \$x\$ \{y\}"
+    assert escape_latex("~^\\") == r"\textasciitilde{}\textasciicircum{}\textbackslash{}"
+
+
+def test_markdown_table_escapes_pipes_and_checks_shape():
+    text = markdown_table(["a", "b"], [["x|y", "1"]], "lr")
+    assert text.splitlines() == ["| a | b |", "|---|--:|", "| x\\|y | 1 |"]
+    with pytest.raises(ValueError):
+        markdown_table(["a", "b"], [["only one"]], "lr")
+
+
+def test_fits_markdown_has_one_row_per_subject_and_depth(fits):
+    body = markdown_body(fits_markdown(fits))
+    assert len(body) == len(fits)
+    assert [(row[0], float(row[2])) for row in body] == [(s, d) for s, _, d in TRIALS]
+    for row, (_, trial) in zip(body, fits.iterrows(), strict=True):
+        assert float(row[4]) == pytest.approx(trial["waterbed_L_mm"], abs=0.005)
+        rmse = [float(cell) for cell in row[5:8]]
+        expected = trial[["waterbed_rmse_mm", "arc_rmse_mm", "boussinesq_rmse_mm"]]
+        assert rmse == pytest.approx(list(expected), abs=0.00005)
+
+
+def test_fits_latex_is_booktabs_with_escaped_names_and_one_row_per_trial(fits):
+    text = fits_latex(fits)
+    assert text.startswith(r"\begin{table}") and text.rstrip().endswith(r"\end{table}")
+    assert r"\documentclass" not in text
+    positions = [text.index(rule) for rule in (r"\toprule", r"\midrule", r"\bottomrule")]
+    assert positions == sorted(positions)
+    body = latex_body(text)
+    assert len(body) == len(fits)
+    assert all(line.endswith(r"\\") and line.count(" & ") == 7 for line in body)
+    assert body[0].startswith(r"Mk\_1 & monkey & 0.50 &")
+    assert not re.search(r"(?<!\\)_", "\n".join(body))  # every underscore escaped
+    assert r"\caption{" in text and r"\label{tab:fits}" in text
+
+
+def test_notice_is_a_footer_in_markdown_and_a_note_in_latex(fits):
+    notice = "Made-up data_set, 100% synthetic"
+    md, tex = fits_markdown(fits, notice), fits_latex(fits, notice)
+    assert md.rstrip().splitlines()[-1] == f"Note: {notice}"
+    assert r"Made-up data\_set, 100\% synthetic" in tex
+    assert tex.index(r"\bottomrule") < tex.index("Note.") < tex.index(r"\end{table}")
+    for text in (fits_markdown(fits, ""), fits_latex(fits, "")):
+        assert "Note" not in text
+    assert summary_markdown(summarise_fits(fits), notice).rstrip().endswith(notice)
+
+
+def test_summary_statistics_match_numpy(fits):
+    summary = summarise_fits(fits)
+    assert list(summary.columns) == SUMMARY_COLUMNS
+    # monkey rows first, then human; depths ascending within each
+    keys = list(zip(summary["species"], summary["depth_mm"], strict=True))
+    assert keys == [
+        ("monkey", 0.5),
+        ("monkey", 1.0),
+        ("monkey", 2.0),
+        ("human", 1.0),
+        ("human", 2.0),
+    ]
+    for _, row in summary.iterrows():
+        group = fits[(fits["species"] == row["species"]) & (fits["depth_mm"] == row["depth_mm"])]
+        L = group["waterbed_L_mm"].to_numpy()
+        ratio = (group["boussinesq_rmse_mm"] / group["waterbed_rmse_mm"]).to_numpy()
+        assert row["n_trials"] == len(group)
+        assert row["waterbed_L_mean_mm"] == pytest.approx(np.mean(L))
+        if len(group) > 1:
+            assert row["waterbed_L_sd_mm"] == pytest.approx(np.std(L, ddof=1))
+        else:
+            assert np.isnan(row["waterbed_L_sd_mm"])
+        for model in ("waterbed", "arc", "boussinesq"):
+            expected = np.mean(group[f"{model}_rmse_mm"])
+            assert row[f"{model}_rmse_mean_mm"] == pytest.approx(expected)
+        assert row["rmse_ratio_boussinesq_to_waterbed_mean"] == pytest.approx(np.mean(ratio))
+        assert row["rmse_ratio_boussinesq_to_waterbed_min"] == pytest.approx(np.min(ratio))
+
+
+def test_summary_tables_have_one_row_per_species_and_depth(fits):
+    summary = summarise_fits(fits)
+    assert len(markdown_body(summary_markdown(summary))) == len(summary) == 5
+    body = latex_body(summary_latex(summary))
+    assert len(body) == 5 and body[0].startswith("monkey & 0.50 & 1 &")
+    # a single trial has no SD: shown as a dash, not as 0 or nan
+    assert "nan" not in summary_markdown(summary) and " – " in summary_markdown(summary)
+
+
+def test_tables_are_deterministic(fits):
+    shuffled_columns = fits[list(reversed(FIT_COLUMNS))]
+    assert fits_markdown(fits) == fits_markdown(shuffled_columns)
+    assert summary_latex(summarise_fits(fits)) == summary_latex(summarise_fits(fits.copy()))

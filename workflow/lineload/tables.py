@@ -1,0 +1,446 @@
+"""Fit tables and the per-species summary as CSV, Markdown and LaTeX text.
+
+Pure functions: a fit table (one row per subject and depth, the columns of
+:data:`lineload.fitting.FIT_COLUMNS`) goes in, text or a DataFrame comes out.
+Numbers are rounded to fixed decimals so that the same inputs always give the
+same bytes; writing files is left to :mod:`lineload.io`.
+
+The LaTeX tables use the ``booktabs`` rules (``\\toprule``, ``\\midrule``,
+``\\bottomrule``) and are a bare ``table`` environment, ready for ``\\input``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "SPECIES_ORDER",
+    "SUMMARY_COLUMNS",
+    "escape_latex",
+    "escape_markdown",
+    "fits_latex",
+    "fits_markdown",
+    "format_fixed",
+    "latex_table",
+    "markdown_table",
+    "summarise_fits",
+    "summary_latex",
+    "summary_markdown",
+]
+
+#: Species in the order tables list them; any other species follows, sorted.
+SPECIES_ORDER = ("monkey", "human")
+
+#: The three fitted models, as named in the fit-table columns, and their labels.
+MODELS = (("waterbed", "waterbed"), ("arc", "exact arc"), ("boussinesq", "Boussinesq"))
+
+#: Columns of the summary table (one row per species and depth).
+SUMMARY_COLUMNS = [
+    "species",
+    "depth_mm",
+    "n_trials",
+    "waterbed_L_mean_mm",
+    "waterbed_L_sd_mm",
+    "waterbed_rmse_mean_mm",
+    "arc_rmse_mean_mm",
+    "boussinesq_rmse_mean_mm",
+    "rmse_ratio_boussinesq_to_waterbed_mean",
+    "rmse_ratio_boussinesq_to_waterbed_min",
+]
+
+#: Decimals shown in the Markdown and LaTeX tables (the CSV files keep full precision).
+DEPTH_DECIMALS = 2
+LENGTH_DECIMALS = 2
+RMSE_DECIMALS = 4
+RATIO_DECIMALS = 2
+
+_LATEX_SPECIALS = {
+    "\\": r"\textbackslash{}",
+    "&": r"\&",
+    "%": r"\%",
+    "$": r"\$",
+    "#": r"\#",
+    "_": r"\_",
+    "{": r"\{",
+    "}": r"\}",
+    "~": r"\textasciitilde{}",
+    "^": r"\textasciicircum{}",
+}
+
+
+def format_fixed(value, decimals, missing="–"):
+    """Format a number with a fixed count of decimals; NaN or None gives ``missing``.
+
+    Parameters
+    ----------
+    value : float or None
+        Number to format.
+    decimals : int
+        Digits after the decimal point.
+    missing : str, optional
+        Text for a missing or non-finite value.
+
+    Returns
+    -------
+    str
+        For example ``format_fixed(0.04964, 4) == "0.0496"``; ``-0.0`` prints as ``0.0``.
+    """
+    if value is None:
+        return missing
+    value = float(value)
+    if not math.isfinite(value):
+        return missing
+    text = f"{value:.{decimals}f}"
+    if float(text) == 0.0:
+        text = text.lstrip("-")
+    return text
+
+
+def escape_latex(text):
+    """Escape the characters LaTeX treats specially (``_``, ``&``, ``%`` and the like).
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+    """
+    return "".join(_LATEX_SPECIALS.get(char, char) for char in str(text))
+
+
+def escape_markdown(text):
+    """Make text safe inside a Markdown table cell (pipes escaped, one line).
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+    """
+    return " ".join(str(text).replace("|", "\\|").split())
+
+
+def markdown_table(headers, rows, align):
+    """A pipe table in GitHub-flavoured Markdown.
+
+    Parameters
+    ----------
+    headers : list of str
+        Column titles.
+    rows : list of list of str
+        Cells, already formatted.
+    align : str
+        One letter per column: ``l`` (left) or ``r`` (right).
+
+    Returns
+    -------
+    str
+        The table, one line per row, ending with a newline.
+    """
+    if len(align) != len(headers) or any(len(row) != len(headers) for row in rows):
+        raise ValueError("every row and the alignment must have one entry per column")
+    rule = {"l": "---", "r": "--:"}
+    lines = [
+        "| " + " | ".join(escape_markdown(h) for h in headers) + " |",
+        "|" + "|".join(rule[a] for a in align) + "|",
+    ]
+    lines += ["| " + " | ".join(escape_markdown(c) for c in row) + " |" for row in rows]
+    return "\n".join(lines) + "\n"
+
+
+def latex_table(head_lines, rows, column_spec, caption, label, notice=""):
+    """A booktabs ``table`` environment, ready for ``\\input``.
+
+    Parameters
+    ----------
+    head_lines : list of str
+        LaTeX lines of the header (already escaped, each ending in ``\\\\`` or a
+        ``\\cmidrule``), placed between ``\\toprule`` and ``\\midrule``.
+    rows : list of list of str
+        Body cells as plain text; they are escaped here.
+    column_spec : str
+        The tabular column specification, e.g. ``llrr``.
+    caption : str
+        Caption, LaTeX markup allowed (not escaped).
+    label : str
+        Label for ``\\ref``.
+    notice : str, optional
+        Plain text printed as a note under the table; empty for none.
+
+    Returns
+    -------
+    str
+    """
+    if any(len(row) != len(column_spec) for row in rows):
+        raise ValueError("every row must have one cell per column of column_spec")
+    lines = [
+        r"\begin{table}[htbp]",
+        r"\centering",
+        rf"\caption{{{caption}}}",
+        rf"\label{{{label}}}",
+        rf"\begin{{tabular}}{{{column_spec}}}",
+        r"\toprule",
+        *head_lines,
+        r"\midrule",
+        *(" & ".join(escape_latex(cell) for cell in row) + r" \\" for row in rows),
+        r"\bottomrule",
+        r"\end{tabular}",
+    ]
+    if notice:
+        lines += [r"\par\smallskip", rf"{{\footnotesize \emph{{Note.}} {escape_latex(notice)}}}"]
+    lines.append(r"\end{table}")
+    return "\n".join(lines) + "\n"
+
+
+def _species_rank(species):
+    """Sort key: the species of :data:`SPECIES_ORDER` first, in that order, then others."""
+    species = str(species)
+    if species in SPECIES_ORDER:
+        return (SPECIES_ORDER.index(species), "")
+    return (len(SPECIES_ORDER), species)
+
+
+def _fit_window_text(fits):
+    """'0 < x <= 3 mm' from the fit table's window column, or a generic phrase."""
+    windows = pd.unique(fits["fit_window_mm"].dropna()) if "fit_window_mm" in fits else []
+    if len(windows) == 1:
+        return f"{float(windows[0]):g} mm"
+    return "the fit window"
+
+
+def _fit_rows(fits):
+    """Formatted cells of the fit table, one list per subject and depth."""
+    rows = []
+    for _, trial in fits.iterrows():
+        rows.append(
+            [
+                str(trial["subject"]),
+                str(trial["species"]),
+                format_fixed(trial["depth_mm"], DEPTH_DECIMALS),
+                str(int(trial["n_points"])),
+                format_fixed(trial["waterbed_L_mm"], LENGTH_DECIMALS),
+                *(format_fixed(trial[f"{m}_rmse_mm"], RMSE_DECIMALS) for m, _ in MODELS),
+            ]
+        )
+    return rows
+
+
+def _fits_caption(fits):
+    window = _fit_window_text(fits)
+    return (
+        "Fits to the left/right mean profile of each subject and depth, using the n points "
+        f"that lie between the wedge and {window} from it. L is the fitted half-width of "
+        "the small-slope waterbed, whose depth under the wedge is held at the indentation "
+        "depth; the RMSE columns give the root-mean-square residual of each model on the "
+        "same points."
+    )
+
+
+def fits_markdown(fits, notice=""):
+    """The fit table as Markdown: waterbed L and each model's RMSE per subject and depth.
+
+    Parameters
+    ----------
+    fits : pandas.DataFrame
+        Fit table (columns of :data:`lineload.fitting.FIT_COLUMNS`), rows in the
+        order they are to be shown.
+    notice : str, optional
+        Data notice; when non-empty it is added as a footer line.
+
+    Returns
+    -------
+    str
+    """
+    headers = [
+        "Subject",
+        "Species",
+        "Depth (mm)",
+        "n",
+        "Waterbed L (mm)",
+        *(f"RMSE {label} (mm)" for _, label in MODELS),
+    ]
+    text = "# Model fits per subject and depth\n\n" + _fits_caption(fits) + "\n\n"
+    text += markdown_table(headers, _fit_rows(fits), "llrrrrrr")
+    if notice:
+        text += f"\nNote: {' '.join(notice.split())}\n"
+    return text
+
+
+def fits_latex(fits, notice=""):
+    """The fit table as a booktabs LaTeX ``table`` (same content as :func:`fits_markdown`).
+
+    Parameters
+    ----------
+    fits : pandas.DataFrame
+        Fit table, rows in display order.
+    notice : str, optional
+        Data notice; when non-empty it becomes a note under the table.
+
+    Returns
+    -------
+    str
+    """
+    head = [
+        r" & & & & Waterbed & \multicolumn{3}{c}{RMSE (mm)} \\",
+        r"\cmidrule(lr){6-8}",
+        r"Subject & Species & Depth (mm) & $n$ & $L$ (mm) & waterbed & exact arc & Boussinesq \\",
+    ]
+    caption = escape_latex(_fits_caption(fits))
+    return latex_table(head, _fit_rows(fits), "llrrrrrr", caption, "tab:fits", notice)
+
+
+def summarise_fits(fits):
+    """Per species and depth: trials, waterbed L (mean, SD), mean RMSE of each model.
+
+    The RMSE ratio Boussinesq / waterbed is computed per trial first; the table
+    gives the mean and the smallest of these per-trial ratios (a ratio above 1
+    means the waterbed fitted that trial better).
+
+    Parameters
+    ----------
+    fits : pandas.DataFrame
+        Fit table with ``species``, ``depth_mm``, ``waterbed_L_mm`` and the
+        ``*_rmse_mm`` columns.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns :data:`SUMMARY_COLUMNS`, one row per species and depth: species
+        in the order of :data:`SPECIES_ORDER` (others after, sorted), depths
+        ascending.  The SD uses ``n - 1`` and is NaN for a single trial.
+    """
+    rows = []
+    keys = sorted(
+        {(str(s), float(d)) for s, d in zip(fits["species"], fits["depth_mm"], strict=True)},
+        key=lambda key: (_species_rank(key[0]), key[1]),
+    )
+    for species, depth_mm in keys:
+        group = fits[(fits["species"].astype(str) == species) & (fits["depth_mm"] == depth_mm)]
+        L_mm = group["waterbed_L_mm"].to_numpy(dtype=float)
+        bq_rmse_mm = group["boussinesq_rmse_mm"].to_numpy(dtype=float)
+        wb_rmse_mm = group["waterbed_rmse_mm"].to_numpy(dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = bq_rmse_mm / wb_rmse_mm
+        finite_ratio = ratio[np.isfinite(ratio)]
+        rows.append(
+            {
+                "species": species,
+                "depth_mm": depth_mm,
+                "n_trials": len(group),
+                "waterbed_L_mean_mm": _mean(L_mm),
+                "waterbed_L_sd_mm": _sd(L_mm),
+                "waterbed_rmse_mean_mm": _mean(group["waterbed_rmse_mm"]),
+                "arc_rmse_mean_mm": _mean(group["arc_rmse_mm"]),
+                "boussinesq_rmse_mean_mm": _mean(group["boussinesq_rmse_mm"]),
+                "rmse_ratio_boussinesq_to_waterbed_mean": _mean(finite_ratio),
+                "rmse_ratio_boussinesq_to_waterbed_min": (
+                    float(finite_ratio.min()) if finite_ratio.size else np.nan
+                ),
+            }
+        )
+    return pd.DataFrame(rows, columns=SUMMARY_COLUMNS)
+
+
+def _mean(values):
+    """Mean of the finite values; NaN if there are none."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    return float(values.mean()) if values.size else np.nan
+
+
+def _sd(values):
+    """Sample standard deviation (n - 1) of the finite values; NaN below two."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    return float(values.std(ddof=1)) if values.size > 1 else np.nan
+
+
+def _summary_rows(summary):
+    rows = []
+    for _, row in summary.iterrows():
+        rows.append(
+            [
+                str(row["species"]),
+                format_fixed(row["depth_mm"], DEPTH_DECIMALS),
+                str(int(row["n_trials"])),
+                format_fixed(row["waterbed_L_mean_mm"], LENGTH_DECIMALS),
+                format_fixed(row["waterbed_L_sd_mm"], LENGTH_DECIMALS),
+                *(format_fixed(row[f"{m}_rmse_mean_mm"], RMSE_DECIMALS) for m, _ in MODELS),
+                format_fixed(row["rmse_ratio_boussinesq_to_waterbed_mean"], RATIO_DECIMALS),
+                format_fixed(row["rmse_ratio_boussinesq_to_waterbed_min"], RATIO_DECIMALS),
+            ]
+        )
+    return rows
+
+
+_SUMMARY_CAPTION = (
+    "Summary per species and indentation depth: number of trials (subjects), mean and "
+    "standard deviation (n - 1) of the waterbed half-width L, mean RMSE of each model, and "
+    "the ratio of Boussinesq to waterbed RMSE, formed trial by trial and then averaged "
+    "(mean) or minimised over trials (min). A ratio above 1 means the waterbed fitted better."
+)
+
+
+def summary_markdown(summary, notice=""):
+    """The species summary (output of :func:`summarise_fits`) as Markdown.
+
+    Parameters
+    ----------
+    summary : pandas.DataFrame
+        Columns :data:`SUMMARY_COLUMNS`.
+    notice : str, optional
+        Data notice; when non-empty it is added as a footer line.
+
+    Returns
+    -------
+    str
+    """
+    headers = [
+        "Species",
+        "Depth (mm)",
+        "Trials",
+        "Mean L (mm)",
+        "SD L (mm)",
+        *(f"Mean RMSE {label} (mm)" for _, label in MODELS),
+        "RMSE ratio B/W, mean",
+        "RMSE ratio B/W, min",
+    ]
+    text = "# Summary per species and depth\n\n" + _SUMMARY_CAPTION + "\n\n"
+    text += markdown_table(headers, _summary_rows(summary), "lrrrrrrrrr")
+    if notice:
+        text += f"\nNote: {' '.join(notice.split())}\n"
+    return text
+
+
+def summary_latex(summary, notice=""):
+    """The species summary as a booktabs LaTeX ``table``.
+
+    Parameters
+    ----------
+    summary : pandas.DataFrame
+        Columns :data:`SUMMARY_COLUMNS`.
+    notice : str, optional
+        Data notice; when non-empty it becomes a note under the table.
+
+    Returns
+    -------
+    str
+    """
+    head = [
+        r" & & & \multicolumn{2}{c}{Waterbed $L$ (mm)} & \multicolumn{3}{c}{Mean RMSE (mm)}"
+        r" & \multicolumn{2}{c}{RMSE ratio B/W} \\",
+        r"\cmidrule(lr){4-5} \cmidrule(lr){6-8} \cmidrule(lr){9-10}",
+        r"Species & Depth (mm) & Trials & mean & SD & waterbed & exact arc & Boussinesq"
+        r" & mean & min \\",
+    ]
+    caption = escape_latex(_SUMMARY_CAPTION)
+    return latex_table(
+        head, _summary_rows(summary), "lrrrrrrrrr", caption, "tab:fit-summary", notice
+    )
