@@ -17,6 +17,10 @@ __all__ = ["FLOAT_FORMAT", "SCHEMA_DIR", "load_schema", "write_csv", "write_text
 #: The JSON schemas (YAML) of the config and of each raw-data table.
 SCHEMA_DIR = Path(__file__).resolve().parents[1] / "schemas"
 
+#: The process's file-creation mask (read once: os.umask can only be read by setting it).
+_UMASK = os.umask(0o022)
+os.umask(_UMASK)
+
 #: Ten significant digits: exact enough to recompute any number downstream.
 FLOAT_FORMAT = "%.10g"
 
@@ -55,6 +59,8 @@ def write_text(text, path):
     try:
         with os.fdopen(handle, "w", encoding="utf-8", newline="\n") as stream:
             stream.write(text)
+        # mkstemp creates the file readable by its owner only; give it the usual mode
+        os.chmod(tmp, 0o666 & ~_UMASK)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

@@ -1,15 +1,16 @@
 """Entry point of aggregate rules: concatenate per-subject CSV tables in the given order.
 
-Uses only the standard library (no numpy/pandas import): it runs once per build
-over every subject's file, and its cost is the start-up of Python alone.
+Imports no numpy or pandas: it runs once per build over every subject's file,
+so its cost should be Python's start-up alone.
 """
 
 import argparse
 import csv
 import io
-import os
 import sys
-import tempfile
+
+import _bootstrap  # noqa: F401  (puts the lineload package on the path)
+from lineload.io import write_text
 
 
 def main():
@@ -34,12 +35,7 @@ def main():
             for row in reader:
                 writer.writerow(row)
                 n_rows += 1
-    directory = os.path.dirname(os.path.abspath(args.output))
-    os.makedirs(directory, exist_ok=True)
-    handle, tmp = tempfile.mkstemp(dir=directory, suffix=".tmp")
-    with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
-        stream.write(buffer.getvalue())
-    os.replace(tmp, args.output)
+    write_text(buffer.getvalue(), args.output)
     print(f"{args.output}: {n_rows} rows from {len(args.inputs)} files")
 
 
