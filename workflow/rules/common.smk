@@ -66,6 +66,21 @@ wildcard_constraints:
     subject="[A-Za-z0-9][A-Za-z0-9_-]*",
 
 
+def raw_files():
+    """Every raw input the build read: subject sheet, profiles, outlines, notice."""
+    files = [f"{RAW}/subjects.csv"]
+    files += [f"{RAW}/profiles/{s}.csv" for s in SUBJECT_IDS]
+    files += [f"{RAW}/outlines/{s}.csv" for s in DATASET["outlines"]]
+    if Path(RAW, "NOTICE.txt").is_file():
+        files.append(f"{RAW}/NOTICE.txt")
+    return files
+
+
+# Every rule names the same pinned environment: documentation for readers and
+# the environment `snakemake --use-conda` builds.
+ENVIRONMENT = "../../environment.yml"
+
+
 def result(*parts):
     """Path of an output under the results folder."""
     return str(Path(RES, *parts))
@@ -100,7 +115,9 @@ OUTLINE_SUBJECTS = chosen_subjects(
 )
 OUTLINE_DEPTH_MM = config["figures"]["outline_depth_mm"]
 if OUTLINE_SUBJECTS:
-    common_depths = set.intersection(*(set(DATASET["outlines"][s]) for s in OUTLINE_SUBJECTS))
+    common_depths = set.intersection(
+        *(set(DATASET["outlines"][s]) for s in OUTLINE_SUBJECTS)
+    )
     if OUTLINE_DEPTH_MM is None and common_depths:
         OUTLINE_DEPTH_MM = min(common_depths)
     if OUTLINE_DEPTH_MM not in common_depths:

@@ -7,13 +7,15 @@ rule fit_subject:
         averaged=result("data", "averaged", "{subject}.csv"),
     output:
         result("fits", "{subject}.csv"),
+    log:
+        result("logs", "fit_subject", "{subject}.log"),
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "fit_subject.py",
         species=lambda wildcards: SUBJECTS.loc[wildcards.subject, "species"],
         window_mm=config["fit_window_mm"],
-    log:
-        result("logs", "fit_subject", "{subject}.log"),
     shell:
         "{params.python} {params.script:q} --subject {wildcards.subject}"
         " --species {params.species} --window-mm {params.window_mm}"
@@ -26,11 +28,13 @@ rule fits_table:
         expand(result("fits", "{subject}.csv"), subject=SUBJECT_IDS),
     output:
         result("tables", "fits.csv"),
+    log:
+        result("logs", "fits_table.log"),
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "concat_tables.py",
-    log:
-        result("logs", "fits_table.log"),
     shell:
         "{params.python} {params.script:q} --output {output:q} {input:q} > {log:q} 2>&1"
 
@@ -42,17 +46,20 @@ rule fit_sensitivity:
     output:
         sensitivity=result("fits", "sensitivity", "{subject}.csv"),
         checks=result("fits", "checks", "{subject}.csv"),
+    log:
+        result("logs", "fit_sensitivity", "{subject}.log"),
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "fit_sensitivity.py",
         species=lambda wildcards: SUBJECTS.loc[wildcards.subject, "species"],
         window_mm=config["fit_window_mm"],
         windows_mm=" ".join(
-            "whole" if w is None else str(w) for w in config["sensitivity"]["windows_mm"]
+            "whole" if w is None else str(w)
+            for w in config["sensitivity"]["windows_mm"]
         ),
         reach_fraction=config["sensitivity"]["reach_fraction"],
-    log:
-        result("logs", "fit_sensitivity", "{subject}.log"),
     shell:
         "{params.python} {params.script:q} --subject {wildcards.subject}"
         " --species {params.species} --window-mm {params.window_mm}"
@@ -64,18 +71,22 @@ rule fit_sensitivity:
 rule sensitivity_tables:
     """Collect the refits and per-trial checks; summarise them in Markdown."""
     input:
-        sensitivity=expand(result("fits", "sensitivity", "{subject}.csv"), subject=SUBJECT_IDS),
+        sensitivity=expand(
+            result("fits", "sensitivity", "{subject}.csv"), subject=SUBJECT_IDS
+        ),
         checks=expand(result("fits", "checks", "{subject}.csv"), subject=SUBJECT_IDS),
     output:
         sensitivity=result("tables", "sensitivity.csv"),
         checks=result("tables", "trial_checks.csv"),
         markdown=result("tables", "sensitivity.md"),
+    log:
+        result("logs", "sensitivity_tables.log"),
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "sensitivity_tables.py",
         notice=NOTICE,
-    log:
-        result("logs", "sensitivity_tables.log"),
     shell:
         "{params.python} {params.script:q} --notice={params.notice:q}"
         " --sensitivity-out {output.sensitivity:q} --checks-out {output.checks:q}"

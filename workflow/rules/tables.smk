@@ -15,6 +15,8 @@ rule fit_tables:
         python=PYTHON,
         script=SCRIPTS / "make_tables.py",
         notice=NOTICE,
+    conda:
+        ENVIRONMENT
     log:
         result("logs", "fit_tables.log"),
     shell:
@@ -39,6 +41,8 @@ rule claims_table:
         large_depth_mm=config["claims"]["large_depth_mm"],
         symmetry_tolerance=config["claims"]["symmetry_tolerance"],
         notice=NOTICE,
+    conda:
+        ENVIRONMENT
     log:
         result("logs", "claims_table.log"),
     shell:
