@@ -11,14 +11,14 @@ rule fit_tables:
         summary_csv=result("tables", "summary.csv"),
         summary_md=result("tables", "summary.md"),
         summary_tex=result("tables", "summary.tex"),
+    log:
+        result("logs", "fit_tables.log"),
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "make_tables.py",
         notice=NOTICE,
-    conda:
-        ENVIRONMENT
-    log:
-        result("logs", "fit_tables.log"),
     shell:
         "{params.python} {params.script:q} --fits {input.fits:q} --notice={params.notice:q}"
         " --fits-md {output.fits_md:q} --fits-tex {output.fits_tex:q}"
@@ -30,10 +30,16 @@ rule claims_table:
     """Recompute the paper's claims C1-C10 from the fits and averaged profiles, with verdicts."""
     input:
         fits=result("tables", "fits.csv"),
-        averaged=expand(result("data", "averaged", "{subject}.csv"), subject=SUBJECT_IDS),
+        averaged=expand(
+            result("data", "averaged", "{subject}.csv"), subject=SUBJECT_IDS
+        ),
     output:
         csv=result("tables", "claims.csv"),
         md=result("tables", "claims.md"),
+    log:
+        result("logs", "claims_table.log"),
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "make_claims.py",
@@ -41,10 +47,6 @@ rule claims_table:
         large_depth_mm=config["claims"]["large_depth_mm"],
         symmetry_tolerance=config["claims"]["symmetry_tolerance"],
         notice=NOTICE,
-    conda:
-        ENVIRONMENT
-    log:
-        result("logs", "claims_table.log"),
     shell:
         "{params.python} {params.script:q} --fits {input.fits:q} --averaged {input.averaged:q}"
         " --noise-mm {params.noise_mm} --large-depth-mm {params.large_depth_mm}"
