@@ -27,7 +27,12 @@ rule fits_table:
     input:
         expand(result("fits", "{subject}.csv"), subject=SUBJECT_IDS),
     output:
-        result("tables", "fits.csv"),
+        report(
+            result("tables", "fits.csv"),
+            caption="../report/fits.rst",
+            category="Fits",
+            labels={"table": "fits per subject and depth"},
+        ),
     log:
         result("logs", "fits_table.log"),
     conda:
@@ -76,8 +81,18 @@ rule sensitivity_tables:
         ),
         checks=expand(result("fits", "checks", "{subject}.csv"), subject=SUBJECT_IDS),
     output:
-        sensitivity=result("tables", "sensitivity.csv"),
-        checks=result("tables", "trial_checks.csv"),
+        sensitivity=report(
+            result("tables", "sensitivity.csv"),
+            caption="../report/sensitivity.rst",
+            category="Supplement",
+            labels={"table": "sensitivity refits"},
+        ),
+        checks=report(
+            result("tables", "trial_checks.csv"),
+            caption="../report/trial_checks.rst",
+            category="Supplement",
+            labels={"table": "U shift and reach per trial"},
+        ),
         markdown=result("tables", "sensitivity.md"),
     log:
         result("logs", "sensitivity_tables.log"),

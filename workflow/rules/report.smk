@@ -8,7 +8,12 @@ rule provenance:
         # built last, so the record is rewritten whenever any output is
         outputs=[rules.fits_table.output, FIGURE_OUTPUTS, TABLE_OUTPUTS],
     output:
-        result("provenance.json"),
+        report(
+            result("provenance.json"),
+            caption="../report/provenance.rst",
+            category="Data",
+            labels={"file": "provenance record"},
+        ),
     log:
         result("logs", "provenance.log"),
     conda:

@@ -8,7 +8,12 @@ rule fit_tables:
     output:
         fits_md=result("tables", "fits.md"),
         fits_tex=result("tables", "fits.tex"),
-        summary_csv=result("tables", "summary.csv"),
+        summary_csv=report(
+            result("tables", "summary.csv"),
+            caption="../report/summary.rst",
+            category="Fits",
+            labels={"table": "summary per species and depth"},
+        ),
         summary_md=result("tables", "summary.md"),
         summary_tex=result("tables", "summary.tex"),
     log:
@@ -34,7 +39,12 @@ rule claims_table:
             result("data", "averaged", "{subject}.csv"), subject=SUBJECT_IDS
         ),
     output:
-        csv=result("tables", "claims.csv"),
+        csv=report(
+            result("tables", "claims.csv"),
+            caption="../report/claims.rst",
+            category="Claims",
+            labels={"table": "claims C1-C10"},
+        ),
         md=result("tables", "claims.md"),
     log:
         result("logs", "claims_table.log"),
