@@ -6,7 +6,12 @@ rule provenance:
     input:
         raw=raw_files(),
         # built last, so the record is rewritten whenever any output is
-        outputs=[rules.fits_table.output, FIGURE_OUTPUTS, TABLE_OUTPUTS],
+        outputs=[
+            rules.fits_table.output,
+            rules.sensitivity_tables.output,
+            FIGURE_OUTPUTS,
+            TABLE_OUTPUTS,
+        ],
     output:
         report(
             result("provenance.json"),
@@ -26,3 +31,25 @@ rule provenance:
     shell:
         "{params.python} {params.script:q} --raw-dir {RAW:q} --config-json {params.config_json:q}"
         " --source-dir {params.source_dir:q} --output {output:q} {input.raw:q} > {log:q} 2>&1"
+
+
+rule rulegraph:
+    """Draw the graph of rules (not part of the default target: it runs Snakemake itself)."""
+    output:
+        dot=result("rulegraph", "rulegraph.dot"),
+        png=result("rulegraph", "rulegraph.png"),
+        pdf=result("rulegraph", "rulegraph.pdf"),
+    log:
+        result("logs", "rulegraph.log"),
+    conda:
+        ENVIRONMENT
+    params:
+        python=PYTHON,
+        script=SCRIPTS / "make_rulegraph.py",
+        snakefile=workflow.main_snakefile,
+    shell:
+        "{params.python} -m snakemake --snakefile {params.snakefile:q} --rulegraph dot"
+        " --nolock --quiet all --config raw_data={RAW:q} results={RES:q}"
+        " > {output.dot:q} 2> {log:q}"
+        " && {params.python} {params.script:q} --dot {output.dot:q} --png {output.png:q}"
+        " --pdf {output.pdf:q} >> {log:q} 2>&1"
