@@ -15,6 +15,13 @@ report: "workflow/report/workflow.rst"
 
 
 include: "workflow/rules/common.smk"
+
+
+# subject ids name files and go on command lines: the same rule as subjects.schema.yaml
+wildcard_constraints:
+    subject="[A-Za-z0-9][A-Za-z0-9_-]*",
+
+
 include: "workflow/rules/data.smk"
 include: "workflow/rules/fits.smk"
 include: "workflow/rules/figures.smk"

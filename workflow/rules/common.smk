@@ -62,10 +62,6 @@ SUBJECTS = DATASET["subjects"].set_index("subject", drop=False)
 SUBJECT_IDS = list(SUBJECTS["subject"])
 
 
-wildcard_constraints:
-    subject="[A-Za-z0-9][A-Za-z0-9_-]*",
-
-
 def raw_files():
     """Every raw input the build read: subject sheet, profiles, outlines, notice."""
     files = [f"{RAW}/subjects.csv"]
@@ -76,8 +72,8 @@ def raw_files():
     return files
 
 
-# Every rule names the same pinned environment: documentation for readers and
-# the environment `snakemake --use-conda` builds.
+# The pinned environment named by all rules (conda directive), as documentation
+# for readers and as what `snakemake --use-conda` builds.
 ENVIRONMENT = "../../environment.yml"
 
 

@@ -9,6 +9,8 @@ rule fit_subject:
         result("fits", "{subject}.csv"),
     log:
         result("logs", "fit_subject", "{subject}.log"),
+    benchmark:
+        result("benchmarks", "fit_subject", "{subject}.tsv")
     conda:
         ENVIRONMENT
     params:
@@ -35,6 +37,8 @@ rule fits_table:
         ),
     log:
         result("logs", "fits_table.log"),
+    benchmark:
+        result("benchmarks", "fits_table.tsv")
     conda:
         ENVIRONMENT
     params:
@@ -53,6 +57,8 @@ rule fit_sensitivity:
         checks=result("fits", "checks", "{subject}.csv"),
     log:
         result("logs", "fit_sensitivity", "{subject}.log"),
+    benchmark:
+        result("benchmarks", "fit_sensitivity", "{subject}.tsv")
     conda:
         ENVIRONMENT
     params:
@@ -96,6 +102,8 @@ rule sensitivity_tables:
         markdown=result("tables", "sensitivity.md"),
     log:
         result("logs", "sensitivity_tables.log"),
+    benchmark:
+        result("benchmarks", "sensitivity_tables.tsv")
     conda:
         ENVIRONMENT
     params:

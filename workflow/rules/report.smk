@@ -26,15 +26,20 @@ rule provenance:
     params:
         python=PYTHON,
         script=SCRIPTS / "write_provenance.py",
+        raw=lambda wildcards, input: str(Path(input.raw[0]).parent),
         config_json=json.dumps(config, sort_keys=True),
         source_dir=workflow.basedir,
     shell:
-        "{params.python} {params.script:q} --raw-dir {RAW:q} --config-json {params.config_json:q}"
+        "{params.python} {params.script:q} --raw-dir {params.raw:q}"
+        " --config-json {params.config_json:q}"
         " --source-dir {params.source_dir:q} --output {output:q} {input.raw:q} > {log:q} 2>&1"
 
 
 rule rulegraph:
     """Draw the graph of rules (not part of the default target: it runs Snakemake itself)."""
+    input:
+        # the graph is drawn for this dataset (its figures depend on the species present)
+        sheet=f"{RAW}/subjects.csv",
     output:
         dot=result("rulegraph", "rulegraph.dot"),
         png=result("rulegraph", "rulegraph.png"),
@@ -47,9 +52,11 @@ rule rulegraph:
         python=PYTHON,
         script=SCRIPTS / "make_rulegraph.py",
         snakefile=workflow.main_snakefile,
+        raw=lambda wildcards, input: str(Path(input.sheet).parent),
+        results=lambda wildcards, output: str(Path(output.dot).parents[1]),
     shell:
         "{params.python} -m snakemake --snakefile {params.snakefile:q} --rulegraph dot"
-        " --nolock --quiet all --config raw_data={RAW:q} results={RES:q}"
+        " --nolock --quiet all --config raw_data={params.raw:q} results={params.results:q}"
         " > {output.dot:q} 2> {log:q}"
         " && {params.python} {params.script:q} --dot {output.dot:q} --png {output.png:q}"
         " --pdf {output.pdf:q} >> {log:q} 2>&1"
