@@ -6,8 +6,20 @@ rule prepare_profile:
     input:
         profile=f"{RAW}/profiles/{{subject}}.csv",
     output:
-        converted=result("data", "converted", "{subject}.csv"),
-        averaged=result("data", "averaged", "{subject}.csv"),
+        converted=report(
+            result("data", "converted", "{subject}.csv"),
+            caption="../report/converted.rst",
+            category="Data",
+            subcategory="Readings in tissue mm",
+            labels={"subject": "{subject}"},
+        ),
+        averaged=report(
+            result("data", "averaged", "{subject}.csv"),
+            caption="../report/averaged.rst",
+            category="Data",
+            subcategory="Left/right averages",
+            labels={"subject": "{subject}"},
+        ),
     params:
         python=PYTHON,
         script=SCRIPTS / "prepare_profile.py",
@@ -18,3 +30,21 @@ rule prepare_profile:
         "{params.python} {params.script:q} --subject {wildcards.subject}"
         " --magnification {params.magnification} --profile {input.profile:q}"
         " --converted {output.converted:q} --averaged {output.averaged:q} > {log:q} 2>&1"
+
+
+rule prepare_outline:
+    """Convert one subject's traced outlines (Figure 1) to tissue mm."""
+    input:
+        outline=f"{RAW}/outlines/{{subject}}.csv",
+    output:
+        result("data", "outlines", "{subject}.csv"),
+    params:
+        python=PYTHON,
+        script=SCRIPTS / "prepare_outline.py",
+        magnification=lambda wildcards: SUBJECTS.loc[wildcards.subject, "magnification"],
+    log:
+        result("logs", "prepare_outline", "{subject}.log"),
+    shell:
+        "{params.python} {params.script:q} --subject {wildcards.subject}"
+        " --magnification {params.magnification} --outline {input.outline:q}"
+        " --output {output:q} > {log:q} 2>&1"

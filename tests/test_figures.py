@@ -1,0 +1,475 @@
+"""The figures: panels and series follow the data, schematics follow the model, files are
+reproducible.  Figure functions are called directly on data built here; one workflow run
+on a small dataset checks the rules, the file formats and byte-for-byte rebuilds."""
+
+import struct
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+from conftest import REPO, run_snakemake, write_small_dataset
+from lineload import models, plotting
+
+NOTICE = "Made-up numbers for a test of the footer; they describe no finger at all, anywhere."
+WINDOW_MM = 3.0
+
+
+def make_dataset(spec):
+    """Averaged profiles, a fit table and a subject sheet from ``{id: (species, depths)}``.
+
+    Profiles are ``depth (1 - x/e)**2`` with an extent e of 5 mm (monkeys) or 9 mm
+    (humans); the fit table holds arbitrary but valid parameters for every model.
+    """
+    averaged, fits, sheet = [], [], []
+    for subject, (species, depths_mm) in spec.items():
+        sheet.append({"subject": subject, "species": species, "label": f"Finger {subject}"})
+        extent_mm = 5.0 if species == "monkey" else 9.0
+        for depth_mm in depths_mm:
+            distance_mm = np.arange(0.05, extent_mm + 1e-9, 0.25)
+            deflection_mm = depth_mm * (1 - distance_mm / extent_mm) ** 2
+            averaged.append(
+                pd.DataFrame(
+                    {
+                        "subject": subject,
+                        "depth_mm": depth_mm,
+                        "distance_mm": distance_mm,
+                        "deflection_mm": deflection_mm,
+                    }
+                )
+            )
+            fits.append(
+                {
+                    "subject": subject,
+                    "species": species,
+                    "depth_mm": depth_mm,
+                    "waterbed_L_mm": 2.5 * extent_mm,
+                    "arc_L_mm": 2.6 * extent_mm,
+                    "boussinesq_A_mm": 0.3 * depth_mm,
+                    "boussinesq_x0_mm": extent_mm,
+                }
+            )
+    return pd.concat(averaged, ignore_index=True), pd.DataFrame(fits), pd.DataFrame(sheet)
+
+
+PAPER_LIKE = {
+    "M1": ("monkey", [0.5, 1.0, 1.5, 2.0]),
+    "M2": ("monkey", [0.5, 1.0, 1.5, 2.0]),
+    "M3": ("monkey", [0.5, 1.0, 1.5, 2.0]),
+    "H1": ("human", [0.5, 1.0, 1.5, 2.0]),
+    "H2": ("human", [0.5, 1.0, 1.5, 2.0]),
+    "H3": ("human", [1.0, 2.0]),
+}
+
+
+def gids(ax, prefix):
+    """gids of the lines of one panel that start with prefix."""
+    return sorted(
+        line.get_gid()
+        for line in ax.get_lines()
+        if line.get_gid() is not None and line.get_gid().startswith(prefix)
+    )
+
+
+def panels_by_title(fig):
+    return {ax.get_title(loc="left"): ax for ax in fig.axes}
+
+
+def depth_gids(kind, depths_mm):
+    return sorted(f"{kind}:{d:g}" for d in depths_mm)
+
+
+@pytest.mark.parametrize(
+    ("figure_species", "ids"), [("monkey", ["M1", "M2", "M3"]), ("human", ["H1", "H2", "H3"])]
+)
+def test_species_figures_have_a_panel_per_subject_and_a_series_per_depth(figure_species, ids):
+    averaged, fits, subjects = make_dataset(PAPER_LIKE)
+    fig = plotting.figure_species_fits(averaged, fits, subjects, figure_species, WINDOW_MM)
+    panels = panels_by_title(fig)
+    assert len(fig.axes) == len(ids)
+    assert set(panels) == {f"Finger {s} ({figure_species})" for s in ids}
+    for subject in ids:
+        ax = panels[f"Finger {subject} ({figure_species})"]
+        depths_mm = PAPER_LIKE[subject][1]
+        assert gids(ax, "data:") == depth_gids("data", depths_mm)
+        assert gids(ax, "model:") == depth_gids("model", depths_mm)
+    if figure_species == "human":  # the third human: 1 and 2 mm only
+        assert gids(panels["Finger H3 (human)"], "data:") == ["data:1", "data:2"]
+
+
+def test_species_figure_model_lines_are_the_fitted_waterbed():
+    averaged, fits, subjects = make_dataset({"M9": ("monkey", [1.5])})
+    fig = plotting.figure_species_fits(averaged, fits, subjects, "monkey", WINDOW_MM)
+    (line,) = [ln for ln in fig.axes[0].get_lines() if ln.get_gid() == "model:1.5"]
+    L_mm = float(fits["waterbed_L_mm"].iloc[0])
+    np.testing.assert_allclose(
+        line.get_ydata(), models.waterbed_deflection_mm(line.get_xdata(), 1.5, L_mm)
+    )
+    (points,) = [ln for ln in fig.axes[0].get_lines() if ln.get_gid() == "data:1.5"]
+    np.testing.assert_allclose(points.get_xdata(), averaged["distance_mm"])
+    # deflection downward: the axis is inverted, zero above the depth
+    low, high = fig.axes[0].get_ylim()
+    assert low > high
+
+
+def test_panels_follow_a_different_dataset():
+    spec = {"A": ("monkey", [0.75, 1.25, 3.0]), "B": ("human", [1.0]), "C": ("human", [0.5, 1.0])}
+    averaged, fits, subjects = make_dataset(spec)
+    monkeys = plotting.figure_species_fits(averaged, fits, subjects, "monkey", WINDOW_MM)
+    assert len(monkeys.axes) == 1
+    assert gids(monkeys.axes[0], "data:") == depth_gids("data", [0.75, 1.25, 3.0])
+    assert gids(monkeys.axes[0], "model:") == depth_gids("model", [0.75, 1.25, 3.0])
+    humans = plotting.figure_species_fits(averaged, fits, subjects, "human", WINDOW_MM)
+    assert [ax.get_title(loc="left") for ax in humans.axes] == [
+        "Finger B (human)",
+        "Finger C (human)",
+    ]
+    assert gids(humans.axes[1], "model:") == ["model:0.5", "model:1"]
+    # supplement: one row per species, one column per depth in the data
+    residuals = plotting.figure_residuals(averaged, fits, subjects, WINDOW_MM)
+    assert len(residuals.axes) == 2 * 5
+    arcs = plotting.figure_arc_vs_parabola(fits)
+    assert len(arcs.axes) == 2 * 5
+
+
+def test_a_species_without_subjects_gives_one_axis_that_says_so():
+    averaged, fits, subjects = make_dataset({"A": ("monkey", [1.0])})
+    fig = plotting.figure_species_fits(averaged, fits, subjects, "human", WINDOW_MM)
+    assert len(fig.axes) == 1
+    messages = [t.get_text() for t in fig.axes[0].texts if t.get_gid() == "message"]
+    assert messages and "human" in messages[0]
+
+
+def test_residuals_are_data_minus_each_fitted_model_inside_the_window():
+    averaged, fits, subjects = make_dataset({"A": ("monkey", [1.0]), "B": ("human", [1.0])})
+    fig = plotting.figure_residuals(averaged, fits, subjects, WINDOW_MM)
+    assert len(fig.axes) == 2
+    row = fits.set_index("subject").loc["A"]
+    trial = averaged[(averaged["subject"] == "A") & (averaged["distance_mm"] <= WINDOW_MM)]
+    expected = {
+        "waterbed": models.waterbed_deflection_mm(trial["distance_mm"], 1.0, row["waterbed_L_mm"]),
+        "arc": models.arc_deflection_mm(trial["distance_mm"], 1.0, row["arc_L_mm"]),
+        "boussinesq": models.boussinesq_deflection_mm(
+            trial["distance_mm"], row["boussinesq_A_mm"], row["boussinesq_x0_mm"]
+        ),
+    }
+    lines = {ln.get_gid(): ln for ln in fig.axes[0].get_lines()}
+    for model, values in expected.items():
+        line = lines[f"residual:{model}:A"]
+        np.testing.assert_allclose(line.get_xdata(), trial["distance_mm"])
+        np.testing.assert_allclose(line.get_ydata(), trial["deflection_mm"] - values)
+    assert "fit-window" in lines
+
+
+def circle_outline(subject, depth_mm, radius_mm, half_width_mm):
+    x_mm = np.linspace(-half_width_mm, half_width_mm, 81)
+    resting = np.sqrt(radius_mm**2 - x_mm**2) - radius_mm
+    deformed = resting - depth_mm * np.clip(1 - np.abs(x_mm) / half_width_mm, 0, None) ** 2
+    return pd.concat(
+        [
+            pd.DataFrame(
+                {
+                    "subject": subject,
+                    "depth_mm": depth_mm,
+                    "state": "resting",
+                    "x_mm": x_mm,
+                    "z_mm": resting,
+                }
+            ),
+            pd.DataFrame(
+                {
+                    "subject": subject,
+                    "depth_mm": depth_mm,
+                    "state": "deformed",
+                    "x_mm": x_mm,
+                    "z_mm": deformed,
+                }
+            ),
+        ]
+    )
+
+
+def test_figure1_is_drawn_to_one_scale():
+    outlines = pd.concat(
+        [
+            circle_outline("M1", 1.0, 8.0, 6.0),
+            circle_outline("H1", 1.0, 45.0, 11.0),
+            circle_outline("H1", 2.0, 45.0, 12.0),
+        ]
+    )
+    subjects = pd.DataFrame(
+        {"subject": ["M1", "H1"], "species": ["monkey", "human"], "label": ["Monkey 1", "Human 1"]}
+    )
+    fig = plotting.figure_outlines(outlines, subjects, ["M1", "H1"], 1.0)
+    assert len(fig.axes) == 2
+    for ax in fig.axes:
+        assert ax.get_aspect() == 1.0
+        assert any(p.get_gid() == "wedge" for p in ax.patches)
+        styles = {ln.get_gid(): ln.get_linestyle() for ln in ax.get_lines()}
+        assert styles == {"outline:resting": "--", "outline:deformed": "-"}
+    assert fig.axes[0].get_xlim() == fig.axes[1].get_xlim()
+    assert fig.axes[0].get_ylim() == fig.axes[1].get_ylim()
+    # drawn, the two panels have the same size, so one mm is as long in both
+    FigureCanvasAgg(fig).draw()
+    sizes = [(ax.get_position().width, ax.get_position().height) for ax in fig.axes]
+    assert sizes[0] == pytest.approx(sizes[1])
+    # only the 1 mm outline of H1 is drawn, and the human is the wider one
+    human_x = np.concatenate(
+        [ln.get_xdata() for ln in fig.axes[1].get_lines() if ln.get_gid() == "outline:deformed"]
+    )
+    assert np.max(np.abs(human_x)) == pytest.approx(11.0)
+
+
+def test_figure1_without_outlines_says_so():
+    fig = plotting.figure_outlines(pd.DataFrame(), pd.DataFrame(), [], None)
+    assert len(fig.axes) == 1
+    assert [t.get_gid() for t in fig.axes[0].texts] == ["message"]
+
+
+def test_figure2_uses_a_log_distance_axis_and_both_models():
+    averaged, fits, subjects = make_dataset(PAPER_LIKE)
+    fig = plotting.figure_examples(averaged, fits, subjects, ["M1", "H1"], 1.0, WINDOW_MM)
+    assert len(fig.axes) == 2
+    for ax in fig.axes:
+        assert ax.get_xscale() == "log"
+        assert gids(ax, "") == ["data", "fit-window", "model:boussinesq", "model:waterbed"]
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert any("data" in label for label in labels)
+    assert any("waterbed" in label for label in labels)
+    assert any("Boussinesq" in label for label in labels)
+
+
+SCHEMATICS = [
+    plotting.figure_channel_schematic,
+    plotting.figure_material_point,
+    plotting.figure_free_body,
+]
+
+
+def footer_texts(fig):
+    return [t for t in fig.texts if t.get_gid() == "footer"]
+
+
+@pytest.mark.parametrize(
+    "draw",
+    [
+        *[lambda notice, f=f: f(0.15, notice) for f in SCHEMATICS],
+        lambda notice: plotting.figure_species_fits(
+            *make_dataset(PAPER_LIKE), "human", WINDOW_MM, notice
+        ),
+        lambda notice: plotting.figure_species_fits(
+            *make_dataset({"A": ("monkey", [1.0])}), "monkey", WINDOW_MM, notice
+        ),
+        lambda notice: plotting.figure_outlines(pd.DataFrame(), pd.DataFrame(), [], None, notice),
+    ],
+)
+def test_footer_appears_with_a_notice_only_and_clears_the_axes(draw):
+    assert footer_texts(draw("")) == []
+    fig = draw(NOTICE)
+    (footer,) = footer_texts(fig)
+    assert " ".join(footer.get_text().split()) == NOTICE
+    assert footer.get_fontsize() >= 6
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    box = footer.get_window_extent(renderer)
+    assert box.x0 >= 0 and box.x1 <= fig.bbox.width  # wrapped to the figure's width
+    for ax in fig.axes:
+        assert box.y1 <= ax.get_tightbbox(renderer).y0
+
+
+@pytest.mark.parametrize("ratio", [0.1, 0.27])
+def test_figure3_membrane_is_equation_19_at_the_stated_ratio(ratio):
+    fig = plotting.figure_channel_schematic(ratio)
+    (ax,) = fig.axes
+    (membrane,) = [ln for ln in ax.get_lines() if ln.get_gid() == "membrane-deformed"]
+    X, Z = membrane.get_xdata(), membrane.get_ydata()
+    np.testing.assert_allclose(-Z, models.waterbed_deflection_mm(np.abs(X), ratio, 1.0), atol=1e-12)
+    assert X.min() == -1.0 and X.max() == 1.0
+    np.testing.assert_allclose(Z, Z[::-1])  # symmetric about OZ
+    assert Z.min() == pytest.approx(-ratio)
+    (rest,) = [ln for ln in ax.get_lines() if ln.get_gid() == "membrane-rest"]
+    assert rest.get_linestyle() == "--" and membrane.get_linestyle() == "-"
+    assert any(f"= {ratio:g}" in t.get_text() for t in ax.texts)
+
+
+def test_figure4_point_moves_by_the_shift_of_equation_20():
+    ratio, X_A, factor = 0.2, 0.25, 10
+    fig = plotting.figure_material_point(ratio, point_X_over_L=X_A, shift_exaggeration=factor)
+    lines = {ln.get_gid(): ln for ln in fig.axes[0].get_lines()}
+    U = models.waterbed_shift_mm(X_A, ratio, 1.0)
+    W = models.waterbed_deflection_mm(X_A, ratio, 1.0)
+    assert lines["point-initial"].get_xydata().tolist() == [[X_A, 0.0]]
+    np.testing.assert_allclose(lines["point-final"].get_xydata(), [[X_A + factor * U, -W]])
+    assert any(f"{factor}×" in t.get_text() for t in fig.axes[0].texts)
+
+
+def test_figure5_states_the_load_angle_of_the_solution():
+    ratio = 0.1
+    fig = plotting.figure_free_body(ratio)
+    angle_deg = np.degrees(np.arctan(4 * ratio))  # slope of eq. 19 at the load is 4 W0 / L
+    assert any(f"{angle_deg:.1f}°" in t.get_text() for ax in fig.axes for t in ax.texts)
+
+
+def png_dpi(path):
+    """Horizontal resolution in dots per inch from a PNG's pHYs chunk."""
+    data = Path(path).read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    position = 8
+    while position < len(data):
+        (length,) = struct.unpack(">I", data[position : position + 4])
+        kind = data[position + 4 : position + 8]
+        body = data[position + 8 : position + 8 + length]
+        if kind == b"pHYs":
+            per_metre, _, unit = struct.unpack(">IIB", body)
+            assert unit == 1
+            return per_metre * 0.0254
+        if kind == b"IDAT":  # image data: the header chunks are over
+            break
+        position += 12 + length
+    raise AssertionError(f"{path}: no pHYs chunk")
+
+
+def png_width_px(path):
+    return struct.unpack(">I", Path(path).read_bytes()[16:20])[0]
+
+
+def test_save_figure_is_reproducible_and_carries_no_dates(tmp_path):
+    fig = plotting.figure_channel_schematic(0.15, NOTICE)
+    for name in ("a", "b"):
+        plotting.save_figure(fig, tmp_path / f"{name}.pdf", tmp_path / f"{name}.png", 250)
+    for ext in ("pdf", "png"):
+        assert (tmp_path / f"a.{ext}").read_bytes() == (tmp_path / f"b.{ext}").read_bytes()
+    pdf = (tmp_path / "a.pdf").read_bytes()
+    for key in (b"CreationDate", b"ModDate", b"Producer", b"Creator"):
+        assert key not in pdf
+    assert b"Software" not in (tmp_path / "a.png").read_bytes()
+    assert png_dpi(tmp_path / "a.png") == pytest.approx(250, abs=0.5)
+    assert png_width_px(tmp_path / "a.png") == round(plotting.DOUBLE_COLUMN_MM / 25.4 * 250)
+
+
+def test_prepare_outline_converts_to_tissue_mm(tmp_path):
+    raw = tmp_path / "M1.csv"
+    raw.write_text(
+        "depth_mm,state,x_image_mm,z_image_mm\n"
+        "1,deformed,40,-30\n1,resting,-40,-8\n1,resting,40,-8\n1,deformed,-40,-31\n"
+    )
+    out = tmp_path / "out" / "M1.csv"
+    subprocess.run(
+        [
+            sys.executable,
+            str(REPO / "workflow" / "scripts" / "prepare_outline.py"),
+            "--subject",
+            "M1",
+            "--magnification",
+            "20",
+            "--outline",
+            str(raw),
+            "--output",
+            str(out),
+        ],
+        check=True,
+        capture_output=True,
+    )
+    table = pd.read_csv(out)
+    assert list(table["state"]) == ["deformed", "deformed", "resting", "resting"]
+    np.testing.assert_allclose(table["x_mm"], table["x_image_mm"] / 20)
+    np.testing.assert_allclose(table["z_mm"], table["z_image_mm"] / 20)
+    assert list(table["x_mm"]) == [-2.0, 2.0, -2.0, 2.0]
+
+
+FIGURE_FILES = [f"{name}.{ext}" for name in plotting.FIGURE_NAMES for ext in ("pdf", "png")]
+
+
+def test_workflow_builds_every_figure_reproducibly(tmp_path, snakemake_available):
+    raw = write_small_dataset(
+        tmp_path / "raw",
+        subjects={
+            "MK": ("monkey", [1.0, 2.0], 5.0),
+            "HU": ("human", [1.0], 9.0),
+            "HV": ("human", [2.0], 10.0),
+        },
+    )
+    builds = []
+    for name in ("first", "second"):  # no NOTICE.txt in this raw folder: no footer
+        out = tmp_path / name
+        process = run_snakemake("figures", raw=raw, results=out)
+        assert process.returncode == 0, process.stderr[-3000:]
+        builds.append(out / "figures")
+    assert sorted(p.name for p in builds[0].iterdir()) == sorted(FIGURE_FILES)
+    for name in FIGURE_FILES:
+        first, second = builds[0] / name, builds[1] / name
+        assert first.read_bytes() == second.read_bytes(), name
+        if name.endswith(".png"):
+            assert png_dpi(first) >= 200
+            width_in = png_width_px(first) / png_dpi(first)
+            assert min(abs(width_in * 25.4 - w) for w in (85.0, 175.0)) < 0.5, name
+        else:
+            assert first.read_bytes().startswith(b"%PDF")
+    logs = tmp_path / "first" / "logs"
+    for rule in ("figure_outlines", "figure_schematics", "figure_fits", "figure_supplement"):
+        assert (logs / f"{rule}.log").is_file()
+    # a notice with shell-awkward characters reaches the figures intact (and changes them)
+    out = tmp_path / "notice"
+    notice = 'Test data; it\'s "made up" & $HOME stays literal'
+    process = run_snakemake(
+        "figure_schematics", raw=raw, results=out, config=[f"data_notice={notice}"]
+    )
+    assert process.returncode == 0, process.stderr[-3000:]
+    log = (out / "logs" / "figure_schematics.log").read_text()
+    assert f"footer: {notice!r}" in log
+    assert "footer: none" in (logs / "figure_schematics.log").read_text()
+    with_footer = (out / "figures" / "figure3.png").read_bytes()
+    assert with_footer != (builds[0] / "figure3.png").read_bytes()
+    assert png_width_px(out / "figures" / "figure3.png") == png_width_px(builds[0] / "figure3.png")
+
+
+def every_figure(notice):
+    averaged, fits, subjects = make_dataset(PAPER_LIKE)
+    outlines = pd.concat(
+        [circle_outline("M1", 1.0, 8.0, 6.0), circle_outline("H1", 1.0, 45.0, 11.0)]
+    )
+    return {
+        "figure1": plotting.figure_outlines(outlines, subjects, ["M1", "H1"], 1.0, notice),
+        "figure2": plotting.figure_examples(
+            averaged, fits, subjects, ["M1", "H1"], 1.0, WINDOW_MM, notice
+        ),
+        "figure3": plotting.figure_channel_schematic(0.15, notice),
+        "figure4": plotting.figure_material_point(0.15, notice),
+        "figure5": plotting.figure_free_body(0.15, notice),
+        "figure6": plotting.figure_species_fits(
+            averaged, fits, subjects, "monkey", WINDOW_MM, notice
+        ),
+        "figure7": plotting.figure_species_fits(
+            averaged, fits, subjects, "human", WINDOW_MM, notice
+        ),
+        "supplement_residuals": plotting.figure_residuals(
+            averaged, fits, subjects, WINDOW_MM, notice
+        ),
+        "supplement_arc_vs_parabola": plotting.figure_arc_vs_parabola(fits, notice),
+    }
+
+
+def test_every_figure_fits_its_journal_width_and_keeps_legends_and_labels_on_the_page():
+    figures = every_figure(NOTICE)
+    assert set(figures) == set(plotting.FIGURE_NAMES)
+    for name, fig in figures.items():
+        width_mm = fig.get_figwidth() * 25.4
+        assert min(abs(width_mm - w) for w in (85.0, 175.0)) < 1e-6, name
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        renderer = canvas.get_renderer()
+        page = fig.bbox
+        boxes = [legend.get_window_extent(renderer) for legend in fig.legends]
+        boxes += [ax.get_tightbbox(renderer) for ax in fig.axes]
+        for box in boxes:
+            assert box.x0 >= -1 and box.x1 <= page.x1 + 1, name
+            assert box.y0 >= -1 and box.y1 <= page.y1 + 1, name
+        sizes = {t.get_fontsize() for ax in fig.axes for t in ax.texts} | {
+            t.get_fontsize() for legend in fig.legends for t in legend.get_texts()
+        }
+        assert min(sizes) >= 7, name
