@@ -451,6 +451,7 @@ def every_figure(notice):
             averaged, fits, subjects, WINDOW_MM, notice
         ),
         "supplement_arc_vs_parabola": plotting.figure_arc_vs_parabola(fits, notice),
+        "supplement_sensitivity": plotting.figure_sensitivity(*sensitivity_inputs(), notice=notice),
     }
 
 
@@ -473,3 +474,45 @@ def test_every_figure_fits_its_journal_width_and_keeps_legends_and_labels_on_the
             t.get_fontsize() for legend in fig.legends for t in legend.get_texts()
         }
         assert min(sizes) >= 7, name
+
+
+SENSITIVITY_TRIALS = [
+    ("A", "monkey", 1.0, 10.0),
+    ("A", "monkey", 2.0, 11.0),
+    ("B", "human", 1.0, 14.0),
+]
+
+
+def sensitivity_inputs(trials=SENSITIVITY_TRIALS, seed=4):
+    """Sensitivity refits and checks of waterbed profiles with known L, as the rules write them."""
+    from lineload import sensitivity as sens
+
+    rng = np.random.default_rng(seed)
+    rows, checks = [], []
+    x = np.round(np.r_[np.arange(0.05, 0.5001, 0.05), np.arange(0.75, 6.01, 0.25)], 6)
+    for subject, species, depth_mm, L_mm in trials:
+        y = models.waterbed_deflection_mm(x, depth_mm, L_mm) + rng.normal(0, 0.01, x.size)
+        for row in sens.sensitivity_rows(x, y, depth_mm, [2.0, 3.0, np.inf]):
+            rows.append({"subject": subject, "species": species, **row})
+        check = sens.trial_checks(x, y, depth_mm, 3.0, 0.1)
+        checks.append({"subject": subject, "species": species, **check})
+    return pd.DataFrame(rows), pd.DataFrame(checks)
+
+
+def test_sensitivity_figure_has_a_point_per_trial_model_and_window():
+    trials = SENSITIVITY_TRIALS
+    refits, checks = sensitivity_inputs(trials)
+    fig = plotting.figure_sensitivity(refits, checks)
+    collections = {c.get_gid(): c for ax in fig.axes for c in ax.collections}
+    for model in ("waterbed", "waterbed_free_depth", "arc"):
+        assert len(collections[f"L:{model}"].get_offsets()) == 3 * len(trials)
+    assert "L:boussinesq" not in collections  # the log form has no L
+    assert len(collections["aicc:boussinesq"].get_offsets()) == 3 * len(trials)
+    shift = np.concatenate(
+        [c.get_offsets()[:, 1] for ax in fig.axes for c in ax.collections if c.get_gid() == "shift"]
+    )
+    expected = [
+        100 * 8 * depth**2 / (3 * L**2)
+        for (_, _, depth, _), L in zip(trials, checks["waterbed_L_mm"], strict=True)
+    ]
+    assert sorted(shift) == pytest.approx(sorted(expected))

@@ -51,6 +51,7 @@ __all__ = [
     "figure_material_point",
     "figure_outlines",
     "figure_residuals",
+    "figure_sensitivity",
     "figure_species_fits",
     "figure_style",
     "panel_title",
@@ -69,6 +70,7 @@ FIGURE_NAMES = (
     "figure7",
     "supplement_residuals",
     "supplement_arc_vs_parabola",
+    "supplement_sensitivity",
 )
 
 MM_PER_INCH = 25.4
@@ -1441,6 +1443,148 @@ def figure_arc_vs_parabola(fits, notice=""):
         ncols=2,
         title="shapes drawn with $W_0$ = depth and the median fitted waterbed L",
         title_fontsize=7,
+    )
+    _add_footer(fig, notice)
+    return fig
+
+
+# Models of the sensitivity refits, in drawing order, with their colours and names.
+SENSITIVITY_MODELS = {
+    "waterbed": (MODEL_COLOURS["waterbed"], "parabola, W0 = depth"),
+    "waterbed_free_depth": ("#56B4E9", "parabola, W0 free"),
+    "arc": (MODEL_COLOURS["arc"], "exact arc, W0 = depth"),
+    "boussinesq": (MODEL_COLOURS["boussinesq"], "Boussinesq"),
+}
+SPECIES_MARKERS = {"monkey": "o", "human": "s"}
+
+
+@_styled
+def figure_sensitivity(sensitivity, checks, shift_limit=0.08, reach_claim_mm=3.0, notice=""):
+    """Supplement: how the fits depend on the analysis choices, trial by trial.
+
+    Four panels: (a) the fitted L of each waterbed variant in each fit window;
+    (b) each model's AICc minus the best in that window; (c) the largest
+    horizontal shift of the small-slope solution relative to X at L/3, with the
+    paper's bound; (d) the distance up to which the waterbed stays within
+    tolerance of the data, with the paper's 3 mm.
+
+    Parameters
+    ----------
+    sensitivity : pandas.DataFrame
+        Rows of ``lineload.sensitivity.SENSITIVITY_COLUMNS``.
+    checks : pandas.DataFrame
+        Rows of ``lineload.sensitivity.CHECK_COLUMNS``.
+    shift_limit : float, optional
+        The paper's bound on U/X at L/3 (a fraction), drawn as a line.
+    reach_claim_mm : float, optional
+        The distance to which the paper says the fit holds, drawn as a line.
+    notice : str, optional
+        Footer text; empty for none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Point collections carry gids ``L:<model>``, ``aicc:<model>``, ``shift``
+        and ``reach``.
+    """
+    if sensitivity is None or len(sensitivity) == 0:
+        return _message_figure("No sensitivity refits in this dataset.", notice)
+    windows = list(dict.fromkeys(sensitivity["window"]))
+    fig = _new_figure(DOUBLE_COLUMN_MM, 120.0)
+    (ax_L, ax_aicc), (ax_shift, ax_reach) = fig.subplots(2, 2)
+    models = list(SENSITIVITY_MODELS)
+    width = 0.8 / len(models)
+    for k, model in enumerate(models):
+        colour, name = SENSITIVITY_MODELS[model]
+        rows = sensitivity[sensitivity["model"] == model]
+        for axis, column, kind in ((ax_L, "L_mm", "L"), (ax_aicc, "delta_aicc", "aicc")):
+            if kind == "L" and model == "boussinesq":
+                continue
+            x, y = [], []
+            for i, window in enumerate(windows):
+                values = rows.loc[rows["window"] == window, column].astype(float).to_numpy()
+                values = values[np.isfinite(values)]
+                # spread a window's trials evenly across the model's slot (no randomness)
+                spread = np.linspace(-0.35, 0.35, values.size) * width if values.size > 1 else [0]
+                x.extend(i - 0.4 + (k + 0.5) * width + np.asarray(spread))
+                y.extend(values)
+            axis.scatter(x, y, s=6, color=colour, label=name, gid=f"{kind}:{model}", linewidths=0)
+    for axis in (ax_L, ax_aicc):
+        axis.set_xticks(range(len(windows)), [f"window {w}" for w in windows])
+        axis.set_xlim(-0.5, len(windows) - 0.5)
+    ax_L.set_ylabel("fitted L (mm)")
+    ax_L.set_title("(a) membrane half-width by fit window", loc="left")
+    ax_aicc.set_yscale("symlog", linthresh=2.0)
+    largest = float(np.nanmax(sensitivity["delta_aicc"].astype(float)))
+    # differences are >= 0 by construction; a little room below keeps the zeros visible
+    ax_aicc.set_ylim(-0.3, max(10.0, 2.0 * largest))
+    ax_aicc.set_ylabel("AICc minus best in window")
+    ax_aicc.set_title("(b) model comparison by fit window", loc="left")
+    depths = sorted({float(d) for d in checks["depth_mm"]})
+    for species, marker in SPECIES_MARKERS.items():
+        rows = checks[checks["species"] == species]
+        if rows.empty:
+            continue
+        offset = -0.04 if species == "monkey" else 0.04
+        ax_shift.scatter(
+            rows["depth_mm"] + offset,
+            100 * rows["shift_fraction_at_third"],
+            marker=marker,
+            s=10,
+            facecolors="none",
+            edgecolors=DATA_COLOUR,
+            linewidths=0.7,
+            label=SPECIES_PLURAL[species],
+            gid="shift",
+        )
+        ax_reach.scatter(
+            rows["depth_mm"] + offset,
+            rows["reach_mm"],
+            marker=marker,
+            s=10,
+            facecolors="none",
+            edgecolors=DATA_COLOUR,
+            linewidths=0.7,
+            label=SPECIES_PLURAL[species],
+            gid="reach",
+        )
+    ax_shift.axhline(100 * shift_limit, color="0.5", linestyle=":", linewidth=0.8)
+    ax_shift.text(
+        depths[0] - 0.2,
+        100 * shift_limit,
+        f"paper's bound {100 * shift_limit:g} %",
+        va="bottom",
+        fontsize=7,
+        color="0.4",
+    )
+    ax_shift.set_ylabel("largest |U| / X at L/3 (%)")
+    ax_shift.set_title("(c) horizontal shift of the membrane", loc="left")
+    ax_reach.axhline(reach_claim_mm, color="0.5", linestyle=":", linewidth=0.8)
+    ax_reach.text(
+        depths[0] - 0.2,
+        reach_claim_mm,
+        f"paper: about {reach_claim_mm:g} mm",
+        va="bottom",
+        fontsize=7,
+        color="0.4",
+    )
+    tolerance = checks["reach_tolerance_mm"] / checks["depth_mm"]
+    ax_reach.set_ylabel(f"fit holds to (mm; within {tolerance.iloc[0]:.0%} of depth)")
+    ax_reach.set_title("(d) how far the waterbed follows the data", loc="left")
+    for axis in (ax_shift, ax_reach):
+        axis.set_xticks(depths, [f"{d:g}" for d in depths])
+        axis.set_xlim(depths[0] - 0.3, depths[-1] + 0.3)
+        axis.set_xlabel("indentation depth (mm)")
+        axis.set_ylim(bottom=0)
+    handles, labels = ax_aicc.get_legend_handles_labels()
+    species_handles, species_labels = ax_shift.get_legend_handles_labels()
+    fig.legend(
+        handles + species_handles,
+        labels + species_labels,
+        loc="outside upper center",
+        ncol=3,
+        frameon=False,
+        markerscale=2.0,
     )
     _add_footer(fig, notice)
     return fig

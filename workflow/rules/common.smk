@@ -2,6 +2,7 @@
 # A broken input stops the run here with one message naming file, line and
 # column: no job starts, so nothing partial is written.
 import json
+import shlex
 import sys
 from pathlib import Path
 
@@ -142,3 +143,64 @@ def read_notice():
 
 
 NOTICE = read_notice()
+
+
+# ---------------------------------------------------------------- figures
+# Figures drawn by each rule (file stems under results/figures/).
+FIGURE_GROUPS = {
+    "figure_outlines": ["figure1"],
+    "figure_schematics": ["figure3", "figure4", "figure5"],
+    "figure_fits": ["figure2", "figure6", "figure7"],
+    "figure_supplement": [
+        "supplement_residuals",
+        "supplement_arc_vs_parabola",
+        "supplement_sensitivity",
+    ],
+}
+
+
+# Snakemake's parser reads a line that starts with `report(` as its report keyword,
+# and snakefmt puts the call at a line start: call it by another name.
+report_item = report
+
+
+def figure_files(group):
+    """PDF and PNG of every figure a rule draws; the PNG goes into the report."""
+    files = []
+    for name in FIGURE_GROUPS[group]:
+        category = "Supplement" if name.startswith("supplement") else "Paper figures"
+        caption, labels = f"../report/{name}.rst", {"figure": name.replace("_", " ")}
+        png = result("figures", f"{name}.png")
+        files += [
+            result("figures", f"{name}.pdf"),
+            report_item(png, caption=caption, category=category, labels=labels),
+        ]
+    return files
+
+
+def figure_args(group):
+    """'--figure NAME' for every figure a rule draws."""
+    return " ".join(f"--figure {name}" for name in FIGURE_GROUPS[group])
+
+
+def subject_label(subject):
+    """Display name of a subject: the sheet's optional label column, else its id."""
+    if "label" in SUBJECTS.columns:
+        label = SUBJECTS.loc[subject, "label"]
+        if isinstance(label, str) and label.strip():
+            return label.strip()
+    return subject
+
+
+# Every figure file the default target builds (PDF and PNG of each).
+FIGURE_OUTPUTS = [path for group in FIGURE_GROUPS for path in figure_files(group)]
+
+# Shared arguments: the subject list (id, species, label) in sheet order, the
+# PNG resolution and the footer; the figure stage reads results files only.
+FIGURE_SUBJECT_ARGS = " ".join(
+    f"--subject {shlex.quote(s)} {SUBJECTS.loc[s, 'species']} {shlex.quote(subject_label(s))}"
+    for s in SUBJECT_IDS
+)
+# The drawing code is an input too, so editing the figures' style redraws them.
+FIGURE_CODE = [SCRIPTS / "make_figures.py", WORKFLOW_DIR / "lineload" / "plotting.py"]
+FIGURE_DPI = config["figures"]["png_dpi"]

@@ -20,12 +20,14 @@ rule prepare_profile:
             subcategory="Left/right averages",
             labels={"subject": "{subject}"},
         ),
+    log:
+        result("logs", "prepare_profile", "{subject}.log"),
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "prepare_profile.py",
         magnification=lambda wildcards: SUBJECTS.loc[wildcards.subject, "magnification"],
-    log:
-        result("logs", "prepare_profile", "{subject}.log"),
     shell:
         "{params.python} {params.script:q} --subject {wildcards.subject}"
         " --magnification {params.magnification} --profile {input.profile:q}"
@@ -38,12 +40,14 @@ rule prepare_outline:
         outline=f"{RAW}/outlines/{{subject}}.csv",
     output:
         result("data", "outlines", "{subject}.csv"),
+    log:
+        result("logs", "prepare_outline", "{subject}.log"),
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "prepare_outline.py",
         magnification=lambda wildcards: SUBJECTS.loc[wildcards.subject, "magnification"],
-    log:
-        result("logs", "prepare_outline", "{subject}.log"),
     shell:
         "{params.python} {params.script:q} --subject {wildcards.subject}"
         " --magnification {params.magnification} --outline {input.outline:q}"

@@ -1,55 +1,6 @@
 # Stage 3, figures: the paper's Figures 1-7 and the supplementary figures.
 # Four jobs, each drawing several figures in one Python process (one matplotlib
 # import per job).  Every figure is written as PDF and PNG by make_figures.py.
-import shlex
-
-# Figures drawn by each rule (file stems under results/figures/).
-FIGURE_GROUPS = {
-    "figure_outlines": ["figure1"],
-    "figure_schematics": ["figure3", "figure4", "figure5"],
-    "figure_fits": ["figure2", "figure6", "figure7"],
-    "figure_supplement": ["supplement_residuals", "supplement_arc_vs_parabola"],
-}
-
-
-def figure_files(group):
-    """PDF and PNG of every figure a rule draws."""
-    return [
-        result("figures", f"{name}.{ext}")
-        for name in FIGURE_GROUPS[group]
-        for ext in ("pdf", "png")
-    ]
-
-
-def figure_args(group):
-    """'--figure NAME' for every figure a rule draws."""
-    return " ".join(f"--figure {name}" for name in FIGURE_GROUPS[group])
-
-
-def subject_label(subject):
-    """Display name of a subject: the sheet's optional label column, else its id."""
-    if "label" in SUBJECTS.columns:
-        label = SUBJECTS.loc[subject, "label"]
-        if isinstance(label, str) and label.strip():
-            return label.strip()
-    return subject
-
-
-# Every figure file the default target builds (PDF and PNG of each).
-FIGURE_OUTPUTS = [path for group in FIGURE_GROUPS for path in figure_files(group)]
-
-# Shared arguments: the subject list (id, species, label) in sheet order, the
-# PNG resolution and the footer; the figure stage reads results files only.
-FIGURE_SUBJECT_ARGS = " ".join(
-    f"--subject {shlex.quote(s)} {SUBJECTS.loc[s, 'species']} {shlex.quote(subject_label(s))}"
-    for s in SUBJECT_IDS
-)
-FIGURE_OUTDIR = result("figures")
-# The drawing code is an input too, so editing the figures' style redraws them.
-FIGURE_CODE = [SCRIPTS / "make_figures.py", WORKFLOW_DIR / "lineload" / "plotting.py"]
-FIGURE_DPI = config["figures"]["png_dpi"]
-
-
 rule figure_outlines:
     """Figure 1: resting and deformed outlines, to scale (a note if there are none)."""
     input:
@@ -61,11 +12,15 @@ rule figure_outlines:
         figure_files("figure_outlines"),
     log:
         result("logs", "figure_outlines.log"),
+    benchmark:
+        result("benchmarks", "figure_outlines.tsv")
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "make_figures.py",
         figures=figure_args("figure_outlines"),
-        outdir=FIGURE_OUTDIR,
+        outdir=lambda wildcards, output: str(Path(output[0]).parent),
         dpi=FIGURE_DPI,
         notice=NOTICE,
         subjects=FIGURE_SUBJECT_ARGS,
@@ -88,11 +43,15 @@ rule figure_schematics:
         figure_files("figure_schematics"),
     log:
         result("logs", "figure_schematics.log"),
+    benchmark:
+        result("benchmarks", "figure_schematics.tsv")
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "make_figures.py",
         figures=figure_args("figure_schematics"),
-        outdir=FIGURE_OUTDIR,
+        outdir=lambda wildcards, output: str(Path(output[0]).parent),
         dpi=FIGURE_DPI,
         notice=NOTICE,
         ratio=config["figures"]["schematic_depth_ratio"],
@@ -114,11 +73,15 @@ rule figure_fits:
         figure_files("figure_fits"),
     log:
         result("logs", "figure_fits.log"),
+    benchmark:
+        result("benchmarks", "figure_fits.tsv")
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "make_figures.py",
         figures=figure_args("figure_fits"),
-        outdir=FIGURE_OUTDIR,
+        outdir=lambda wildcards, output: str(Path(output[0]).parent),
         dpi=FIGURE_DPI,
         notice=NOTICE,
         subjects=FIGURE_SUBJECT_ARGS,
@@ -143,15 +106,21 @@ rule figure_supplement:
             result("data", "averaged", "{subject}.csv"), subject=SUBJECT_IDS
         ),
         fits=result("tables", "fits.csv"),
+        sensitivity=result("tables", "sensitivity.csv"),
+        checks=result("tables", "trial_checks.csv"),
     output:
         figure_files("figure_supplement"),
     log:
         result("logs", "figure_supplement.log"),
+    benchmark:
+        result("benchmarks", "figure_supplement.tsv")
+    conda:
+        ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "make_figures.py",
         figures=figure_args("figure_supplement"),
-        outdir=FIGURE_OUTDIR,
+        outdir=lambda wildcards, output: str(Path(output[0]).parent),
         dpi=FIGURE_DPI,
         notice=NOTICE,
         subjects=FIGURE_SUBJECT_ARGS,
@@ -160,6 +129,7 @@ rule figure_supplement:
         "{params.python} {params.script:q} {params.figures} --outdir {params.outdir:q}"
         " --dpi {params.dpi} --notice={params.notice:q} {params.subjects}"
         " --averaged {input.averaged:q} --fits {input.fits:q}"
+        " --sensitivity {input.sensitivity:q} --checks {input.checks:q}"
         " --fit-window-mm {params.window_mm} > {log:q} 2>&1"
 
 

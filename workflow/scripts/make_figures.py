@@ -25,6 +25,7 @@ NEEDS = {
     "figure7": ["averaged", "fits", "fit_window_mm"],
     "supplement_residuals": ["averaged", "fits", "fit_window_mm"],
     "supplement_arc_vs_parabola": ["fits"],
+    "supplement_sensitivity": ["sensitivity", "checks"],
 }
 
 
@@ -66,6 +67,10 @@ def parse_args():
     parser.add_argument("--example-depth-mm", type=float)
     parser.add_argument("--fit-window-mm", type=float)
     parser.add_argument("--schematic-depth-ratio", type=float)
+    parser.add_argument("--sensitivity", help="the sensitivity refits (CSV)")
+    parser.add_argument("--checks", help="the per-trial shift and reach (CSV)")
+    parser.add_argument("--shift-limit", type=float, default=0.08, help="paper's bound on U/X")
+    parser.add_argument("--reach-claim-mm", type=float, default=3.0, help="paper's reach")
     args = parser.parse_args()
     for name in args.figure:
         for need in NEEDS[name]:
@@ -118,6 +123,13 @@ def main():
             averaged, fits, subjects, args.fit_window_mm, notice
         ),
         "supplement_arc_vs_parabola": lambda: plotting.figure_arc_vs_parabola(fits, notice),
+        "supplement_sensitivity": lambda: plotting.figure_sensitivity(
+            pd.read_csv(args.sensitivity),
+            pd.read_csv(args.checks),
+            args.shift_limit,
+            args.reach_claim_mm,
+            notice,
+        ),
     }
     print(f"footer: {notice!r}" if notice else "footer: none")
     outdir = Path(args.outdir)

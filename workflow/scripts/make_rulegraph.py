@@ -3,6 +3,7 @@
 import argparse
 
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
+from lineload.plotting import save_figure
 from lineload.rulegraph import draw_rulegraph, parse_rulegraph
 
 
@@ -15,9 +16,7 @@ def main():
 
     with open(args.dot, encoding="utf-8") as handle:
         rules, edges = parse_rulegraph(handle.read())
-    figure = draw_rulegraph(rules, edges)
-    figure.savefig(args.png, dpi=200, metadata={"Software": None})
-    figure.savefig(args.pdf, metadata={"Creator": None, "Producer": None, "CreationDate": None})
+    save_figure(draw_rulegraph(rules, edges), args.pdf, args.png, dpi=200)
     print(f"{len(rules)} rules, {len(edges)} dependencies")
 
 
