@@ -224,7 +224,7 @@ def profile_interval(sse_of_L, L_best, L_min, L_max, sse_min, n_points, chi2=CHI
     return (float(ends[0]), float(ends[1]))
 
 
-def _crossing(g, inside, outside, rtol=1e-12):
+def _crossing(g, inside, outside, rtol=1e-10):
     """Root of ``g`` between ``inside`` (g <= 0) and ``outside`` (g > 0).
 
     The Illinois variant of regula falsi: superlinear on smooth functions and,
@@ -320,7 +320,7 @@ def _arc_sse(x, y, depth_mm, L_mm):
     return np.where(geometry["is_graph"][:, 0], sse, np.inf)
 
 
-def minimise_in_L(sse_of_L, L_min, L_max, n_grid=200, rtol=1e-10):
+def minimise_in_L(sse_of_L, L_min, L_max, n_grid=200, rtol=1e-9):
     """Minimise a least-squares objective over one length, ``L_min <= L <= L_max``.
 
     A dense log-spaced grid finds the basin of the global minimum; a zoom then

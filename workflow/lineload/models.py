@@ -15,6 +15,8 @@ surface does not move, so they return zero there.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = [
@@ -136,23 +138,53 @@ def _segment_shape_slope(phi):
     return np.where(small, 1.0 / 3.0 + 2.0 * phi**2 / 15.0, exact)
 
 
+def _shape_and_slope(phi):
+    """:func:`_segment_shape` and its slope together (shared trigonometry), phi >= 1e-3."""
+    sin, sin2 = np.sin(phi), np.sin(2.0 * phi)
+    numerator = 2.0 * phi - sin2
+    shape = numerator / (4.0 * sin**2)
+    return shape, 1.0 - numerator * sin2 / (4.0 * sin**4)
+
+
+def _solve_half_angle_scalar(target):
+    """:func:`_solve_half_angle` for one value, in plain floats (no array overhead)."""
+    phi = min(3.0 * target - 3.6 * target**3, math.pi / 2)
+    if phi < 1e-3:  # the series is exact to rounding here
+        return phi
+    for _ in range(50):
+        sin, sin2 = math.sin(phi), math.sin(2.0 * phi)
+        numerator = 2.0 * phi - sin2
+        step = (numerator / (4.0 * sin**2) - target) / (1.0 - numerator * sin2 / (4.0 * sin**4))
+        phi = min(max(phi - step, 1e-3), math.pi / 2)
+        if abs(step) <= 1e-15 + 1e-13 * phi:
+            break
+    return phi
+
+
 def _solve_half_angle(target):
     """Solve ``_segment_shape(phi) = target`` for ``0 <= target <= 1/2``.
 
     The shape function rises from 0 with slope 1/3 and is convex on
-    ``[0, pi/2]``, where it reaches ``pi/4 > 1/2``.  Being convex, it lies above
-    its tangent ``phi / 3`` at zero, so the start ``3 target`` is at or right of
-    the root, and Newton's method on a convex increasing function converges
-    monotonically from there (clipped to the bracket for safety).
+    ``[0, pi/2]``, where it reaches ``pi/4 > 1/2``.  Newton's method on a convex
+    increasing function converges monotonically from any start right of the
+    root, and from a start left of it the first step lands on the right.  The
+    start is the inverted small-angle series ``phi = 3t - 3.6 t^3`` (from
+    ``f = phi/3 + 2 phi^3/45 + ...``), already close, so a few steps suffice.
+    Below ``phi = 1e-3`` the series itself is exact to rounding.
     """
     target = np.asarray(target, dtype=float)
-    phi = np.minimum(3.0 * target, np.pi / 2)
+    if target.size == 1:
+        return np.full(target.shape, _solve_half_angle_scalar(float(target.reshape(-1)[0])))
+    start = np.minimum(3.0 * target - 3.6 * target**3, np.pi / 2)
+    small = start < 1e-3
+    phi = np.where(small, 1.0, start)
     for _ in range(50):
-        step = (_segment_shape(phi) - target) / _segment_shape_slope(phi)
-        phi = np.clip(phi - step, 0.0, np.pi / 2)
+        shape, slope = _shape_and_slope(phi)
+        step = np.where(small, 0.0, (shape - target) / slope)
+        phi = np.clip(phi - step, 1e-3, np.pi / 2)
         if np.all(np.abs(step) <= 1e-15 + 1e-13 * phi):
             break
-    return phi
+    return np.where(small, start, phi)
 
 
 def arc_geometry(depth_mm, L_mm):
