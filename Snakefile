@@ -17,9 +17,11 @@ report: "workflow/report/workflow.rst"
 include: "workflow/rules/common.smk"
 
 
-# subject ids name files and go on command lines: the same rule as subjects.schema.yaml
+# subject ids name files and go on command lines: the same rule as subjects.schema.yaml;
+# a batch is named after its first subject, plus a sign and a count when it holds more
 wildcard_constraints:
     subject="[A-Za-z0-9][A-Za-z0-9_-]*",
+    batch="[A-Za-z0-9][A-Za-z0-9_-]*([+][0-9]{1,9})?",
 
 
 include: "workflow/rules/data.smk"

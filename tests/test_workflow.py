@@ -29,7 +29,7 @@ def test_fits_target_on_a_small_dataset(small_raw, tmp_path):
     for subject in ("MK", "HU"):
         for stage in ("converted", "averaged"):
             assert (out / "data" / stage / f"{subject}.csv").is_file()
-        assert (out / "logs" / "fit_subject" / f"{subject}.log").is_file()
+        assert (out / "logs" / "fit_models" / f"{subject}.log").is_file()
     assert (fits["n_points"] == len(reading_grid_mm(5.0)[reading_grid_mm(5.0) <= 3.0])).all()
     # nothing to do on a second run
     again = check_ok(run_snakemake("fits", "--dry-run", raw=small_raw, results=out))
@@ -99,3 +99,24 @@ def test_shipped_data_give_26_trials(shipped_fits):
     assert depths.pop("H3") == [1.0, 2.0]
     assert all(d == [0.5, 1.0, 1.5, 2.0] for d in depths.values())
     assert shipped_fits[FIT_COLUMNS].drop(columns=["boussinesq_x0_mm"]).notna().all().all()
+
+
+def test_batches_of_subjects_give_the_same_results(tmp_path):
+    raw = write_small_dataset(
+        tmp_path / "raw",
+        subjects={
+            "MK": ("monkey", [1.0, 2.0], 5.0),
+            "HU": ("human", [1.0], 9.0),
+            "HV": ("human", [2.0], 10.0),
+        },
+    )
+    single, batched = tmp_path / "single", tmp_path / "batched"
+    check_ok(run_snakemake("fits", raw=raw, results=single))
+    check_ok(run_snakemake("fits", raw=raw, results=batched, config=["subjects_per_job=2"]))
+    # one file per subject, or per batch of two (named after its first subject)
+    assert sorted(p.name for p in (single / "fits").glob("*.csv")) == ["HU.csv", "HV.csv", "MK.csv"]
+    assert sorted(p.name for p in (batched / "fits").glob("*.csv")) == ["HV.csv", "MK+1.csv"]
+    batch = pd.read_csv(batched / "data" / "averaged" / "MK+1.csv")
+    assert list(dict.fromkeys(batch["subject"])) == ["MK", "HU"]
+    same = (single / "tables" / "fits.csv").read_bytes()
+    assert (batched / "tables" / "fits.csv").read_bytes() == same

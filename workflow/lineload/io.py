@@ -43,6 +43,25 @@ def load_schema(name):
         return yaml.safe_load(handle)
 
 
+def read_results_csv(path):
+    """Read a table the workflow wrote, keeping subject ids as text.
+
+    Ids such as ``01`` or ``7`` would otherwise come back as numbers and stop
+    matching the subject sheet.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    pandas.DataFrame
+    """
+    import pandas as pd
+
+    return pd.read_csv(path, dtype={"subject": str})
+
+
 def write_text(text, path):
     """Write text atomically (temporary file in the same folder, then rename).
 

@@ -62,6 +62,22 @@ except WorkflowError as error:
 SUBJECTS = DATASET["subjects"].set_index("subject", drop=False)
 SUBJECT_IDS = list(SUBJECTS["subject"])
 
+# Per-subject work runs in batches: each job pays Python's start-up once for all
+# its subjects.  A batch of one is named after its subject (the usual case for a
+# handful of subjects, so editing one file reruns only that subject's jobs); a
+# larger one after its first subject and how many follow ("M1+124").
+MAX_JOBS_PER_RULE = 8
+PER_JOB = config["subjects_per_job"]
+if PER_JOB == "auto":
+    PER_JOB = max(1, -(-len(SUBJECT_IDS) // MAX_JOBS_PER_RULE))
+BATCHES = {}
+for start in range(0, len(SUBJECT_IDS), PER_JOB):
+    members = SUBJECT_IDS[start : start + PER_JOB]
+    BATCHES[members[0] if len(members) == 1 else f"{members[0]}+{len(members) - 1}"] = (
+        members
+    )
+BATCH_IDS = list(BATCHES)
+
 
 def raw_files():
     """Every raw input the build read: subject sheet, profiles, outlines, notice."""
@@ -76,6 +92,13 @@ def raw_files():
 # The pinned environment named by all rules (conda directive), as documentation
 # for readers and as what `snakemake --use-conda` builds.
 ENVIRONMENT = "../../environment.yml"
+
+
+def subject_species_args(batch):
+    """'--subject ID SPECIES' for each subject of a batch, for the fit scripts."""
+    return " ".join(
+        f"--subject {s} {SUBJECTS.loc[s, 'species']}" for s in BATCHES[batch]
+    )
 
 
 def result(*parts):

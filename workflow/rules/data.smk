@@ -1,36 +1,40 @@
 # Stage 1, data: raw image-unit readings -> tissue mm -> left/right mean.
 
 
-rule prepare_profile:
-    """Convert one subject's readings to tissue mm and average the two sides."""
+rule prepare_profiles:
+    """Convert a batch of subjects' readings to tissue mm and average the two sides."""
     input:
-        profile=f"{RAW}/profiles/{{subject}}.csv",
+        profiles=lambda wildcards: [
+            f"{RAW}/profiles/{s}.csv" for s in BATCHES[wildcards.batch]
+        ],
     output:
         converted=report(
-            result("data", "converted", "{subject}.csv"),
+            result("data", "converted", "{batch}.csv"),
             caption="../report/converted.rst",
             category="Data",
             subcategory="Readings in tissue mm",
-            labels={"subject": "{subject}"},
+            labels={"subjects": "{batch}"},
         ),
         averaged=report(
-            result("data", "averaged", "{subject}.csv"),
+            result("data", "averaged", "{batch}.csv"),
             caption="../report/averaged.rst",
             category="Data",
             subcategory="Left/right averages",
-            labels={"subject": "{subject}"},
+            labels={"subjects": "{batch}"},
         ),
     log:
-        result("logs", "prepare_profile", "{subject}.log"),
+        result("logs", "prepare_profiles", "{batch}.log"),
     conda:
         ENVIRONMENT
     params:
         python=PYTHON,
-        script=SCRIPTS / "prepare_profile.py",
-        magnification=lambda wildcards: SUBJECTS.loc[wildcards.subject, "magnification"],
+        script=SCRIPTS / "prepare_profiles.py",
+        subjects=lambda wildcards, input: " ".join(
+            f"--subject {s} {float(SUBJECTS.loc[s, 'magnification'])!r} {shlex.quote(path)}"
+            for s, path in zip(BATCHES[wildcards.batch], input.profiles, strict=True)
+        ),
     shell:
-        "{params.python} {params.script:q} --subject {wildcards.subject}"
-        " --magnification {params.magnification} --profile {input.profile:q}"
+        "{params.python} {params.script:q} {params.subjects}"
         " --converted {output.converted:q} --averaged {output.averaged:q} > {log:q} 2>&1"
 
 

@@ -65,9 +65,7 @@ rule figure_fits:
     """Figures 2, 6 and 7: averaged profiles against the fitted models."""
     input:
         code=FIGURE_CODE,
-        averaged=expand(
-            result("data", "averaged", "{subject}.csv"), subject=SUBJECT_IDS
-        ),
+        averaged=expand(result("data", "averaged", "{batch}.csv"), batch=BATCH_IDS),
         fits=result("tables", "fits.csv"),
     output:
         figure_files("figure_fits"),
@@ -102,9 +100,7 @@ rule figure_supplement:
     """Supplementary figures: residuals of the three fits; parabola against exact arc."""
     input:
         code=FIGURE_CODE,
-        averaged=expand(
-            result("data", "averaged", "{subject}.csv"), subject=SUBJECT_IDS
-        ),
+        averaged=expand(result("data", "averaged", "{batch}.csv"), batch=BATCH_IDS),
         fits=result("tables", "fits.csv"),
         sensitivity=result("tables", "sensitivity.csv"),
         checks=result("tables", "trial_checks.csv"),

@@ -1,33 +1,32 @@
 # Stage 2, fits: the three models for each subject and depth, then one table.
 
 
-rule fit_subject:
-    """Fit waterbed (parabola), exact arc and Boussinesq to each depth of one subject."""
+rule fit_models:
+    """Fit waterbed (parabola), exact arc and Boussinesq to each trial of a batch."""
     input:
-        averaged=result("data", "averaged", "{subject}.csv"),
+        averaged=result("data", "averaged", "{batch}.csv"),
     output:
-        result("fits", "{subject}.csv"),
+        result("fits", "{batch}.csv"),
     log:
-        result("logs", "fit_subject", "{subject}.log"),
+        result("logs", "fit_models", "{batch}.log"),
     benchmark:
-        result("benchmarks", "fit_subject", "{subject}.tsv")
+        result("benchmarks", "fit_models", "{batch}.tsv")
     conda:
         ENVIRONMENT
     params:
         python=PYTHON,
-        script=SCRIPTS / "fit_subject.py",
-        species=lambda wildcards: SUBJECTS.loc[wildcards.subject, "species"],
+        script=SCRIPTS / "fit_models.py",
+        subjects=lambda wildcards: subject_species_args(wildcards.batch),
         window_mm=config["fit_window_mm"],
     shell:
-        "{params.python} {params.script:q} --subject {wildcards.subject}"
-        " --species {params.species} --window-mm {params.window_mm}"
+        "{params.python} {params.script:q} {params.subjects} --window-mm {params.window_mm}"
         " --averaged {input.averaged:q} --output {output:q} > {log:q} 2>&1"
 
 
 rule fits_table:
     """Collect every subject's fits into results/tables/fits.csv (subject-sheet order)."""
     input:
-        expand(result("fits", "{subject}.csv"), subject=SUBJECT_IDS),
+        expand(result("fits", "{batch}.csv"), batch=BATCH_IDS),
     output:
         report(
             result("tables", "fits.csv"),
@@ -49,22 +48,22 @@ rule fits_table:
 
 
 rule fit_sensitivity:
-    """Refit one subject with other windows, W0 free and the exact arc; U shift and reach."""
+    """Refit a batch with other windows, W0 free and the exact arc; U shift and reach."""
     input:
-        averaged=result("data", "averaged", "{subject}.csv"),
+        averaged=result("data", "averaged", "{batch}.csv"),
     output:
-        sensitivity=result("fits", "sensitivity", "{subject}.csv"),
-        checks=result("fits", "checks", "{subject}.csv"),
+        sensitivity=result("fits", "sensitivity", "{batch}.csv"),
+        checks=result("fits", "checks", "{batch}.csv"),
     log:
-        result("logs", "fit_sensitivity", "{subject}.log"),
+        result("logs", "fit_sensitivity", "{batch}.log"),
     benchmark:
-        result("benchmarks", "fit_sensitivity", "{subject}.tsv")
+        result("benchmarks", "fit_sensitivity", "{batch}.tsv")
     conda:
         ENVIRONMENT
     params:
         python=PYTHON,
         script=SCRIPTS / "fit_sensitivity.py",
-        species=lambda wildcards: SUBJECTS.loc[wildcards.subject, "species"],
+        subjects=lambda wildcards: subject_species_args(wildcards.batch),
         window_mm=config["fit_window_mm"],
         windows_mm=" ".join(
             "whole" if w is None else str(w)
@@ -72,8 +71,7 @@ rule fit_sensitivity:
         ),
         reach_fraction=config["sensitivity"]["reach_fraction"],
     shell:
-        "{params.python} {params.script:q} --subject {wildcards.subject}"
-        " --species {params.species} --window-mm {params.window_mm}"
+        "{params.python} {params.script:q} {params.subjects} --window-mm {params.window_mm}"
         " --windows-mm {params.windows_mm} --reach-fraction {params.reach_fraction}"
         " --averaged {input.averaged:q} --sensitivity {output.sensitivity:q}"
         " --checks {output.checks:q} > {log:q} 2>&1"
@@ -83,9 +81,9 @@ rule sensitivity_tables:
     """Collect the refits and per-trial checks; summarise them in Markdown."""
     input:
         sensitivity=expand(
-            result("fits", "sensitivity", "{subject}.csv"), subject=SUBJECT_IDS
+            result("fits", "sensitivity", "{batch}.csv"), batch=BATCH_IDS
         ),
-        checks=expand(result("fits", "checks", "{subject}.csv"), subject=SUBJECT_IDS),
+        checks=expand(result("fits", "checks", "{batch}.csv"), batch=BATCH_IDS),
     output:
         sensitivity=report(
             result("tables", "sensitivity.csv"),

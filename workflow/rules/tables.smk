@@ -35,9 +35,7 @@ rule claims_table:
     """Recompute the paper's claims C1-C10 from the fits and averaged profiles, with verdicts."""
     input:
         fits=result("tables", "fits.csv"),
-        averaged=expand(
-            result("data", "averaged", "{subject}.csv"), subject=SUBJECT_IDS
-        ),
+        averaged=expand(result("data", "averaged", "{batch}.csv"), batch=BATCH_IDS),
     output:
         csv=report(
             result("tables", "claims.csv"),

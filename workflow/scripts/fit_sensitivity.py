@@ -1,11 +1,11 @@
-"""Entry point of rule fit_sensitivity: refit one subject's trials under other choices."""
+"""Entry point of rule fit_sensitivity: refit a batch's trials under other choices."""
 
 import argparse
 
 import pandas as pd
 
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
-from lineload.io import write_csv
+from lineload.io import read_results_csv, write_csv
 from lineload.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS, sensitivity_rows, trial_checks
 
 
@@ -15,8 +15,9 @@ def window(text):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--subject", required=True)
-    parser.add_argument("--species", required=True)
+    parser.add_argument(
+        "--subject", nargs=2, action="append", required=True, metavar=("ID", "SPECIES")
+    )
     parser.add_argument("--window-mm", type=float, required=True, help="the main fit window")
     parser.add_argument("--windows-mm", type=window, nargs="+", required=True)
     parser.add_argument("--reach-fraction", type=float, required=True)
@@ -25,18 +26,20 @@ def main():
     parser.add_argument("--checks", required=True, help="output: U shift and reach per trial")
     args = parser.parse_args()
 
-    averaged = pd.read_csv(args.averaged)
+    averaged = read_results_csv(args.averaged)
     rows, checks = [], []
-    for depth_mm, trial in averaged.groupby("depth_mm", sort=True):
-        x, y = trial["distance_mm"].to_numpy(), trial["deflection_mm"].to_numpy()
-        for row in sensitivity_rows(x, y, depth_mm, args.windows_mm):
-            rows.append({"subject": args.subject, "species": args.species, **row})
-        check = trial_checks(x, y, depth_mm, args.window_mm, args.reach_fraction)
-        checks.append({"subject": args.subject, "species": args.species, **check})
-        print(
-            f"{args.subject} {depth_mm:g} mm: reach {check['reach_mm']:g} mm, "
-            f"U/X at L/3 = {check['shift_fraction_at_third']:.3f}"
-        )
+    for subject, species in args.subject:
+        trials = averaged[averaged["subject"].astype(str) == subject]
+        for depth_mm, trial in trials.groupby("depth_mm", sort=True):
+            x, y = trial["distance_mm"].to_numpy(), trial["deflection_mm"].to_numpy()
+            for row in sensitivity_rows(x, y, depth_mm, args.windows_mm):
+                rows.append({"subject": subject, "species": species, **row})
+            check = trial_checks(x, y, depth_mm, args.window_mm, args.reach_fraction)
+            checks.append({"subject": subject, "species": species, **check})
+            print(
+                f"{subject} {depth_mm:g} mm: reach {check['reach_mm']:g} mm, "
+                f"U/X at L/3 = {check['shift_fraction_at_third']:.3f}"
+            )
     write_csv(pd.DataFrame(rows, columns=SENSITIVITY_COLUMNS), args.sensitivity)
     write_csv(pd.DataFrame(checks, columns=CHECK_COLUMNS), args.checks)
 

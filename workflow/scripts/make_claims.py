@@ -6,7 +6,7 @@ import pandas as pd
 
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
 from lineload.claims import CLAIM_COLUMNS, ClaimSettings, claims_markdown, compute_claims
-from lineload.io import write_csv, write_text
+from lineload.io import read_results_csv, write_csv, write_text
 
 
 def main():
@@ -27,8 +27,8 @@ def main():
     parser.add_argument("--md", required=True, help="output: claims table (Markdown)")
     args = parser.parse_args()
 
-    fits = pd.read_csv(args.fits)
-    averaged = pd.concat([pd.read_csv(path) for path in args.averaged], ignore_index=True)
+    fits = read_results_csv(args.fits)
+    averaged = pd.concat([read_results_csv(path) for path in args.averaged], ignore_index=True)
     settings = ClaimSettings(
         noise_mm=args.noise_mm,
         large_depth_mm=args.large_depth_mm,

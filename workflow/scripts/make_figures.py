@@ -13,6 +13,7 @@ import pandas as pd
 
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
 from lineload import plotting
+from lineload.io import read_results_csv
 
 #: Which inputs each figure needs (checked before anything is drawn).
 NEEDS = {
@@ -80,7 +81,7 @@ def parse_args():
 
 
 def read_csvs(paths):
-    frames = [pd.read_csv(path) for path in paths]
+    frames = [read_results_csv(path) for path in paths]
     return pd.concat(frames, ignore_index=True) if frames else None
 
 
@@ -90,7 +91,7 @@ def main():
     averaged = read_csvs(args.averaged)
     if averaged is None:
         averaged = pd.DataFrame(columns=["subject", "depth_mm", "distance_mm", "deflection_mm"])
-    fits = pd.read_csv(args.fits) if args.fits else None
+    fits = read_results_csv(args.fits) if args.fits else None
     outlines = read_csvs(args.outline)
     outline_ids = [] if outlines is None else list(dict.fromkeys(outlines["subject"]))
     # One distance scale for Figures 6 and 7, so the two species compare at a glance.
@@ -124,8 +125,8 @@ def main():
         ),
         "supplement_arc_vs_parabola": lambda: plotting.figure_arc_vs_parabola(fits, notice),
         "supplement_sensitivity": lambda: plotting.figure_sensitivity(
-            pd.read_csv(args.sensitivity),
-            pd.read_csv(args.checks),
+            read_results_csv(args.sensitivity),
+            read_results_csv(args.checks),
             args.shift_limit,
             args.reach_claim_mm,
             notice,

@@ -2,10 +2,8 @@
 
 import argparse
 
-import pandas as pd
-
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
-from lineload.io import write_csv, write_text
+from lineload.io import read_results_csv, write_csv, write_text
 from lineload.tables import (
     SUMMARY_COLUMNS,
     fits_latex,
@@ -27,7 +25,7 @@ def main():
     parser.add_argument("--summary-tex", required=True)
     args = parser.parse_args()
 
-    fits = pd.read_csv(args.fits)
+    fits = read_results_csv(args.fits)
     summary = summarise_fits(fits)
     write_text(fits_markdown(fits, args.notice), args.fits_md)
     write_text(fits_latex(fits, args.notice), args.fits_tex)

@@ -1,6 +1,6 @@
 """Entry point of rule prepare_outline: a traced outline (image mm) -> tissue mm.
 
-Keeps the image-unit columns beside the tissue values, as prepare_profile does,
+Keeps the image-unit columns beside the tissue values, as prepare_profiles does,
 and sorts the points by depth, state and position so they can be drawn as lines.
 """
 

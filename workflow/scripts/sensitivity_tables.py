@@ -5,7 +5,7 @@ import argparse
 import pandas as pd
 
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
-from lineload.io import write_csv, write_text
+from lineload.io import read_results_csv, write_csv, write_text
 from lineload.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS, summary_markdown
 
 
@@ -19,8 +19,8 @@ def main():
     parser.add_argument("--markdown", required=True)
     args = parser.parse_args()
 
-    sensitivity = pd.concat([pd.read_csv(p) for p in args.sensitivity], ignore_index=True)
-    checks = pd.concat([pd.read_csv(p) for p in args.checks], ignore_index=True)
+    sensitivity = pd.concat([read_results_csv(p) for p in args.sensitivity], ignore_index=True)
+    checks = pd.concat([read_results_csv(p) for p in args.checks], ignore_index=True)
     write_csv(sensitivity, args.sensitivity_out, SENSITIVITY_COLUMNS)
     write_csv(checks, args.checks_out, CHECK_COLUMNS)
     write_text(summary_markdown(sensitivity, checks, args.notice), args.markdown)

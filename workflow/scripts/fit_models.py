@@ -1,0 +1,39 @@
+"""Entry point of rule fit_models: the three models for each subject and depth of a batch."""
+
+import argparse
+
+import pandas as pd
+
+import _bootstrap  # noqa: F401  (puts the lineload package on the path)
+from lineload.fitting import FIT_COLUMNS, fit_trial
+from lineload.io import read_results_csv, write_csv
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument(
+        "--subject", nargs=2, action="append", required=True, metavar=("ID", "SPECIES")
+    )
+    parser.add_argument("--window-mm", type=float, required=True)
+    parser.add_argument("--averaged", required=True, help="input: averaged profiles")
+    parser.add_argument("--output", required=True, help="output: one row per subject and depth")
+    args = parser.parse_args()
+
+    averaged = read_results_csv(args.averaged)
+    rows = []
+    for subject, species in args.subject:
+        trials = averaged[averaged["subject"].astype(str) == subject]
+        for depth_mm, trial in trials.groupby("depth_mm", sort=True):
+            row = fit_trial(trial["distance_mm"], trial["deflection_mm"], depth_mm, args.window_mm)
+            rows.append({"subject": subject, "species": species, **row})
+            print(
+                f"{subject} {depth_mm:g} mm: {row['n_points']} points, "
+                f"waterbed L = {row['waterbed_L_mm']:.3f} mm, "
+                f"RMSE waterbed/arc/Boussinesq = {row['waterbed_rmse_mm']:.4f}/"
+                f"{row['arc_rmse_mm']:.4f}/{row['boussinesq_rmse_mm']:.4f} mm"
+            )
+    write_csv(pd.DataFrame(rows, columns=FIT_COLUMNS), args.output)
+
+
+if __name__ == "__main__":
+    main()
