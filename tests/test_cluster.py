@@ -1,0 +1,113 @@
+"""The workflow through a non-local executor, and resumed after being killed."""
+
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import yaml
+
+from conftest import REPO, run_snakemake, write_small_dataset
+
+SUBJECTS = {
+    "MK": ("monkey", [1.0, 2.0], 5.0),
+    "MJ": ("monkey", [1.0], 4.5),
+    "HU": ("human", [1.0, 2.0], 9.0),
+}
+
+
+def check_ok(process):
+    assert process.returncode == 0, (process.stdout + process.stderr)[-4000:]
+    return process
+
+
+def slurm_profile_option(key):
+    """The SLURM profile's group settings, so the test exercises the same bundling."""
+    profile = yaml.safe_load((REPO / "profiles" / "slurm" / "config.yaml").read_text())
+    return profile[key]
+
+
+def test_fits_through_a_cluster_executor_equal_a_local_run(tmp_path):
+    raw = write_small_dataset(tmp_path / "raw", subjects=SUBJECTS)
+    local, cluster = tmp_path / "local", tmp_path / "cluster"
+    check_ok(run_snakemake("fits", raw=raw, results=local))
+    check_ok(
+        run_snakemake(
+            "fits",
+            "--executor", "cluster-generic",
+            "--cluster-generic-submit-cmd", str(REPO / "tests" / "cluster" / "submit.sh"),
+            "--jobs", "4",
+            "--latency-wait", "10",
+            "--groups", *slurm_profile_option("groups"),
+            "--group-components", *slurm_profile_option("group-components"),
+            raw=raw,
+            results=cluster,
+        )
+    )  # fmt: skip
+    assert (cluster / "tables" / "fits.csv").read_bytes() == (
+        local / "tables" / "fits.csv"
+    ).read_bytes()
+    for subject in SUBJECTS:
+        assert (cluster / "data" / "averaged" / f"{subject}.csv").read_bytes() == (
+            local / "data" / "averaged" / f"{subject}.csv"
+        ).read_bytes()
+
+
+def outputs(results):
+    return {
+        path.relative_to(results).as_posix(): path.read_bytes()
+        for path in sorted(results.rglob("*"))
+        if path.is_file() and path.relative_to(results).parts[0] not in ("logs", "benchmarks")
+    }
+
+
+def start_build(raw, results):
+    command = [
+        sys.executable, "-m", "snakemake", "--snakefile", str(REPO / "Snakefile"),
+        "--directory", str(REPO), "--cores", "2",
+        "--config", f"raw_data={raw}", f"results={results}",
+    ]  # fmt: skip
+    return subprocess.Popen(
+        command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
+    )
+
+
+def wait_for_files(folder, pattern, count, timeout_s=120):
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if len(list(folder.glob(pattern))) >= count:
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"no {count} files {pattern} in {folder} after {timeout_s} s")
+
+
+def test_killed_build_resumes_to_the_same_files(tmp_path):
+    raw = write_small_dataset(tmp_path / "raw", subjects=SUBJECTS)
+    results = tmp_path / "results"
+    # kill the run (SIGTERM, as `kill` does) while fits are being written
+    process = start_build(raw, results)
+    wait_for_files(results, "fits/*.csv", 1)
+    os.kill(process.pid, signal.SIGTERM)
+    process.wait(timeout=60)
+    assert not (results / "tables" / "claims.md").exists(), "the build finished before the kill"
+    check_ok(run_snakemake("--rerun-incomplete", raw=raw, results=results))
+    resumed = outputs(results)
+    # the same build, uninterrupted, in the same folder
+    shutil.rmtree(results)
+    check_ok(run_snakemake(raw=raw, results=results))
+    assert outputs(results) == resumed
+
+
+def test_hard_killed_build_resumes_after_unlock(tmp_path):
+    raw = write_small_dataset(tmp_path / "raw", subjects=SUBJECTS)
+    results = tmp_path / "results"
+    process = start_build(raw, results)
+    wait_for_files(results, "data/averaged/*.csv", 1)
+    os.killpg(process.pid, signal.SIGKILL)  # no chance to clean up: locks stay behind
+    process.wait(timeout=60)
+    check_ok(run_snakemake("--unlock", raw=raw, results=results))
+    check_ok(run_snakemake("--rerun-incomplete", raw=raw, results=results))
+    assert (results / "tables" / "claims.md").is_file()
+    assert (results / "provenance.json").is_file()
