@@ -1,0 +1,217 @@
+"""Measure the workflow's speed targets on this machine and write a Markdown table.
+
+    python benchmarks/run.py                  # everything, 3 repeats (about 6 minutes)
+    python benchmarks/run.py --repeats 5 --output benchmarks/results.md
+
+Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
+
+- the import baseline: `python -c "import numpy, pandas, scipy.optimize, matplotlib.pyplot"`;
+- a clean build of the default target on the shipped data;
+- a rerun with nothing changed;
+- a rerun after editing one subject's profile (and which jobs ran);
+- the `fits` target on scale datasets of 1000 and 2000 subjects x 4 depths made by the
+  generator in a temporary folder, with the peak memory of the whole process tree.
+
+Nothing here is a test: timings depend on the machine and what else it is doing.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+PAGE_KB = os.sysconf("SC_PAGE_SIZE") / 1024
+
+
+def tree_rss_kb(root_pid):
+    """Resident memory (kB) of a process and all its descendants, from /proc."""
+    parents, rss = {}, {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat") as handle:
+                fields = handle.read().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        parents[int(entry)] = int(fields[1])
+        rss[int(entry)] = int(fields[21]) * PAGE_KB
+    total, stack = 0.0, [root_pid]
+    while stack:
+        pid = stack.pop()
+        total += rss.get(pid, 0.0)
+        stack.extend(child for child, parent in parents.items() if parent == pid)
+    return total
+
+
+def run(command, cwd=REPO):
+    """Run a command; return (seconds, peak tree RSS in MB, stdout+stderr)."""
+    start = time.perf_counter()
+    process = subprocess.Popen(
+        command, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+    )
+    peak = [0.0]
+
+    def sample():
+        while process.poll() is None:
+            peak[0] = max(peak[0], tree_rss_kb(process.pid))
+            time.sleep(0.1)
+
+    sampler = threading.Thread(target=sample, daemon=True)
+    sampler.start()
+    output, _ = process.communicate()
+    seconds = time.perf_counter() - start
+    sampler.join()
+    if process.returncode != 0:
+        raise RuntimeError(f"{' '.join(map(str, command))} failed:\n{output[-3000:]}")
+    return seconds, peak[0] / 1024, output
+
+
+def snakemake(*args, raw, results):
+    return [
+        sys.executable, "-m", "snakemake", "--cores", "2", *args,
+        "--config", f"raw_data={raw}", f"results={results}",
+    ]  # fmt: skip
+
+
+def jobs_run(output):
+    """Rules that ran, with counts, from Snakemake's job table."""
+    table = re.search(r"Job stats:\n(.*?)\n\n", output, re.S)
+    if not table:
+        return "none"
+    rows = [line.split() for line in table.group(1).splitlines()[2:]]
+    return ", ".join(f"{r[0]} x{r[1]}" for r in rows if len(r) == 2 and r[0] != "total")
+
+
+def median_of(repeats, measure):
+    values = [measure() for _ in range(repeats)]
+    return statistics.median(v[0] for v in values), values
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument(
+        "--scale",
+        type=int,
+        nargs="*",
+        default=[1000, 2000],
+        help="subject counts of the scale runs (half monkeys, half humans)",
+    )
+    parser.add_argument("--output", type=Path, help="write the Markdown table here too")
+    args = parser.parse_args()
+    work = Path(tempfile.mkdtemp(prefix="lineload-bench-"))
+    rows = []
+    try:
+        baseline, _ = median_of(
+            args.repeats,
+            lambda: run(
+                [sys.executable, "-c", "import numpy, pandas, scipy.optimize, matplotlib.pyplot"]
+            ),
+        )
+        rows.append(
+            ("import numpy, pandas, scipy.optimize, matplotlib.pyplot", baseline, "", "baseline")
+        )
+
+        raw = work / "raw"
+        shutil.copytree(REPO / "data" / "raw", raw)
+        results = work / "results"
+
+        def clean_build():
+            shutil.rmtree(results, ignore_errors=True)
+            return run(snakemake(raw=raw, results=results))
+
+        clean, runs = median_of(args.repeats, clean_build)
+        rows.append(
+            (
+                "clean build, default target (shipped data)",
+                clean,
+                f"{max(r[1] for r in runs):.0f} MB",
+                f"target <= 4 x baseline = {4 * baseline:.1f} s",
+            )
+        )
+
+        noop, _ = median_of(max(args.repeats, 5), lambda: run(snakemake(raw=raw, results=results)))
+        rows.append(("rerun, nothing changed", noop, "", "target <= 1 s"))
+
+        def edit_one():
+            profile = raw / "profiles" / "M2.csv"
+            text = profile.read_text()
+            # change one reading's last digit and back on alternate calls
+            lines = text.splitlines()
+            last = lines[5]
+            lines[5] = last[:-1] + ("1" if last[-1] != "1" else "2")
+            profile.write_text("\n".join(lines) + "\n")
+            return run(snakemake(raw=raw, results=results))
+
+        edited, runs = median_of(args.repeats, edit_one)
+        rows.append(
+            ("rerun after editing profiles/M2.csv", edited, "", "jobs: " + jobs_run(runs[-1][2]))
+        )
+
+        previous = None
+        for n in args.scale:
+            scale_raw, scale_results = work / f"raw{n}", work / f"results{n}"
+            subprocess.run(
+                [
+                    sys.executable,
+                    str(REPO / "workflow/scripts/make_synthetic_data.py"),
+                    "--out",
+                    str(scale_raw),
+                    "--monkeys",
+                    str(n // 2),
+                    "--humans",
+                    str(n - n // 2),
+                    "--clean",
+                ],
+                check=True,
+                capture_output=True,
+            )
+
+            def scale_build(scale_raw=scale_raw, scale_results=scale_results):
+                shutil.rmtree(scale_results, ignore_errors=True)
+                return run(snakemake("fits", raw=scale_raw, results=scale_results))
+
+            seconds, runs = median_of(args.repeats, scale_build)
+            peak = max(r[1] for r in runs)
+            note = "target <= 30 s, <= 1 GB" if n == 1000 else ""
+            if previous:
+                note = (
+                    f"{seconds / previous[1]:.2f} x the {previous[0]}-subject time (target <= 2.2)"
+                )
+            rows.append(
+                (f"`fits` target, {n} subjects x 4 depths", seconds, f"{peak:.0f} MB", note)
+            )
+            previous = (n, seconds)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+    lines = [
+        f"Measured on {os.cpu_count()} cores, median of {args.repeats} runs "
+        "(5 for the no-change rerun); peak memory of the whole process tree.",
+        "",
+        "| what | seconds | peak memory | note |",
+        "|---|--:|--:|---|",
+        *[
+            f"| {what} | {seconds:.2f} | {memory} | {note} |"
+            for what, seconds, memory, note in rows
+        ],
+    ]
+    table = "\n".join(lines) + "\n"
+    print(table)
+    if args.output:
+        args.output.write_text(table)
+
+
+if __name__ == "__main__":
+    main()
