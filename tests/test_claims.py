@@ -274,6 +274,20 @@ def test_c10_circle_holds_for_an_arc_and_fails_for_a_log_profile():
     assert verdict("C10", fits, profile("A", 1.0, arc[:3], window[:3])) == UNTESTABLE
 
 
+def test_c10_cannot_judge_a_straight_profile():
+    # a line is a circle of infinite radius: it fits a free circle perfectly, yet it says
+    # nothing about the curvature the claim is about
+    window = GRID_MM[GRID_MM <= 3.0]
+    fits = table([fit_row("A", "monkey", 1.0)])
+    line = 1.0 - 0.3 * window
+    assert verdict("C10", fits, profile("A", 1.0, line, window)) == UNTESTABLE
+    # beside a curved trial, the straight one is left out rather than counted for the claim
+    arc = 1.0 - (10.0 - np.sqrt(100.0 - window**2))
+    both = table([fit_row("A", "monkey", 1.0), fit_row("B", "monkey", 1.0)])
+    averaged = pd.concat([profile("A", 1.0, line, window), profile("B", 1.0, arc, window)])
+    assert verdict("C10", both, averaged) == HOLDS
+
+
 # ------------------------------------------------------------------- through snakemake
 
 

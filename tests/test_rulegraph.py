@@ -53,3 +53,8 @@ def test_drawing_has_a_box_per_rule_and_an_arrow_per_direct_edge():
     assert labels == sorted(rules)
     arrows = [p for p in ax.patches if type(p).__name__ == "FancyArrowPatch"]
     assert len(arrows) == len(rulegraph.transitive_reduction(edges))
+
+
+def test_layout_does_not_depend_on_node_order():
+    rules, edges = rulegraph.parse_rulegraph(DOT)
+    assert rulegraph.layered_layout(rules, edges) == rulegraph.layered_layout(rules[::-1], edges)

@@ -89,6 +89,7 @@ def layered_layout(rules, edges):
             layer[rule] = 1 + max((depth(u, (*seen, rule)) for u in upstream[rule]), default=-1)
         return layer[rule]
 
+    rules = sorted(rules)
     for rule in rules:
         depth(rule)
     position = {}
@@ -96,8 +97,9 @@ def layered_layout(rules, edges):
         members = [r for r in rules if layer[r] == level]
 
         def barycentre(rule):
+            # ties broken by name, so the picture does not depend on Snakemake's node order
             parents = [position[u] for u in upstream[rule]]
-            return (sum(parents) / len(parents) if parents else 0.0, rules.index(rule))
+            return (sum(parents) / len(parents) if parents else 0.0, rule)
 
         for index, rule in enumerate(sorted(members, key=barycentre)):
             position[rule] = index

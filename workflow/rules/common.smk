@@ -46,7 +46,11 @@ except WorkflowError as error:
 
 RAW = config["raw_data"]
 RES = config["results"]
-PYTHON = f'"{sys.executable}"'
+# Every job runs the entry points with the interpreter that runs Snakemake (so an
+# unactivated virtual environment still works). It is set once as a shell variable
+# rather than passed in params, because `.venv/bin/python` and `.venv/bin/python3`
+# name the same interpreter, and in params the difference would read as a change.
+shell.prefix(f"LINELOAD_PYTHON={shlex.quote(sys.executable)}; ")
 SCRIPTS = WORKFLOW_DIR / "scripts"
 
 try:
@@ -99,6 +103,29 @@ def subject_species_args(batch):
     return " ".join(
         f"--subject {s} {SUBJECTS.loc[s, 'species']}" for s in BATCHES[batch]
     )
+
+
+def code_inputs(script_name):
+    """An entry point (first) and every lineload module it imports, directly or not.
+
+    Given as inputs to its rule, so editing the science code reruns the jobs it
+    affects (Snakemake tracks a rule's shell text, not the Python it calls).
+    """
+    import re
+
+    package = WORKFLOW_DIR / "lineload"
+    pattern = re.compile(r"^\s*from (?:lineload|)\.?([a-z_]*) import ([\w, (]+)", re.M)
+    files, queue = [SCRIPTS / script_name], [SCRIPTS / script_name]
+    while queue:
+        text = queue.pop().read_text(encoding="utf-8")
+        for module, names in pattern.findall(text):
+            candidates = [module] if module else [n.strip() for n in names.split(",")]
+            for name in candidates:
+                path = package / f"{name}.py"
+                if path.is_file() and path not in files:
+                    files.append(path)
+                    queue.append(path)
+    return [str(files[0])] + sorted(str(f) for f in files[1:])
 
 
 def result(*parts):
@@ -225,5 +252,5 @@ FIGURE_SUBJECT_ARGS = " ".join(
     for s in SUBJECT_IDS
 )
 # The drawing code is an input too, so editing the figures' style redraws them.
-FIGURE_CODE = [SCRIPTS / "make_figures.py", WORKFLOW_DIR / "lineload" / "plotting.py"]
+FIGURE_CODE = code_inputs("make_figures.py")
 FIGURE_DPI = config["figures"]["png_dpi"]

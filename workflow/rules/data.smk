@@ -4,6 +4,7 @@
 rule prepare_profiles:
     """Convert a batch of subjects' readings to tissue mm and average the two sides."""
     input:
+        code=code_inputs("prepare_profiles.py"),
         profiles=lambda wildcards: [
             f"{RAW}/profiles/{s}.csv" for s in BATCHES[wildcards.batch]
         ],
@@ -27,20 +28,19 @@ rule prepare_profiles:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "prepare_profiles.py",
         subjects=lambda wildcards, input: " ".join(
             f"--subject {s} {float(SUBJECTS.loc[s, 'magnification'])!r} {shlex.quote(path)}"
             for s, path in zip(BATCHES[wildcards.batch], input.profiles, strict=True)
         ),
     shell:
-        "{params.python} {params.script:q} {params.subjects}"
+        "$LINELOAD_PYTHON {input.code[0]:q} {params.subjects}"
         " --converted {output.converted:q} --averaged {output.averaged:q} > {log:q} 2>&1"
 
 
 rule prepare_outline:
     """Convert one subject's traced outlines (Figure 1) to tissue mm."""
     input:
+        code=code_inputs("prepare_outline.py"),
         outline=f"{RAW}/outlines/{{subject}}.csv",
     output:
         result("data", "outlines", "{subject}.csv"),
@@ -49,10 +49,8 @@ rule prepare_outline:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "prepare_outline.py",
         magnification=lambda wildcards: SUBJECTS.loc[wildcards.subject, "magnification"],
     shell:
-        "{params.python} {params.script:q} --subject {wildcards.subject}"
+        "$LINELOAD_PYTHON {input.code[0]:q} --subject {wildcards.subject}"
         " --magnification {params.magnification} --outline {input.outline:q}"
         " --output {output:q} > {log:q} 2>&1"

@@ -17,8 +17,6 @@ rule figure_outlines:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "make_figures.py",
         figures=figure_args("figure_outlines"),
         outdir=lambda wildcards, output: str(Path(output[0]).parent),
         dpi=FIGURE_DPI,
@@ -30,7 +28,7 @@ rule figure_outlines:
             else ""
         ),
     shell:
-        "{params.python} {params.script:q} {params.figures} --outdir {params.outdir:q}"
+        "$LINELOAD_PYTHON {input.code[0]:q} {params.figures} --outdir {params.outdir:q}"
         " --dpi {params.dpi} --notice={params.notice:q} {params.subjects}"
         " --outline {input.outlines:q} {params.depth} > {log:q} 2>&1"
 
@@ -48,15 +46,13 @@ rule figure_schematics:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "make_figures.py",
         figures=figure_args("figure_schematics"),
         outdir=lambda wildcards, output: str(Path(output[0]).parent),
         dpi=FIGURE_DPI,
         notice=NOTICE,
         ratio=config["figures"]["schematic_depth_ratio"],
     shell:
-        "{params.python} {params.script:q} {params.figures} --outdir {params.outdir:q}"
+        "$LINELOAD_PYTHON {input.code[0]:q} {params.figures} --outdir {params.outdir:q}"
         " --dpi {params.dpi} --notice={params.notice:q}"
         " --schematic-depth-ratio {params.ratio} > {log:q} 2>&1"
 
@@ -76,8 +72,6 @@ rule figure_fits:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "make_figures.py",
         figures=figure_args("figure_fits"),
         outdir=lambda wildcards, output: str(Path(output[0]).parent),
         dpi=FIGURE_DPI,
@@ -89,7 +83,7 @@ rule figure_fits:
         example_depth_mm=EXAMPLE_DEPTH_MM,
         window_mm=config["fit_window_mm"],
     shell:
-        "{params.python} {params.script:q} {params.figures} --outdir {params.outdir:q}"
+        "$LINELOAD_PYTHON {input.code[0]:q} {params.figures} --outdir {params.outdir:q}"
         " --dpi {params.dpi} --notice={params.notice:q} {params.subjects}"
         " --averaged {input.averaged:q} --fits {input.fits:q} {params.examples}"
         " --example-depth-mm {params.example_depth_mm}"
@@ -113,8 +107,6 @@ rule figure_supplement:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "make_figures.py",
         figures=figure_args("figure_supplement"),
         outdir=lambda wildcards, output: str(Path(output[0]).parent),
         dpi=FIGURE_DPI,
@@ -122,7 +114,7 @@ rule figure_supplement:
         subjects=FIGURE_SUBJECT_ARGS,
         window_mm=config["fit_window_mm"],
     shell:
-        "{params.python} {params.script:q} {params.figures} --outdir {params.outdir:q}"
+        "$LINELOAD_PYTHON {input.code[0]:q} {params.figures} --outdir {params.outdir:q}"
         " --dpi {params.dpi} --notice={params.notice:q} {params.subjects}"
         " --averaged {input.averaged:q} --fits {input.fits:q}"
         " --sensitivity {input.sensitivity:q} --checks {input.checks:q}"

@@ -4,6 +4,7 @@
 rule fit_models:
     """Fit waterbed (parabola), exact arc and Boussinesq to each trial of a batch."""
     input:
+        code=code_inputs("fit_models.py"),
         averaged=result("data", "averaged", "{batch}.csv"),
     output:
         result("fits", "{batch}.csv"),
@@ -14,19 +15,18 @@ rule fit_models:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "fit_models.py",
         subjects=lambda wildcards: subject_species_args(wildcards.batch),
         window_mm=config["fit_window_mm"],
     shell:
-        "{params.python} {params.script:q} {params.subjects} --window-mm {params.window_mm}"
+        "$LINELOAD_PYTHON {input.code[0]:q} {params.subjects} --window-mm {params.window_mm}"
         " --averaged {input.averaged:q} --output {output:q} > {log:q} 2>&1"
 
 
 rule fits_table:
     """Collect every subject's fits into results/tables/fits.csv (subject-sheet order)."""
     input:
-        expand(result("fits", "{batch}.csv"), batch=BATCH_IDS),
+        code=code_inputs("concat_tables.py"),
+        tables=expand(result("fits", "{batch}.csv"), batch=BATCH_IDS),
     output:
         report(
             result("tables", "fits.csv"),
@@ -40,16 +40,14 @@ rule fits_table:
         result("benchmarks", "fits_table.tsv")
     conda:
         ENVIRONMENT
-    params:
-        python=PYTHON,
-        script=SCRIPTS / "concat_tables.py",
     shell:
-        "{params.python} {params.script:q} --output {output:q} {input:q} > {log:q} 2>&1"
+        "$LINELOAD_PYTHON {input.code[0]:q} --output {output:q} {input.tables:q} > {log:q} 2>&1"
 
 
 rule fit_sensitivity:
     """Refit a batch with other windows, W0 free and the exact arc; U shift and reach."""
     input:
+        code=code_inputs("fit_sensitivity.py"),
         averaged=result("data", "averaged", "{batch}.csv"),
     output:
         sensitivity=result("fits", "sensitivity", "{batch}.csv"),
@@ -61,8 +59,6 @@ rule fit_sensitivity:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "fit_sensitivity.py",
         subjects=lambda wildcards: subject_species_args(wildcards.batch),
         window_mm=config["fit_window_mm"],
         windows_mm=" ".join(
@@ -71,7 +67,7 @@ rule fit_sensitivity:
         ),
         reach_fraction=config["sensitivity"]["reach_fraction"],
     shell:
-        "{params.python} {params.script:q} {params.subjects} --window-mm {params.window_mm}"
+        "$LINELOAD_PYTHON {input.code[0]:q} {params.subjects} --window-mm {params.window_mm}"
         " --windows-mm {params.windows_mm} --reach-fraction {params.reach_fraction}"
         " --averaged {input.averaged:q} --sensitivity {output.sensitivity:q}"
         " --checks {output.checks:q} > {log:q} 2>&1"
@@ -80,6 +76,7 @@ rule fit_sensitivity:
 rule sensitivity_tables:
     """Collect the refits and per-trial checks; summarise them in Markdown."""
     input:
+        code=code_inputs("sensitivity_tables.py"),
         sensitivity=expand(
             result("fits", "sensitivity", "{batch}.csv"), batch=BATCH_IDS
         ),
@@ -105,11 +102,9 @@ rule sensitivity_tables:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "sensitivity_tables.py",
         notice=NOTICE,
     shell:
-        "{params.python} {params.script:q} --notice={params.notice:q}"
+        "$LINELOAD_PYTHON {input.code[0]:q} --notice={params.notice:q}"
         " --sensitivity-out {output.sensitivity:q} --checks-out {output.checks:q}"
         " --markdown {output.markdown:q} --sensitivity {input.sensitivity:q}"
         " --checks {input.checks:q} > {log:q} 2>&1"

@@ -4,6 +4,7 @@
 rule provenance:
     """Hash every raw input and record config, software versions and git commit."""
     input:
+        code=code_inputs("write_provenance.py"),
         raw=raw_files(),
         # built last, so the record is rewritten whenever any output is
         outputs=[
@@ -24,13 +25,12 @@ rule provenance:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "write_provenance.py",
         raw=lambda wildcards, input: str(Path(input.raw[0]).parent),
         config_json=json.dumps(config, sort_keys=True),
-        source_dir=workflow.basedir,
+        # the repository holding workflow/scripts/write_provenance.py
+        source_dir=lambda wildcards, input: str(Path(input.code[0]).parents[2]),
     shell:
-        "{params.python} {params.script:q} --raw-dir {params.raw:q}"
+        "$LINELOAD_PYTHON {input.code[0]:q} --raw-dir {params.raw:q}"
         " --config-json {params.config_json:q}"
         " --source-dir {params.source_dir:q} --output {output:q} {input.raw:q} > {log:q} 2>&1"
 
@@ -38,6 +38,7 @@ rule provenance:
 rule rulegraph:
     """Draw the graph of rules (not part of the default target: it runs Snakemake itself)."""
     input:
+        code=code_inputs("make_rulegraph.py"),
         # the graph is drawn for this dataset (its figures depend on the species present)
         sheet=f"{RAW}/subjects.csv",
     output:
@@ -49,14 +50,12 @@ rule rulegraph:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "make_rulegraph.py",
         snakefile=workflow.main_snakefile,
         raw=lambda wildcards, input: str(Path(input.sheet).parent),
         results=lambda wildcards, output: str(Path(output.dot).parents[1]),
     shell:
-        "{params.python} -m snakemake --snakefile {params.snakefile:q} --rulegraph dot"
+        "$LINELOAD_PYTHON -m snakemake --snakefile {params.snakefile:q} --rulegraph dot"
         " --nolock --quiet all --config raw_data={params.raw:q} results={params.results:q}"
         " > {output.dot:q} 2> {log:q}"
-        " && {params.python} {params.script:q} --dot {output.dot:q} --png {output.png:q}"
+        " && $LINELOAD_PYTHON {input.code[0]:q} --dot {output.dot:q} --png {output.png:q}"
         " --pdf {output.pdf:q} >> {log:q} 2>&1"

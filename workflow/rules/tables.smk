@@ -4,6 +4,7 @@
 rule fit_tables:
     """Fit table as Markdown and LaTeX; summary per species and depth (CSV, Markdown, LaTeX)."""
     input:
+        code=code_inputs("make_tables.py"),
         fits=result("tables", "fits.csv"),
     output:
         fits_md=result("tables", "fits.md"),
@@ -21,11 +22,9 @@ rule fit_tables:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "make_tables.py",
         notice=NOTICE,
     shell:
-        "{params.python} {params.script:q} --fits {input.fits:q} --notice={params.notice:q}"
+        "$LINELOAD_PYTHON {input.code[0]:q} --fits {input.fits:q} --notice={params.notice:q}"
         " --fits-md {output.fits_md:q} --fits-tex {output.fits_tex:q}"
         " --summary-csv {output.summary_csv:q} --summary-md {output.summary_md:q}"
         " --summary-tex {output.summary_tex:q} > {log:q} 2>&1"
@@ -34,6 +33,7 @@ rule fit_tables:
 rule claims_table:
     """Recompute the paper's claims C1-C10 from the fits and averaged profiles, with verdicts."""
     input:
+        code=code_inputs("make_claims.py"),
         fits=result("tables", "fits.csv"),
         averaged=expand(result("data", "averaged", "{batch}.csv"), batch=BATCH_IDS),
     output:
@@ -49,14 +49,12 @@ rule claims_table:
     conda:
         ENVIRONMENT
     params:
-        python=PYTHON,
-        script=SCRIPTS / "make_claims.py",
         noise_mm=config["claims"]["noise_mm"],
         large_depth_mm=config["claims"]["large_depth_mm"],
         symmetry_tolerance=config["claims"]["symmetry_tolerance"],
         notice=NOTICE,
     shell:
-        "{params.python} {params.script:q} --fits {input.fits:q} --averaged {input.averaged:q}"
+        "$LINELOAD_PYTHON {input.code[0]:q} --fits {input.fits:q} --averaged {input.averaged:q}"
         " --noise-mm {params.noise_mm} --large-depth-mm {params.large_depth_mm}"
         " --symmetry-tolerance {params.symmetry_tolerance}"
         " --notice={params.notice:q} --csv {output.csv:q} --md {output.md:q} > {log:q} 2>&1"
