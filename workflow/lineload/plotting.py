@@ -37,6 +37,7 @@ from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.lines import Line2D
 
 from . import models
+from .sensitivity import MODEL_NAMES as SENSITIVITY_MODEL_NAMES
 
 __all__ = [
     "DOUBLE_COLUMN_MM",
@@ -1448,12 +1449,16 @@ def figure_arc_vs_parabola(fits, notice=""):
     return fig
 
 
-# Models of the sensitivity refits, in drawing order, with their colours and names.
+# Models of the sensitivity refits, in drawing order, with their colours and the
+# names the sensitivity tables use.
 SENSITIVITY_MODELS = {
-    "waterbed": (MODEL_COLOURS["waterbed"], "parabola, W0 = depth"),
-    "waterbed_free_depth": ("#56B4E9", "parabola, W0 free"),
-    "arc": (MODEL_COLOURS["arc"], "exact arc, W0 = depth"),
-    "boussinesq": (MODEL_COLOURS["boussinesq"], "Boussinesq"),
+    model: (colour, SENSITIVITY_MODEL_NAMES[model])
+    for model, colour in (
+        ("waterbed", MODEL_COLOURS["waterbed"]),
+        ("waterbed_free_depth", "#56B4E9"),
+        ("arc", MODEL_COLOURS["arc"]),
+        ("boussinesq", MODEL_COLOURS["boussinesq"]),
+    )
 }
 SPECIES_MARKERS = {"monkey": "o", "human": "s"}
 
