@@ -37,9 +37,10 @@ __all__ = [
 #: (``scipy.stats.chi2.ppf(0.95, 1)``; a test checks the value).
 CHI2_1DOF_95 = 3.841458820694124
 
-#: Largest membrane half-width searched by the arc fit, as a multiple of the
-#: smallest admissible one (the waterbed fit has no such bound: it is exact).
-ARC_SEARCH_SPAN = 1000.0
+#: Largest membrane half-width searched by the iterative fits (exact arc, and the
+#: parabola with W0 free), as a multiple of the smallest admissible one. The
+#: fixed-W0 parabola needs no such bound: its minimum is found exactly.
+L_SEARCH_SPAN = 1000.0
 
 
 @dataclass(frozen=True)
@@ -383,7 +384,7 @@ def fit_arc(distance_mm, deflection_mm, depth_mm):
         the 95 % profile-likelihood interval (:func:`profile_interval`).
     """
     x, y = _as_points(distance_mm, deflection_mm, minimum=1)
-    L_lo, L_hi = x.max(), ARC_SEARCH_SPAN * x.max()
+    L_lo, L_hi = x.max(), L_SEARCH_SPAN * x.max()
 
     def sse_of_L(L):
         return _arc_sse(x, y, depth_mm, L)
@@ -417,7 +418,7 @@ def fit_waterbed_free_depth(distance_mm, deflection_mm):
         ``params = {"L_mm", "L_ci_low_mm", "L_ci_high_mm", "W0_mm"}``.
     """
     x, y = _as_points(distance_mm, deflection_mm, minimum=2)
-    L_lo, L_hi = x.max(), ARC_SEARCH_SPAN * x.max()
+    L_lo, L_hi = x.max(), L_SEARCH_SPAN * x.max()
 
     def shape_and_depth(L):
         s = x[None, :] / np.atleast_1d(np.asarray(L, dtype=float))[:, None]

@@ -119,27 +119,12 @@ def waterbed_load_angle_rad(depth_mm, L_mm):
     return np.arctan(4.0 * np.asarray(depth_mm, dtype=float) / np.asarray(L_mm, dtype=float))
 
 
-def _segment_shape(phi):
-    """``(2 phi - sin 2 phi) / (4 sin**2 phi)``, increasing from 0 (like phi/3)."""
-    phi = np.asarray(phi, dtype=float)
-    small = phi < 1e-4
-    safe = np.where(small, 1.0, phi)
-    exact = (2.0 * safe - np.sin(2.0 * safe)) / (4.0 * np.sin(safe) ** 2)
-    return np.where(small, phi / 3.0, exact)
-
-
-def _segment_shape_slope(phi):
-    """Slope of :func:`_segment_shape`: ``1 - (2 phi - sin 2 phi) sin 2 phi / (4 sin^4 phi)``."""
-    phi = np.asarray(phi, dtype=float)
-    small = phi < 1e-3
-    safe = np.where(small, 1.0, phi)
-    exact = 1.0 - (2.0 * safe - np.sin(2.0 * safe)) * np.sin(2.0 * safe) / (4.0 * np.sin(safe) ** 4)
-    # series: 1/3 + 2 phi**2 / 15 near zero (the closed form cancels there)
-    return np.where(small, 1.0 / 3.0 + 2.0 * phi**2 / 15.0, exact)
-
-
 def _shape_and_slope(phi):
-    """:func:`_segment_shape` and its slope together (shared trigonometry), phi >= 1e-3."""
+    """Shape function ``f = (2 phi - sin 2 phi) / (4 sin**2 phi)`` and its slope, phi >= 1e-3.
+
+    The slope is ``1 - (2 phi - sin 2 phi) sin 2 phi / (4 sin**4 phi)``; both
+    share their trigonometry.  (Near zero, ``f = phi/3 + 2 phi**3/45 + ...``.)
+    """
     sin, sin2 = np.sin(phi), np.sin(2.0 * phi)
     numerator = 2.0 * phi - sin2
     shape = numerator / (4.0 * sin**2)
@@ -162,7 +147,7 @@ def _solve_half_angle_scalar(target):
 
 
 def _solve_half_angle(target):
-    """Solve ``_segment_shape(phi) = target`` for ``0 <= target <= 1/2``.
+    """Solve ``(2 phi - sin 2 phi) / (4 sin**2 phi) = target`` for ``0 <= target <= 1/2``.
 
     The shape function rises from 0 with slope 1/3 and is convex on
     ``[0, pi/2]``, where it reaches ``pi/4 > 1/2``.  Newton's method on a convex
