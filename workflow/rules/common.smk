@@ -14,8 +14,8 @@ min_version("9.0")
 WORKFLOW_DIR = Path(workflow.basedir) / "workflow"
 sys.path.insert(0, str(WORKFLOW_DIR))
 
+from lineload import checkcache  # noqa: E402  (standard library only)
 from lineload.io import load_schema  # noqa: E402
-from lineload.validation import InputError, check_dataset  # noqa: E402
 
 
 def abort(message):
@@ -39,10 +39,79 @@ def schema_message(error, what):
     return f"{what}, key '{where}': {message}" if where else f"{what}: {message}"
 
 
-try:
-    validate(config, "../schemas/config.schema.yaml")
-except WorkflowError as error:
-    abort(schema_message(error, "config"))
+def check_inputs():
+    """Validate the config (filling in its defaults) and every raw file; abort at the first problem.
+
+    Returns what the rules need from the data as plain values (JSON-ready, so a
+    passed check can be remembered): the validated config, each subject's
+    species, magnification and display label in subject-sheet order, the depths
+    of each subject's profiles and of its outlines.
+    """
+    from lineload.validation import InputError, check_dataset
+
+    try:
+        validate(config, "../schemas/config.schema.yaml")
+    except WorkflowError as error:
+        abort(schema_message(error, "config"))
+    raw = config["raw_data"]
+    try:
+        dataset = check_dataset(
+            raw,
+            {name: load_schema(name) for name in ("subjects", "profiles", "outlines")},
+        )
+        validate(dataset["subjects"], "../schemas/subjects.schema.yaml")
+    except InputError as error:
+        abort(str(error))
+    except WorkflowError as error:
+        abort(schema_message(error, f"{raw}/subjects.csv"))
+    sheet = dataset["subjects"]
+    labels = sheet["label"] if "label" in sheet.columns else [None] * len(sheet)
+    subjects = {
+        str(subject): {
+            "species": str(species),
+            "magnification": float(magnification),
+            # Display name: the optional label column, else the id.
+            "label": (
+                label.strip() if isinstance(label, str) and label.strip() else subject
+            ),
+        }
+        for subject, species, magnification, label in zip(
+            sheet["subject"], sheet["species"], sheet["magnification"], labels
+        )
+    }
+    return {
+        "config": dict(config),
+        "subjects": subjects,
+        "depths_mm": dataset["depths_mm"],
+        "outlines": dataset["outlines"],
+    }
+
+
+# The check reads every raw file (and imports pandas), so a passed check is
+# remembered under a fingerprint of the config, the checking code and the raw
+# files' bytes; an unchanged dataset is then not read again (see checkcache.py).
+CHECK_CACHE = Path(".snakemake", "lineload", "input-check.json")
+CHECK_CODE = [
+    WORKFLOW_DIR / "lineload" / name
+    for name in ("checkcache.py", "io.py", "validation.py")
+]
+CHECK_CODE += [WORKFLOW_DIR / "rules" / "common.smk"]
+CHECK_CODE += sorted((WORKFLOW_DIR / "schemas").glob("*.schema.yaml"))
+_raw_given = config.get(
+    "raw_data", load_schema("config")["properties"]["raw_data"]["default"]
+)
+_check_key = (
+    checkcache.fingerprint(config, _raw_given, CHECK_CODE)
+    if isinstance(_raw_given, str)
+    else None
+)
+DATASET = checkcache.load(CHECK_CACHE, _check_key) if _check_key else None
+if DATASET is None:
+    DATASET = check_inputs()
+    if _check_key:
+        checkcache.store(CHECK_CACHE, _check_key, DATASET)
+else:
+    config.update(DATASET["config"])
 
 RAW = config["raw_data"]
 RES = config["results"]
@@ -53,19 +122,9 @@ RES = config["results"]
 shell.prefix(f"LINELOAD_PYTHON={shlex.quote(sys.executable)}; ")
 SCRIPTS = WORKFLOW_DIR / "scripts"
 
-try:
-    DATASET = check_dataset(
-        RAW, {name: load_schema(name) for name in ("subjects", "profiles", "outlines")}
-    )
-    validate(DATASET["subjects"], "../schemas/subjects.schema.yaml")
-except InputError as error:
-    abort(str(error))
-except WorkflowError as error:
-    abort(schema_message(error, f"{RAW}/subjects.csv"))
-
-SUBJECTS = DATASET["subjects"].set_index("subject", drop=False)
-SUBJECT_IDS = list(SUBJECTS["subject"])
-
+# Subject id -> {"species", "magnification", "label"}, in subject-sheet order.
+SUBJECTS = DATASET["subjects"]
+SUBJECT_IDS = list(SUBJECTS)
 # Per-subject work runs in batches: each job pays Python's start-up once for all
 # its subjects.  A batch of one is named after its subject (the usual case for a
 # handful of subjects, so editing one file reruns only that subject's jobs); a
@@ -100,9 +159,7 @@ ENVIRONMENT = "../../environment.yml"
 
 def subject_species_args(batch):
     """'--subject ID SPECIES' for each subject of a batch, for the fit scripts."""
-    return " ".join(
-        f"--subject {s} {SUBJECTS.loc[s, 'species']}" for s in BATCHES[batch]
-    )
+    return " ".join(f"--subject {s} {SUBJECTS[s]['species']}" for s in BATCHES[batch])
 
 
 def code_inputs(script_name):
@@ -134,7 +191,7 @@ def result(*parts):
 
 
 SPECIES_SUBJECTS = {
-    species: [s for s in SUBJECT_IDS if SUBJECTS.loc[s, "species"] == species]
+    species: [s for s in SUBJECT_IDS if SUBJECTS[s]["species"] == species]
     for species in ("monkey", "human")
 }
 
@@ -233,22 +290,13 @@ def figure_args(group):
     return " ".join(f"--figure {name}" for name in FIGURE_GROUPS[group])
 
 
-def subject_label(subject):
-    """Display name of a subject: the sheet's optional label column, else its id."""
-    if "label" in SUBJECTS.columns:
-        label = SUBJECTS.loc[subject, "label"]
-        if isinstance(label, str) and label.strip():
-            return label.strip()
-    return subject
-
-
 # Every figure file the default target builds (PDF and PNG of each).
 FIGURE_OUTPUTS = [path for group in FIGURE_GROUPS for path in figure_files(group)]
 
 # Shared arguments: the subject list (id, species, label) in sheet order, the
 # PNG resolution and the footer; the figure stage reads results files only.
 FIGURE_SUBJECT_ARGS = " ".join(
-    f"--subject {shlex.quote(s)} {SUBJECTS.loc[s, 'species']} {shlex.quote(subject_label(s))}"
+    f"--subject {shlex.quote(s)} {SUBJECTS[s]['species']} {shlex.quote(SUBJECTS[s]['label'])}"
     for s in SUBJECT_IDS
 )
 # The drawing code is an input too, so editing the figures' style redraws them.

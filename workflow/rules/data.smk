@@ -29,7 +29,7 @@ rule prepare_profiles:
         ENVIRONMENT
     params:
         subjects=lambda wildcards, input: " ".join(
-            f"--subject {s} {float(SUBJECTS.loc[s, 'magnification'])!r} {shlex.quote(path)}"
+            f"--subject {s} {SUBJECTS[s]['magnification']!r} {shlex.quote(path)}"
             for s, path in zip(BATCHES[wildcards.batch], input.profiles, strict=True)
         ),
     shell:
@@ -49,7 +49,9 @@ rule prepare_outline:
     conda:
         ENVIRONMENT
     params:
-        magnification=lambda wildcards: SUBJECTS.loc[wildcards.subject, "magnification"],
+        magnification=lambda wildcards: repr(
+            SUBJECTS[wildcards.subject]["magnification"]
+        ),
     shell:
         "$LINELOAD_PYTHON {input.code[0]:q} --subject {wildcards.subject}"
         " --magnification {params.magnification} --outline {input.outline:q}"
