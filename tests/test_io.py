@@ -27,3 +27,51 @@ def test_failed_write_leaves_nothing(tmp_path):
     with pytest.raises(TypeError):
         io.write_text(None, tmp_path / "x.txt")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_row_writer_matches_the_pandas_writer_byte_for_byte(tmp_path):
+    """The pandas-free writer of the fit jobs and write_csv give the same file."""
+    import numpy as np
+
+    rows = [
+        {"subject": "01", "n": 3, "x_mm": 0.1 + 0.2, "flag": True, "note": 'a, "b"'},
+        {"subject": "M-2", "n": 12, "x_mm": float("nan"), "flag": False, "note": "plain"},
+        {"subject": "H3", "n": np.int64(7), "x_mm": np.float64(1e-12), "flag": np.True_},
+        {"subject": "Z", "n": 0, "x_mm": float("inf"), "flag": False, "note": None},
+        {"subject": "Y", "n": 5, "x_mm": 123456789.123, "flag": False, "note": ""},
+    ]
+    columns = ["subject", "n", "x_mm", "flag", "note"]
+    io.write_rows(rows, columns, tmp_path / "rows.csv")
+    io.write_csv(pd.DataFrame(rows, columns=columns), tmp_path / "frame.csv")
+    assert (tmp_path / "rows.csv").read_bytes() == (tmp_path / "frame.csv").read_bytes()
+
+
+def test_read_trials_groups_as_pandas_does(tmp_path):
+    """Trials come back per subject and depth, in file order, as a pandas groupby gives them."""
+    path = tmp_path / "averaged.csv"
+    path.write_text(
+        "subject,depth_mm,distance_mm,left_mm,deflection_mm\n"
+        "01,2,0.1,0.9,0.95\n"
+        "01,1,0.1,0.4,0.45\n"
+        "01,2,0.3,0.5,\n"
+        "M2,1,0.2,0.3,0.25\n"
+        "01,1,0.2,0.3,0.35\n",
+        encoding="utf-8",
+    )
+    trials = io.read_trials(path)
+    frame = io.read_results_csv(path)
+    expected = {
+        (subject, depth): (list(group["distance_mm"]), list(group["deflection_mm"]))
+        for (subject, depth), group in frame.groupby(["subject", "depth_mm"], sort=False)
+    }
+    assert list(trials) == list(expected) == [("01", 2.0), ("01", 1.0), ("M2", 1.0)]
+    for key, (x, y) in expected.items():
+        assert trials[key][0] == x
+        assert trials[key][1] == pytest.approx(y, nan_ok=True)
+
+
+def test_read_trials_names_a_missing_column(tmp_path):
+    path = tmp_path / "averaged.csv"
+    path.write_text("subject,depth_mm,distance_mm\nA,1,0.1\n", encoding="utf-8")
+    with pytest.raises(ValueError, match="deflection_mm"):
+        io.read_trials(path)

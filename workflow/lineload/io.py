@@ -1,18 +1,31 @@
 """Reading schemas and writing reproducible, human-readable tables.
 
-Every file the workflow writes goes through :func:`write_csv` (or
-:func:`write_text`): fixed float formatting, ``\\n`` line endings and an
+Every file the workflow writes goes through :func:`write_csv`,
+:func:`write_rows` or :func:`write_text`: fixed float formatting, ``\\n`` line endings and an
 atomic rename, so two builds give identical bytes and a failed step leaves no
 half-written file behind.
 """
 
 from __future__ import annotations
 
+import csv
+import io
+import math
+import numbers
 import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["FLOAT_FORMAT", "SCHEMA_DIR", "load_schema", "write_csv", "write_text"]
+__all__ = [
+    "FLOAT_FORMAT",
+    "SCHEMA_DIR",
+    "format_cell",
+    "load_schema",
+    "read_trials",
+    "write_csv",
+    "write_rows",
+    "write_text",
+]
 
 #: The JSON schemas (YAML) of the config and of each raw-data table.
 SCHEMA_DIR = Path(__file__).resolve().parents[1] / "schemas"
@@ -102,3 +115,87 @@ def write_csv(frame, path, columns=None):
         index=False, columns=columns, float_format=FLOAT_FORMAT, lineterminator="\n"
     )
     write_text(text, path)
+
+
+def format_cell(value):
+    """One CSV cell exactly as :func:`write_csv` (pandas with FLOAT_FORMAT) writes it.
+
+    Parameters
+    ----------
+    value : None, bool, int, float, str or numpy scalar
+        NaN and None give an empty cell; integers are written whole; other
+        numbers with :data:`FLOAT_FORMAT`.
+
+    Returns
+    -------
+    str
+    """
+    if value is None:
+        return ""
+    if isinstance(value, bool) or getattr(getattr(value, "dtype", None), "kind", "") == "b":
+        return str(bool(value))
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        value = float(value)
+        return "" if math.isnan(value) else FLOAT_FORMAT % value
+    return str(value)
+
+
+def write_rows(rows, columns, path):
+    """Write dict rows as CSV, byte for byte as :func:`write_csv` would, without pandas.
+
+    The per-subject fit jobs use it: they run once per subject, and importing
+    pandas would cost them more than the fits themselves.
+
+    Parameters
+    ----------
+    rows : iterable of dict
+        One dict per row; a key missing from a row gives an empty cell.
+    columns : list of str
+        Column order (the header).
+    path : str or os.PathLike
+        Destination.
+    """
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(columns)
+    for row in rows:
+        writer.writerow([format_cell(row.get(column)) for column in columns])
+    write_text(buffer.getvalue(), path)
+
+
+def read_trials(path):
+    """The trials of an averaged-profile table, without pandas.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A table written by rule ``prepare_profiles`` (columns ``subject``,
+        ``depth_mm``, ``distance_mm`` and ``deflection_mm`` at least).
+
+    Returns
+    -------
+    dict
+        ``(subject, depth_mm) -> (distance_mm, deflection_mm)``, two lists of
+        floats in file order; keys in order of first appearance.
+
+    Raises
+    ------
+    ValueError
+        If a needed column is missing.
+    """
+    needed = ("subject", "depth_mm", "distance_mm", "deflection_mm")
+    trials = {}
+    with open(path, newline="", encoding="utf-8") as handle:
+        reader = csv.reader(handle)
+        header = next(reader, [])
+        missing = [name for name in needed if name not in header]
+        if missing:
+            raise ValueError(f"{path}: expected the columns {', '.join(missing)}")
+        subject, depth, distance, deflection = (header.index(name) for name in needed)
+        for row in reader:
+            x, y = trials.setdefault((row[subject], float(row[depth])), ([], []))
+            x.append(float(row[distance]))
+            y.append(float(row[deflection]) if row[deflection] else math.nan)
+    return trials

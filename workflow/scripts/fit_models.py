@@ -2,11 +2,9 @@
 
 import argparse
 
-import pandas as pd
-
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
 from lineload.fitting import FIT_COLUMNS, fit_trial
-from lineload.io import read_results_csv, write_csv
+from lineload.io import read_trials, write_rows
 
 
 def main():
@@ -19,12 +17,12 @@ def main():
     parser.add_argument("--output", required=True, help="output: one row per subject and depth")
     args = parser.parse_args()
 
-    averaged = read_results_csv(args.averaged)
+    trials = read_trials(args.averaged)  # numpy only: this job runs once per batch
     rows = []
     for subject, species in args.subject:
-        trials = averaged[averaged["subject"].astype(str) == subject]
-        for depth_mm, trial in trials.groupby("depth_mm", sort=True):
-            row = fit_trial(trial["distance_mm"], trial["deflection_mm"], depth_mm, args.window_mm)
+        for depth_mm in sorted(depth for (s, depth) in trials if s == subject):
+            x, y = trials[subject, depth_mm]
+            row = fit_trial(x, y, depth_mm, args.window_mm)
             rows.append({"subject": subject, "species": species, **row})
             print(
                 f"{subject} {depth_mm:g} mm: {row['n_points']} points, "
@@ -32,7 +30,7 @@ def main():
                 f"RMSE waterbed/arc/Boussinesq = {row['waterbed_rmse_mm']:.4f}/"
                 f"{row['arc_rmse_mm']:.4f}/{row['boussinesq_rmse_mm']:.4f} mm"
             )
-    write_csv(pd.DataFrame(rows, columns=FIT_COLUMNS), args.output)
+    write_rows(rows, FIT_COLUMNS, args.output)
 
 
 if __name__ == "__main__":

@@ -2,10 +2,10 @@
 
 import argparse
 
-import pandas as pd
+import numpy as np
 
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
-from lineload.io import read_results_csv, write_csv
+from lineload.io import read_trials, write_rows
 from lineload.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS, sensitivity_rows, trial_checks
 
 
@@ -26,12 +26,11 @@ def main():
     parser.add_argument("--checks", required=True, help="output: U shift and reach per trial")
     args = parser.parse_args()
 
-    averaged = read_results_csv(args.averaged)
+    trials = read_trials(args.averaged)  # numpy only: this job runs once per batch
     rows, checks = [], []
     for subject, species in args.subject:
-        trials = averaged[averaged["subject"].astype(str) == subject]
-        for depth_mm, trial in trials.groupby("depth_mm", sort=True):
-            x, y = trial["distance_mm"].to_numpy(), trial["deflection_mm"].to_numpy()
+        for depth_mm in sorted(depth for (s, depth) in trials if s == subject):
+            x, y = (np.asarray(values) for values in trials[subject, depth_mm])
             for row in sensitivity_rows(x, y, depth_mm, args.windows_mm):
                 rows.append({"subject": subject, "species": species, **row})
             check = trial_checks(x, y, depth_mm, args.window_mm, args.reach_fraction)
@@ -40,8 +39,8 @@ def main():
                 f"{subject} {depth_mm:g} mm: reach {check['reach_mm']:g} mm, "
                 f"U/X at L/3 = {check['shift_fraction_at_third']:.3f}"
             )
-    write_csv(pd.DataFrame(rows, columns=SENSITIVITY_COLUMNS), args.sensitivity)
-    write_csv(pd.DataFrame(checks, columns=CHECK_COLUMNS), args.checks)
+    write_rows(rows, SENSITIVITY_COLUMNS, args.sensitivity)
+    write_rows(checks, CHECK_COLUMNS, args.checks)
 
 
 if __name__ == "__main__":
