@@ -104,6 +104,7 @@ rule figure_supplement:
         result("logs", "figure_supplement.log"),
     benchmark:
         result("benchmarks", "figure_supplement.tsv")
+    priority: 1
     conda:
         ENVIRONMENT
     params:

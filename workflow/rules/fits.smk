@@ -56,6 +56,7 @@ rule fit_sensitivity:
         result("logs", "fit_sensitivity", "{batch}.log"),
     benchmark:
         result("benchmarks", "fit_sensitivity", "{batch}.tsv")
+    priority: 1
     conda:
         ENVIRONMENT
     params:
@@ -99,6 +100,7 @@ rule sensitivity_tables:
         result("logs", "sensitivity_tables.log"),
     benchmark:
         result("benchmarks", "sensitivity_tables.tsv")
+    priority: 1
     conda:
         ENVIRONMENT
     params:
