@@ -97,9 +97,9 @@ CHECK_CODE = [
 ]
 CHECK_CODE += [WORKFLOW_DIR / "rules" / "common.smk"]
 CHECK_CODE += sorted((WORKFLOW_DIR / "schemas").glob("*.schema.yaml"))
-_raw_given = config.get(
-    "raw_data", load_schema("config")["properties"]["raw_data"]["default"]
-)
+_raw_given = config.get("raw_data")
+if _raw_given is None:  # not set: the schema's default
+    _raw_given = load_schema("config")["properties"]["raw_data"]["default"]
 _check_key = (
     checkcache.fingerprint(config, _raw_given, CHECK_CODE)
     if isinstance(_raw_given, str)
