@@ -1,7 +1,7 @@
 """Measure the workflow's speed targets on this machine and write a Markdown table.
 
     python benchmarks/run.py                  # everything, 3 repeats (about 6 minutes)
-    python benchmarks/run.py --repeats 5 --output benchmarks/results.md
+    python benchmarks/run.py --repeats 5 --output benchmarks/results.md   # about 9 minutes
 
 Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
 
@@ -10,7 +10,11 @@ Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
 - a rerun with nothing changed;
 - a rerun after editing one subject's profile (and which jobs ran);
 - the `fits` target on scale datasets of 1000 and 2000 subjects x 4 depths made by the
-  generator in a temporary folder, with the peak memory of the whole process tree.
+  generator in a temporary folder, with the peak memory of the whole process tree, and a
+  rerun of it with nothing changed;
+- what no workflow can go below: Snakemake's own start-up (`snakemake --version`), a rerun of
+  a one-rule workflow, a rerun of ours with Snakemake's own pandas import (for comparing
+  params) suppressed, and the time the figure jobs take (from their benchmark files).
 
 Nothing here is a test: timings depend on the machine and what else it is doing.
 """
@@ -30,6 +34,19 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
+#: The remembered input check (see workflow/lineload/checkcache.py); a clean build has none.
+CHECK_CACHE = REPO / ".snakemake" / "lineload" / "input-check.json"
+#: Runs Snakemake with the pandas import it makes to compare params suppressed (diagnostic only).
+WITHOUT_PANDAS_CHECK = """
+import importlib.util, sys
+find_spec = importlib.util.find_spec
+def hide_pandas(name, *args, **kwargs):
+    return None if name == "pandas" else find_spec(name, *args, **kwargs)
+importlib.util.find_spec = hide_pandas
+from snakemake.cli import main
+sys.argv = ["snakemake", *sys.argv[1:]]
+main()
+"""
 PAGE_KB = os.sysconf("SC_PAGE_SIZE") / 1024
 
 
@@ -129,6 +146,7 @@ def main():
 
         def clean_build():
             shutil.rmtree(results, ignore_errors=True)
+            CHECK_CACHE.unlink(missing_ok=True)
             return run(snakemake(raw=raw, results=results))
 
         clean, runs = median_of(args.repeats, clean_build)
@@ -141,8 +159,67 @@ def main():
             )
         )
 
+        figure_seconds = sum(
+            float(path.read_text().splitlines()[1].split("\t")[0])
+            for path in (results / "benchmarks").glob("figure_*.tsv")
+        )
+
         noop, _ = median_of(max(args.repeats, 5), lambda: run(snakemake(raw=raw, results=results)))
         rows.append(("rerun, nothing changed", noop, "", "target <= 1 s"))
+
+        # What no workflow goes below on this machine.
+        version, _ = median_of(
+            max(args.repeats, 5), lambda: run([sys.executable, "-m", "snakemake", "--version"])
+        )
+        rows.append(("floor: `snakemake --version`", version, "", "Snakemake's start-up"))
+        one_rule = work / "one-rule"
+        one_rule.mkdir()
+        (one_rule / "Snakefile").write_text(
+            'rule all:\n    input: "a.txt"\n\n'
+            'rule a:\n    output: "a.txt"\n    params: n=1\n'
+            '    shell: "echo {params.n} > {output}"\n'
+        )
+        run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=one_rule)
+        trivial, _ = median_of(
+            max(args.repeats, 5),
+            lambda: run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=one_rule),
+        )
+        rows.append(
+            (
+                "floor: rerun of a one-rule workflow, nothing changed",
+                trivial,
+                "",
+                "with one param, so Snakemake imports pandas to compare it",
+            )
+        )
+        unpatched, _ = median_of(
+            max(args.repeats, 5),
+            lambda: run(
+                [
+                    sys.executable,
+                    "-c",
+                    WITHOUT_PANDAS_CHECK,
+                    *snakemake(raw=raw, results=results)[3:],
+                ]
+            ),
+        )
+        rows.append(
+            (
+                "rerun, nothing changed, Snakemake's pandas import suppressed",
+                unpatched,
+                "",
+                "diagnostic only: what that import costs the rerun",
+            )
+        )
+        rows.append(
+            (
+                "figure jobs of the last clean build, summed",
+                figure_seconds,
+                "",
+                f"a clean build on 2 cores takes at least {version:.2f} + "
+                f"{figure_seconds:.2f} / 2 = {version + figure_seconds / 2:.1f} s",
+            )
+        )
 
         def edit_one():
             profile = raw / "profiles" / "M2.csv"
@@ -192,13 +269,27 @@ def main():
             rows.append(
                 (f"`fits` target, {n} subjects x 4 depths", seconds, f"{peak:.0f} MB", note)
             )
+            again, _ = median_of(
+                max(args.repeats, 5),
+                lambda scale_raw=scale_raw, scale_results=scale_results: run(
+                    snakemake("fits", raw=scale_raw, results=scale_results)
+                ),
+            )
+            rows.append(
+                (
+                    f"rerun of `fits`, {n} subjects, nothing changed",
+                    again,
+                    "",
+                    "the input check is remembered, not repeated",
+                )
+            )
             previous = (n, seconds)
     finally:
         shutil.rmtree(work, ignore_errors=True)
 
     lines = [
         f"Measured on {os.cpu_count()} cores, median of {args.repeats} runs "
-        "(5 for the no-change rerun); peak memory of the whole process tree.",
+        "(at least 5 for the reruns and floors); peak memory of the whole process tree.",
         "",
         "| what | seconds | peak memory | note |",
         "|---|--:|--:|---|",
