@@ -1,8 +1,8 @@
 """Reading schemas and writing reproducible, human-readable tables.
 
-Every file the workflow writes goes through :func:`write_csv`,
-:func:`write_rows` or :func:`write_text`: fixed float formatting, ``\\n`` line endings and an
-atomic rename, so two builds give identical bytes and a failed step leaves no
+Every file the workflow writes goes through :func:`write_csv`, :func:`write_rows`
+or :func:`write_text`: fixed float formatting, ``\\n`` line endings and an atomic
+rename, so two builds give identical bytes and a failed step leaves no
 half-written file behind.
 """
 
@@ -118,7 +118,7 @@ def write_csv(frame, path, columns=None):
 
 
 def format_cell(value):
-    """One CSV cell exactly as :func:`write_csv` (pandas with FLOAT_FORMAT) writes it.
+    """One CSV cell as :func:`write_csv` (pandas with FLOAT_FORMAT) writes a column of its type.
 
     Parameters
     ----------
