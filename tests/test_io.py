@@ -60,14 +60,19 @@ def test_read_trials_groups_as_pandas_does(tmp_path):
     )
     trials = io.read_trials(path)
     frame = io.read_results_csv(path)
-    expected = {
-        (subject, depth): (list(group["distance_mm"]), list(group["deflection_mm"]))
-        for (subject, depth), group in frame.groupby(["subject", "depth_mm"], sort=False)
-    }
-    assert list(trials) == list(expected) == [("01", 2.0), ("01", 1.0), ("M2", 1.0)]
-    for key, (x, y) in expected.items():
-        assert trials[key][0] == x
-        assert trials[key][1] == pytest.approx(y, nan_ok=True)
+    expected = {}
+    for subject, rows in frame.groupby("subject", sort=False):
+        expected[subject] = {
+            depth: (list(group["distance_mm"]), list(group["deflection_mm"]))
+            for depth, group in rows.groupby("depth_mm", sort=True)
+        }
+    assert list(trials) == list(expected) == ["01", "M2"]
+    assert {s: list(d) for s, d in trials.items()} == {"01": [1.0, 2.0], "M2": [1.0]}
+    for subject, depths in expected.items():
+        assert list(trials[subject]) == list(depths)
+        for depth, (x, y) in depths.items():
+            assert trials[subject][depth][0] == x
+            assert trials[subject][depth][1] == pytest.approx(y, nan_ok=True)
 
 
 def test_read_trials_names_a_missing_column(tmp_path):

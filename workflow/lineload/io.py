@@ -177,8 +177,9 @@ def read_trials(path):
     Returns
     -------
     dict
-        ``(subject, depth_mm) -> (distance_mm, deflection_mm)``, two lists of
-        floats in file order; keys in order of first appearance.
+        ``subject -> {depth_mm: (distance_mm, deflection_mm)}``, two lists of
+        floats in file order; depths in increasing order, subjects in order of
+        first appearance.
 
     Raises
     ------
@@ -195,7 +196,8 @@ def read_trials(path):
             raise ValueError(f"{path}: expected the columns {', '.join(missing)}")
         subject, depth, distance, deflection = (header.index(name) for name in needed)
         for row in reader:
-            x, y = trials.setdefault((row[subject], float(row[depth])), ([], []))
+            depths = trials.setdefault(row[subject], {})
+            x, y = depths.setdefault(float(row[depth]), ([], []))
             x.append(float(row[distance]))
             y.append(float(row[deflection]) if row[deflection] else math.nan)
-    return trials
+    return {subject: dict(sorted(depths.items())) for subject, depths in trials.items()}

@@ -20,8 +20,7 @@ def main():
     trials = read_trials(args.averaged)  # numpy only: this job runs once per batch
     rows = []
     for subject, species in args.subject:
-        for depth_mm in sorted(depth for (s, depth) in trials if s == subject):
-            x, y = trials[subject, depth_mm]
+        for depth_mm, (x, y) in trials.get(subject, {}).items():
             row = fit_trial(x, y, depth_mm, args.window_mm)
             rows.append({"subject": subject, "species": species, **row})
             print(

@@ -29,8 +29,8 @@ def main():
     trials = read_trials(args.averaged)  # numpy only: this job runs once per batch
     rows, checks = [], []
     for subject, species in args.subject:
-        for depth_mm in sorted(depth for (s, depth) in trials if s == subject):
-            x, y = (np.asarray(values) for values in trials[subject, depth_mm])
+        for depth_mm, columns in trials.get(subject, {}).items():
+            x, y = (np.asarray(values) for values in columns)
             for row in sensitivity_rows(x, y, depth_mm, args.windows_mm):
                 rows.append({"subject": subject, "species": species, **row})
             check = trial_checks(x, y, depth_mm, args.window_mm, args.reach_fraction)
