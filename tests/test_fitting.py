@@ -66,6 +66,47 @@ def test_arc_recovers_L(depth_mm, L_mm):
     assert np.all(np.abs(estimates / L_mm - 1) < 0.05)
 
 
+@pytest.mark.parametrize("depth_mm", [0.5, 1.0, 2.0])
+@pytest.mark.parametrize("L_mm", [8.0, 12.0, 15.0])
+def test_shifted_recovers_L(depth_mm, L_mm):
+    exact = models.shifted_deflection_mm(DISTANCE_MM, depth_mm, L_mm)
+    assert fitting.fit_shifted(DISTANCE_MM, exact, depth_mm).params["L_mm"] == pytest.approx(
+        L_mm, rel=1e-7
+    )
+    estimates = np.array(
+        [
+            fitting.fit_shifted(DISTANCE_MM, noisy(exact, s), depth_mm).params["L_mm"]
+            for s in range(10)
+        ]
+    )
+    assert np.all(np.abs(estimates / L_mm - 1) < 0.05)
+
+
+@pytest.mark.parametrize("L_mm", [10.0, 12.0, 14.0])
+def test_papers_procedure_underestimates_L_of_shifted_profiles(L_mm):
+    # profiles that are exactly the small-slope solution in measured coordinates: read
+    # as if x were X, eq. 19 gives a narrower membrane, by more the deeper the load
+    shortfall = []
+    for depth_mm in (0.5, 1.0, 1.5, 2.0):
+        exact = models.shifted_deflection_mm(DISTANCE_MM, depth_mm, L_mm)
+        paper_L = fitting.fit_waterbed(DISTANCE_MM, exact, depth_mm).params["L_mm"]
+        shortfall.append(1.0 - paper_L / L_mm)
+    assert np.all(np.diff(shortfall) > 0) and shortfall[0] > 0
+    assert 0.08 < shortfall[-1] < 0.16  # 8-15 % at 2 mm for L = 10-14 mm
+
+
+def test_shifted_fit_stops_at_the_fold():
+    # data that want L below sqrt(6) W0, where x(X) folds (a steep straight drop far
+    # below the resting surface): L ends at that bound
+    depth_mm = 2.0
+    y = depth_mm - 3.0 * DISTANCE_MM
+    fit = fitting.fit_shifted(DISTANCE_MM, y, depth_mm)
+    fold_mm = np.sqrt(6.0) * depth_mm
+    assert fit.params["L_mm"] == pytest.approx(fold_mm, rel=1e-6)
+    assert fit.params["L_ci_low_mm"] == pytest.approx(fold_mm, rel=1e-6)
+    assert np.isfinite(fit.rmse_mm)
+
+
 def test_arc_and_parabola_disagree_at_large_depth():
     # the parabola fitted to an exact arc at W0/L = 0.2 misses by more than the noise
     exact = models.arc_deflection_mm(DISTANCE_MM, 2.0, 10.0)
@@ -151,6 +192,7 @@ def test_chi_square_quantile():
     [
         (fitting.fit_waterbed, models.waterbed_deflection_mm),
         (fitting.fit_arc, models.arc_deflection_mm),
+        (fitting.fit_shifted, models.shifted_deflection_mm),
     ],
 )
 def test_confidence_interval_covers_the_truth_about_95_percent(fit, model):

@@ -67,6 +67,66 @@ class TestWaterbedParabola:
         )
 
 
+@pytest.mark.parametrize("depth_mm, L_mm", [(0.5, 10.0), (1.0, 12.5), (2.0, 10.0), (1.3, 4.0)])
+class TestShiftedParabola:
+    """Eq. 19 placed at the deformed position x = X + U(X) (eq. 20)."""
+
+    def test_resting_position_inverts_the_shift(self, depth_mm, L_mm):
+        X = np.linspace(0.0, L_mm, 201)
+        x = X + models.waterbed_shift_mm(X, depth_mm, L_mm)
+        assert np.allclose(models.resting_position_mm(x, depth_mm, L_mm), X, atol=1e-12 * L_mm)
+
+    def test_is_eq_19_at_the_resting_position(self, depth_mm, L_mm):
+        X = np.linspace(0.0, L_mm, 201)
+        x = X + models.waterbed_shift_mm(X, depth_mm, L_mm)
+        assert np.allclose(
+            models.shifted_deflection_mm(x, depth_mm, L_mm),
+            models.waterbed_deflection_mm(X, depth_mm, L_mm),
+            atol=1e-12 * depth_mm,
+        )
+
+    def test_ends_and_zero_crossing(self, depth_mm, L_mm):
+        W = models.shifted_deflection_mm([0.0, L_mm, 2.0 * L_mm], depth_mm, L_mm)
+        assert W[0] == pytest.approx(depth_mm) and W[1] == pytest.approx(0.0, abs=1e-12)
+        assert W[2] == 0.0  # beyond the wall nothing moves
+        # the zero of W sits at X = L/3, seen at x = L/3 + U(L/3) = L/3 - 8 W0^2 / (9 L)
+        x_zero = L_mm / 3.0 - 8.0 * depth_mm**2 / (9.0 * L_mm)
+        assert models.shifted_deflection_mm(x_zero, depth_mm, L_mm) == pytest.approx(
+            0.0, abs=1e-12 * depth_mm
+        )
+
+    def test_same_bulge_depth_as_eq_19(self, depth_mm, L_mm):
+        # only the horizontal positions move: the deepest bulge is still -W0/3
+        x = np.linspace(0.0, L_mm, 20001)
+        W = models.shifted_deflection_mm(x, depth_mm, L_mm)
+        assert W.min() == pytest.approx(-depth_mm / 3.0, rel=1e-6)
+
+
+def test_shift_is_one_to_one_below_the_fold_only():
+    depth_mm = 1.0
+    fold_mm = np.sqrt(6.0) * depth_mm
+    assert models.shift_is_one_to_one(depth_mm, fold_mm * 1.001)
+    assert not models.shift_is_one_to_one(depth_mm, fold_mm * 0.999)
+    # just inside: x(X) is increasing; just outside: it decreases near the load
+    for L_mm, increasing in ((fold_mm * 1.001, True), (fold_mm * 0.999, False)):
+        X = np.linspace(0.0, L_mm, 100001)
+        x = X + models.waterbed_shift_mm(X, depth_mm, L_mm)
+        assert bool(np.all(np.diff(x) > 0)) is increasing
+    assert np.isnan(models.shifted_deflection_mm([0.5, 1.0], depth_mm, fold_mm * 0.999)).all()
+
+
+def test_resting_position_converges_for_every_admissible_ratio():
+    # k = 6 (W0/L)^2 anywhere in [0, 1), t = x/L anywhere in [0, 1]
+    k = np.linspace(0.0, 1.0 - 1e-9, 401)[:, None]
+    t = np.linspace(0.0, 1.0, 401)[None, :]
+    L_mm = 1.0
+    depth_mm = np.sqrt(k / 6.0) * L_mm
+    X = np.stack([models.resting_position_mm(t[0], d, L_mm) for d in depth_mm[:, 0]])
+    s = X / L_mm
+    residual = s - k * s * (s - 1.0) ** 2 - t
+    assert np.all(np.isfinite(X)) and np.max(np.abs(residual)) < 1e-13
+
+
 class TestArc:
     @pytest.mark.parametrize("delta", [0.01, 0.05, 0.1, 0.2, 0.3, 0.5])
     def test_passes_through_ends_and_encloses_zero_area(self, delta):

@@ -1,4 +1,4 @@
-"""Least-squares fits of the three deflection models to one averaged profile.
+"""Least-squares fits of the deflection models to one averaged profile.
 
 Every fit takes the same points (distance and deflection in mm) and returns a
 :class:`FitResult` with its parameters and the same goodness-of-fit measures,
@@ -6,7 +6,21 @@ so that models can be compared on equal terms.
 
 The waterbed fits keep ``W0`` fixed to the indentation depth, as in the paper,
 and fit ``L`` alone, constrained to ``L >= max(distance)`` so that every fitted
-point lies on the membrane (inside the wall).
+point lies on the membrane (inside the wall).  Three waterbed variants are
+fitted:
+
+``waterbed``
+    The paper's procedure: eq. 19, W(X), compared with readings taken at the
+    deformed position x as if X were x.
+``shifted``
+    The same small-slope solution in measured coordinates: W(X) placed at
+    ``x = X + U(X)`` (eqs 19-20).  It exists only while that map is one-to-one,
+    ``L > sqrt(6) W0``; the fit searches that range only, and when the data
+    would want a narrower membrane it stops at the bound (the fitted ``L`` then
+    equals ``sqrt(6) W0`` to within the search tolerance and the interval's
+    lower end is that bound).
+``arc``
+    The exact solution, a circular arc in the deformed plane.
 """
 
 from __future__ import annotations
@@ -16,9 +30,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .models import (
+    MAX_ONE_TO_ONE_RATIO,
     arc_deflection_mm,
     arc_geometry,
     boussinesq_deflection_mm,
+    shifted_deflection_mm,
     waterbed_deflection_mm,
 )
 
@@ -26,6 +42,7 @@ __all__ = [
     "FitResult",
     "fit_arc",
     "fit_boussinesq",
+    "fit_shifted",
     "fit_waterbed",
     "fit_waterbed_free_depth",
     "goodness_of_fit",
@@ -50,7 +67,8 @@ class FitResult:
     Attributes
     ----------
     model : str
-        ``"waterbed"``, ``"arc"`` or ``"boussinesq"``.
+        ``"waterbed"``, ``"shifted"``, ``"arc"``, ``"waterbed_free_depth"`` or
+        ``"boussinesq"``.
     params : dict of str to float
         Fitted parameters, units in their names (``L_mm``, ``A_mm``, ``x0_mm``).
     n_points : int
@@ -364,6 +382,24 @@ def minimise_in_L(sse_of_L, L_min, L_max, n_grid=200, rtol=1e-9):
     return float(candidates[np.argmin(sse_of_L(candidates))])
 
 
+def _fit_L_by_search(model, x, y, sse_of_L, deflection, L_lo):
+    """One-parameter fit in L by :func:`minimise_in_L` over ``[L_lo, L_SEARCH_SPAN max(x)]``.
+
+    Shared by the fixed-depth fits that have no closed form (exact arc,
+    shifted parabola): the minimum, the fitted curve's residuals and the
+    profile-likelihood interval.
+    """
+    L_hi = L_SEARCH_SPAN * x.max()
+    try:
+        L_mm = minimise_in_L(sse_of_L, L_lo, L_hi)
+    except ValueError as error:
+        raise ValueError(f"no valid {model} curve: {error}") from None
+    residual = y - deflection(x, L_mm)
+    low, high = profile_interval(sse_of_L, L_mm, L_lo, L_hi, float(np.sum(residual**2)), x.size)
+    params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
+    return _result(model, params, residual, n_params=1)
+
+
 def fit_arc(distance_mm, deflection_mm, depth_mm):
     """Fit the exact circular-arc waterbed with W0 fixed and L free.
 
@@ -384,19 +420,57 @@ def fit_arc(distance_mm, deflection_mm, depth_mm):
         the 95 % profile-likelihood interval (:func:`profile_interval`).
     """
     x, y = _as_points(distance_mm, deflection_mm, minimum=1)
-    L_lo, L_hi = x.max(), L_SEARCH_SPAN * x.max()
+    return _fit_L_by_search(
+        "arc",
+        x,
+        y,
+        lambda L: _arc_sse(x, y, depth_mm, L),
+        lambda x, L: arc_deflection_mm(x, depth_mm, L),
+        x.max(),
+    )
 
-    def sse_of_L(L):
-        return _arc_sse(x, y, depth_mm, L)
 
-    try:
-        L_mm = minimise_in_L(sse_of_L, L_lo, L_hi)
-    except ValueError as error:
-        raise ValueError(f"no valid arc: {error}") from None
-    residual = y - arc_deflection_mm(x, depth_mm, L_mm)
-    low, high = profile_interval(sse_of_L, L_mm, L_lo, L_hi, float(np.sum(residual**2)), x.size)
-    params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
-    return _result("arc", params, residual, n_params=1)
+def _shifted_sse(x, y, depth_mm, L_mm):
+    """Sum of squared residuals of the shifted parabola for each L (vectorised over L)."""
+    L_mm = np.atleast_1d(np.asarray(L_mm, dtype=float))
+    model = shifted_deflection_mm(x[None, :], depth_mm, L_mm[:, None])
+    sse = np.sum((y[None, :] - model) ** 2, axis=1)
+    return np.where(np.isfinite(sse), sse, np.inf)
+
+
+def fit_shifted(distance_mm, deflection_mm, depth_mm):
+    """Fit the small-slope waterbed in measured coordinates, W0 fixed and L free.
+
+    The model is eq. 19's ``W(X)`` at ``x = X + U(X)`` (eq. 20), i.e.
+    :func:`lineload.models.shifted_deflection_mm`.  It is defined for
+    ``L > sqrt(6) W0`` only (where ``x(X)`` is one-to-one), so the search runs
+    over ``[max(max(x), sqrt(6) W0 (1 + 1e-9)), 1000 max(x)]`` with
+    :func:`minimise_in_L`.  A fit that ends on the lower bound means the data
+    want a membrane too narrow for the small-slope solution.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : array_like
+        Averaged profile points (mm); distances > 0.
+    depth_mm : float
+        Indentation depth, used as W0 (mm).
+
+    Returns
+    -------
+    FitResult
+        ``params = {"L_mm": L, "L_ci_low_mm": ..., "L_ci_high_mm": ...}`` with
+        the 95 % profile-likelihood interval (:func:`profile_interval`).
+    """
+    x, y = _as_points(distance_mm, deflection_mm, minimum=1)
+    fold_mm = abs(float(depth_mm)) / MAX_ONE_TO_ONE_RATIO * (1.0 + 1e-9)
+    return _fit_L_by_search(
+        "shifted",
+        x,
+        y,
+        lambda L: _shifted_sse(x, y, depth_mm, L),
+        lambda x, L: shifted_deflection_mm(x, depth_mm, L),
+        max(x.max(), fold_mm),
+    )
 
 
 def fit_waterbed_free_depth(distance_mm, deflection_mm):
@@ -479,6 +553,12 @@ FIT_COLUMNS = [
     "waterbed_rmse_mm",
     "waterbed_max_abs_residual_mm",
     "waterbed_aicc",
+    "shifted_L_mm",
+    "shifted_L_ci_low_mm",
+    "shifted_L_ci_high_mm",
+    "shifted_rmse_mm",
+    "shifted_max_abs_residual_mm",
+    "shifted_aicc",
     "arc_L_mm",
     "arc_L_ci_low_mm",
     "arc_L_ci_high_mm",
@@ -494,7 +574,7 @@ FIT_COLUMNS = [
 
 
 def fit_trial(distance_mm, deflection_mm, depth_mm, window_mm):
-    """Fit all three models to one trial on the same points.
+    """Fit every model to one trial on the same points.
 
     Parameters
     ----------
@@ -524,6 +604,7 @@ def fit_trial(distance_mm, deflection_mm, depth_mm, window_mm):
     }
     fits = {
         "waterbed": (lambda: fit_waterbed(x, y, depth_mm), ["L_mm", "L_ci_low_mm", "L_ci_high_mm"]),
+        "shifted": (lambda: fit_shifted(x, y, depth_mm), ["L_mm", "L_ci_low_mm", "L_ci_high_mm"]),
         "arc": (lambda: fit_arc(x, y, depth_mm), ["L_mm", "L_ci_low_mm", "L_ci_high_mm"]),
         "boussinesq": (lambda: fit_boussinesq(x, y), ["A_mm", "x0_mm"]),
     }

@@ -1,12 +1,16 @@
 """Surface-deflection models for a fingertip under a line load.
 
-Three profiles, all giving the downward deflection of the skin surface as a
+Four profiles, all giving the downward deflection of the skin surface as a
 function of the horizontal distance from the wedge (both in millimetres):
 
 * the waterbed membrane in its small-slope form (Srinivasan 1989, eq. 19),
-  with the horizontal shift of material points (eq. 20);
+  with the horizontal shift of material points (eq. 20).  Eq. 19 gives the
+  deflection W at the *resting* position X of a point;
+* the same small-slope solution placed where a photograph sees it: W(X) at the
+  *deformed* position ``x = X + U(X)`` ("shifted");
 * the exact finite-deformation waterbed: a circular arc from the load point to
-  the channel wall that encloses zero net area;
+  the channel wall that encloses zero net area (a curve in the deformed plane,
+  so already in measured coordinates);
 * the modified Boussinesq (Flamant) half-space, ``A ln(x0 / x)``.
 
 The waterbed models live on ``0 <= X <= L``; beyond the wall (``X > L``) the
@@ -23,6 +27,9 @@ __all__ = [
     "arc_deflection_mm",
     "arc_geometry",
     "boussinesq_deflection_mm",
+    "resting_position_mm",
+    "shift_is_one_to_one",
+    "shifted_deflection_mm",
     "waterbed_deflection_mm",
     "waterbed_load_angle_rad",
     "waterbed_shift_mm",
@@ -52,7 +59,7 @@ def waterbed_deflection_mm(distance_mm, depth_mm, L_mm):
     """
     s = np.asarray(distance_mm, dtype=float) / L_mm
     profile = depth_mm * (3.0 * s**2 - 4.0 * s + 1.0)
-    return np.where(s <= 1.0, profile, 0.0)
+    return np.where(s > 1.0, 0.0, profile)  # NaN stays NaN
 
 
 def waterbed_shift_mm(distance_mm, depth_mm, L_mm):
@@ -77,7 +84,109 @@ def waterbed_shift_mm(distance_mm, depth_mm, L_mm):
     """
     s = np.asarray(distance_mm, dtype=float) / L_mm
     shift = -(6.0 * depth_mm**2 / L_mm) * s * (s - 1.0) ** 2
-    return np.where(s <= 1.0, shift, 0.0)
+    return np.where(s > 1.0, 0.0, shift)
+
+
+#: Largest W0 / L at which x = X + U(X) is one-to-one on [0, L]: dx/dX = 1 - 6 (W0/L)**2 at
+#: the load, and it is larger everywhere else on the membrane.
+MAX_ONE_TO_ONE_RATIO = 1.0 / math.sqrt(6.0)
+
+
+def shift_is_one_to_one(depth_mm, L_mm):
+    """Whether the small-slope map ``x = X + U(X)`` is one-to-one on ``[0, L]``.
+
+    ``dx/dX = 1 - 6 (W0/L)**2 (s - 1)(3 s - 1)`` with ``s = X / L``; the product
+    ``(s - 1)(3 s - 1)`` lies in ``[-1/3, 1]`` with its maximum at the load, so
+    the map folds (points near the load overtake each other) exactly when
+    ``6 (W0/L)**2 >= 1``, i.e. ``L <= sqrt(6) W0``.  There the small-slope
+    solution has a slope of at least 1.6 at the load and is far outside its
+    own assumptions.
+
+    Parameters
+    ----------
+    depth_mm, L_mm : float or array_like
+        W0 and L (mm).
+
+    Returns
+    -------
+    bool or numpy.ndarray of bool
+    """
+    return 6.0 * (np.asarray(depth_mm, dtype=float) / np.asarray(L_mm, dtype=float)) ** 2 < 1.0
+
+
+def resting_position_mm(distance_mm, depth_mm, L_mm):
+    """Resting position X of the membrane point seen at deformed position x (inverse of eq. 20).
+
+    Solves ``X + U(X) = x`` on ``0 <= x <= L``; with ``s = X / L``,
+    ``t = x / L`` and ``k = 6 (W0/L)**2`` that is the cubic
+    ``s - k s (s - 1)**2 = t``, increasing in ``s`` on ``[0, 1]`` when ``k < 1``
+    (see :func:`shift_is_one_to_one`).  Newton's method from the first-order
+    inverse ``s = t + k t (t - 1)**2``, each step clipped to ``[0, 1]``, reaches
+    rounding in at most 8 steps for every ``k < 1`` (checked on a dense grid of
+    ``k`` and ``t`` in the tests).  Beyond the wall (``x > L``) the surface does
+    not move and ``X = x``.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        Deformed horizontal position x (mm, >= 0).
+    depth_mm : float
+        W0 (mm).
+    L_mm : float or array_like
+        Half-width L (mm); broadcast against ``distance_mm``.
+
+    Returns
+    -------
+    numpy.ndarray
+        X (mm); NaN where the map is not one-to-one (``6 (W0/L)**2 >= 1``).
+    """
+    distance_mm, L_mm = np.broadcast_arrays(
+        np.asarray(distance_mm, dtype=float), np.asarray(L_mm, dtype=float)
+    )
+    k = 6.0 * (depth_mm / L_mm) ** 2
+    t = distance_mm / L_mm
+    inside = (t < 1.0) & (k < 1.0)
+    t_in = np.where(inside, t, 0.0)
+    k_in = np.where(inside, k, 0.0)
+    s = np.clip(t_in + k_in * t_in * (t_in - 1.0) ** 2, 0.0, 1.0)
+    for _ in range(50):
+        residual = s - k_in * s * (s - 1.0) ** 2 - t_in
+        step = residual / (1.0 - k_in * (s - 1.0) * (3.0 * s - 1.0))
+        s = np.clip(s - step, 0.0, 1.0)
+        if np.max(np.abs(step), initial=0.0) <= 1e-15:
+            break
+    X_mm = np.where(inside, s * L_mm, distance_mm)
+    return np.where(k < 1.0, X_mm, np.nan)
+
+
+def shifted_deflection_mm(distance_mm, depth_mm, L_mm):
+    """Small-slope waterbed seen in measured coordinates: W(X) at ``x = X + U(X)``.
+
+    A photograph shows each point of the skin where it is after the load, at
+    ``x = X + U(X)``; eq. 19 gives its deflection as a function of where it was,
+    X.  This profile places eq. 19 at the deformed position (eqs 19-20), the
+    coordinate-consistent form of the paper's small-slope solution.  Since
+    ``U <= 0``, it lies slightly inside (towards the load) of eq. 19 plotted
+    against x; both are equal at the load, cross zero at ``x = L/3 - 8 W0**2 / (9 L)``
+    and meet at the wall.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        Deformed horizontal position x (mm, >= 0).
+    depth_mm : float
+        W0 (mm).
+    L_mm : float or array_like
+        Half-width L (mm); broadcast against ``distance_mm``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Downward deflection (mm); zero beyond the wall; NaN where the map
+        ``X -> x`` is not one-to-one (``L <= sqrt(6) W0``).
+    """
+    X_mm = resting_position_mm(distance_mm, depth_mm, L_mm)
+    return waterbed_deflection_mm(X_mm, depth_mm, L_mm)
 
 
 def waterbed_strain(depth_mm, L_mm):
