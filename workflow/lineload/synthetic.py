@@ -46,6 +46,7 @@ __all__ = [
     "parameter_table",
     "profile_table",
     "reading_distances_mm",
+    "registration_error_mm",
     "shipped_subjects",
     "subject_markdown",
     "subject_rng",
@@ -66,8 +67,14 @@ SHORT_DEPTHS_MM = (1.0, 2.0)
 SHALLOW_DEPTH_MM, DEEP_DEPTH_MM = 0.5, 2.0
 #: Exponent of the narrow near-field term (same for every trial).
 NEAR_EXPONENT = 10.0
-#: Standard deviation of the digitising error, tissue mm.
+#: Standard deviation of the digitising error of one reading, tissue mm.
 NOISE_SD_MM = 0.01
+#: Registration error of one photograph: the resting and the deformed outline are
+#: superimposed by hand, so every reading of a trial shares a small vertical offset
+#: and a small tilt (a rotation about the wedge).  Standard deviations of the offset
+#: (tissue mm) and of the tilt (mm of deflection per mm of distance, i.e. radians).
+REGISTRATION_OFFSET_SD_MM = 0.005
+REGISTRATION_TILT_SD = 0.001
 #: Resolution of a reading on the enlargement (image mm).
 IMAGE_RESOLUTION_MM = 0.1
 #: Spacing of the reading positions, tissue mm: the finest step of the grid.
@@ -258,7 +265,8 @@ def subject_rng(seed, species, index, stream):
     index : int
         1-based number within the species.
     stream : int
-        0 for parameter draws, 1 for readings, 2 for row shuffling.
+        0 for parameter draws, 1 for readings, 2 for row shuffling, 3 for the
+        registration error of each trial.
 
     Returns
     -------
@@ -425,14 +433,46 @@ def _to_image(value_mm, magnification):
     return steps * IMAGE_RESOLUTION_MM + 0.0
 
 
+def registration_error_mm(subject, seed=DEFAULT_SEED):
+    """Offset and tilt of each trial's superimposed outlines, drawn once per trial.
+
+    The error of a reading at signed distance ``x`` (left side negative) is
+    ``offset + tilt * x``: both sides of the wedge share the photograph, so the
+    tilt raises one side as much as it lowers the other, and the left/right
+    average cancels it while the offset remains.
+
+    Parameters
+    ----------
+    subject : SubjectParameters
+    seed : int, optional
+        Dataset seed.
+
+    Returns
+    -------
+    dict
+        ``depth_mm -> (offset_mm, tilt)``, in the subject's depth order.
+    """
+    rng = subject_rng(seed, subject.species, subject.index, 3)
+    draws = rng.normal(0.0, 1.0, (len(subject.depths_mm), 2))
+    return {
+        float(depth_mm): (
+            float(REGISTRATION_OFFSET_SD_MM * offset),
+            float(REGISTRATION_TILT_SD * tilt),
+        )
+        for depth_mm, (offset, tilt) in zip(subject.depths_mm, draws, strict=True)
+    }
+
+
 def profile_table(subject, seed=DEFAULT_SEED, magnification=MAGNIFICATION, shuffle=False):
     """Simulated digitised readings of one finger, in image units.
 
     For each depth and side: the reading grid up to that side's edge (first
-    reading at 0.05 mm with probability 0.6, else 0.1 mm), true deflection
-    plus Gaussian digitising error of SD 0.01 tissue mm, clipped at 0 and
-    rounded to 0.1 mm on the enlargement.  The reading at the edge, where the
-    outlines rejoin, is 0 by definition.
+    reading at 0.05 mm with probability 0.6, else 0.1 mm), true deflection plus
+    Gaussian digitising error of SD 0.01 tissue mm (symmetric, not clipped: a
+    reading can be slightly negative where the skin barely moves) plus the
+    trial's registration error (:func:`registration_error_mm`), rounded to
+    0.1 mm on the enlargement.  At the edge, where the outlines rejoin, the
+    reading carries the registration error only.
 
     Parameters
     ----------
@@ -451,16 +491,19 @@ def profile_table(subject, seed=DEFAULT_SEED, magnification=MAGNIFICATION, shuff
         ``deflection_image_mm``.
     """
     rng = subject_rng(seed, subject.species, subject.index, 1)
+    registration = registration_error_mm(subject, seed)
     depth, side, distance, deflection = [], [], [], []
     for depth_mm in subject.depths_mm:
         trial = trial_parameters(subject, depth_mm)
+        offset_mm, tilt = registration[float(depth_mm)]
         for side_name in ("left", "right"):
             first_mm = GRID_TICK_MM if rng.random() < P_FIRST_AT_FINEST else 2 * GRID_TICK_MM
             distance_mm = reading_distances_mm(trial.extent_mm(side_name), first_mm)
             noise_mm = rng.normal(0.0, NOISE_SD_MM, distance_mm.size)
             noise_mm[-1] = 0.0  # the edge itself: outlines meet, nothing to read
+            signed_mm = -distance_mm if side_name == "left" else distance_mm
             true_mm = _trial_deflection_mm(distance_mm, trial, side_name)
-            read_mm = np.maximum(true_mm + noise_mm, 0.0)
+            read_mm = true_mm + noise_mm + offset_mm + tilt * signed_mm
             depth.append(np.full(distance_mm.size, depth_mm))
             side.append(np.full(distance_mm.size, side_name, dtype=object))
             distance.append(_to_image(distance_mm, magnification))
