@@ -52,11 +52,14 @@ rule claims_table:
         noise_mm=config["claims"]["noise_mm"],
         large_depth_mm=config["claims"]["large_depth_mm"],
         symmetry_tolerance=config["claims"]["symmetry_tolerance"],
+        misfit_growth=config["claims"]["misfit_growth"],
+        significance=config["claims"]["significance"],
         notice=NOTICE,
     shell:
         "$LINELOAD_PYTHON {input.code[0]:q} --fits {input.fits:q} --averaged {input.averaged:q}"
         " --noise-mm {params.noise_mm} --large-depth-mm {params.large_depth_mm}"
         " --symmetry-tolerance {params.symmetry_tolerance}"
+        " --misfit-growth {params.misfit_growth} --significance {params.significance}"
         " --notice={params.notice:q} --csv {output.csv:q} --md {output.md:q} > {log:q} 2>&1"
 
 

@@ -16,6 +16,8 @@ def main():
     parser.add_argument("--noise-mm", type=float, required=True)
     parser.add_argument("--large-depth-mm", type=float, required=True)
     parser.add_argument("--symmetry-tolerance", type=float, required=True)
+    parser.add_argument("--misfit-growth", type=float, required=True)
+    parser.add_argument("--significance", type=float, required=True)
     parser.add_argument(
         "--zero-crossing-rtol",
         type=float,
@@ -33,6 +35,8 @@ def main():
         noise_mm=args.noise_mm,
         large_depth_mm=args.large_depth_mm,
         symmetry_tolerance=args.symmetry_tolerance,
+        misfit_growth=args.misfit_growth,
+        significance=args.significance,
         zero_crossing_rtol=args.zero_crossing_rtol,
     )
     claims = compute_claims(fits, averaged, settings)
