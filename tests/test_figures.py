@@ -48,6 +48,7 @@ def make_dataset(spec):
                     "species": species,
                     "depth_mm": depth_mm,
                     "waterbed_L_mm": 2.5 * extent_mm,
+                    "shifted_L_mm": 2.55 * extent_mm,
                     "arc_L_mm": 2.6 * extent_mm,
                     "boussinesq_A_mm": 0.3 * depth_mm,
                     "boussinesq_x0_mm": extent_mm,
@@ -152,6 +153,7 @@ def test_residuals_are_data_minus_each_fitted_model_inside_the_window():
     trial = averaged[(averaged["subject"] == "A") & (averaged["distance_mm"] <= WINDOW_MM)]
     expected = {
         "waterbed": models.waterbed_deflection_mm(trial["distance_mm"], 1.0, row["waterbed_L_mm"]),
+        "shifted": models.shifted_deflection_mm(trial["distance_mm"], 1.0, row["shifted_L_mm"]),
         "arc": models.arc_deflection_mm(trial["distance_mm"], 1.0, row["arc_L_mm"]),
         "boussinesq": models.boussinesq_deflection_mm(
             trial["distance_mm"], row["boussinesq_A_mm"], row["boussinesq_x0_mm"]
@@ -450,6 +452,9 @@ def every_figure(notice):
         ),
         "supplement_arc_vs_parabola": plotting.figure_arc_vs_parabola(fits, notice),
         "supplement_sensitivity": plotting.figure_sensitivity(*sensitivity_inputs(), notice=notice),
+        "supplement_coordinates": plotting.figure_coordinates(
+            *coordinates_inputs(), noise_mm=0.01, notice=notice
+        ),
     }
 
 
@@ -502,7 +507,7 @@ def test_sensitivity_figure_has_a_point_per_trial_model_and_window():
     refits, checks = sensitivity_inputs(trials)
     fig = plotting.figure_sensitivity(refits, checks)
     collections = {c.get_gid(): c for ax in fig.axes for c in ax.collections}
-    for model in ("waterbed", "waterbed_free_depth", "arc"):
+    for model in ("waterbed", "waterbed_free_depth", "shifted", "arc"):
         assert len(collections[f"L:{model}"].get_offsets()) == 3 * len(trials)
     assert "L:boussinesq" not in collections  # the log form has no L
     assert len(collections["aicc:boussinesq"].get_offsets()) == 3 * len(trials)
@@ -514,3 +519,35 @@ def test_sensitivity_figure_has_a_point_per_trial_model_and_window():
         for (_, _, depth, _), L in zip(trials, checks["waterbed_L_mm"], strict=True)
     ]
     assert sorted(shift) == pytest.approx(sorted(expected))
+
+
+def coordinates_inputs():
+    """A fit table with intervals and the per-trial checks, for the coordinates figure."""
+    _, checks = sensitivity_inputs()
+    fits = checks.assign(
+        waterbed_L_ci_low_mm=checks["waterbed_L_mm"] - 0.5,
+        waterbed_L_ci_high_mm=checks["waterbed_L_mm"] + 0.5,
+        shifted_L_ci_low_mm=checks["shifted_L_mm"] - 0.5,
+        shifted_L_ci_high_mm=checks["shifted_L_mm"] + 0.5,
+        arc_L_ci_low_mm=checks["arc_L_mm"] - 0.5,
+        arc_L_ci_high_mm=np.inf,  # an interval open above is drawn without failing
+    )
+    return fits, checks
+
+
+def test_coordinates_figure_has_a_point_per_trial_and_the_noise_line():
+    fits, checks = coordinates_inputs()
+    fig = plotting.figure_coordinates(fits, checks, noise_mm=0.01)
+    collections = {}
+    for ax in fig.axes:
+        for c in ax.collections:
+            collections.setdefault(c.get_gid(), []).append(c.get_offsets())
+    for model in ("shifted", "arc"):
+        L_points = np.concatenate(collections[f"L:{model}"])
+        assert sorted(L_points[:, 1]) == pytest.approx(sorted(checks[f"{model}_L_mm"]))
+        gap_points = np.concatenate(collections[f"gap:{model}"])
+        assert sorted(gap_points[:, 1]) == pytest.approx(sorted(checks[f"gap_{model}_mm"]))
+    noise_lines = [ln for ln in fig.axes[1].get_lines() if list(ln.get_ydata()) == [0.01, 0.01]]
+    assert noise_lines
+    empty = plotting.figure_coordinates(fits.iloc[0:0], checks.iloc[0:0], 0.01)
+    assert len(empty.axes) == 1

@@ -77,3 +77,35 @@ def test_sensitivity_tables_on_a_small_dataset(tmp_path):
         ("HU", 1.0),
     ]
     assert "Synthetic" not in (out / "tables" / "sensitivity.md").read_text()
+
+
+def test_curve_gap_follows_the_first_order_expansion():
+    # W(X) at x = X + U: to first order W(x) - W'(x) U(x), a gap of
+    # 6 W0^3 / L^2 * max |(6s - 4) s (s - 1)^2| over the fitted range
+    L_mm, x_max = 12.0, 3.0
+    s = np.linspace(0, x_max / L_mm, 100001)
+    shape = np.max(np.abs((6 * s - 4) * s * (s - 1) ** 2))
+    for depth_mm in (0.05, 0.1):
+        gap = sensitivity.curve_gap_mm(depth_mm, L_mm, L_mm, x_max, "shifted", n_points=4001)
+        assert gap == pytest.approx(6 * depth_mm**3 / L_mm**2 * shape, rel=0.02)
+    # the same curve twice has no gap; a missing L gives NaN
+    assert sensitivity.curve_gap_mm(1.0, 12.0, 12.0, 3.0, "arc") == pytest.approx(
+        np.max(
+            np.abs(
+                models.arc_deflection_mm(np.linspace(0, 3, 601), 1.0, 12.0)
+                - models.waterbed_deflection_mm(np.linspace(0, 3, 601), 1.0, 12.0)
+            )
+        )
+    )
+    assert np.isnan(sensitivity.curve_gap_mm(1.0, np.nan, 12.0, 3.0, "shifted"))
+
+
+def test_trial_checks_see_what_the_coordinates_cost():
+    # readings that are the small-slope solution in measured coordinates at 2 mm
+    y = models.shifted_deflection_mm(DISTANCE_MM, 2.0, 12.0)
+    checks = sensitivity.trial_checks(DISTANCE_MM, y, 2.0, 3.0, 0.1)
+    assert checks["shifted_L_mm"] == pytest.approx(12.0, rel=1e-6)
+    assert checks["waterbed_L_mm"] < 0.93 * 12.0  # the paper's procedure: 8-15 % short
+    assert checks["gap_shifted_mm"] > 0.01  # larger than one reading's noise
+    flat = models.waterbed_deflection_mm(DISTANCE_MM, 0.5, 12.0)
+    assert sensitivity.trial_checks(DISTANCE_MM, flat, 0.5, 3.0, 0.1)["gap_shifted_mm"] < 1e-3

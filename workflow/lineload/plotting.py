@@ -47,6 +47,7 @@ __all__ = [
     "depth_colours",
     "figure_arc_vs_parabola",
     "figure_channel_schematic",
+    "figure_coordinates",
     "figure_examples",
     "figure_free_body",
     "figure_material_point",
@@ -72,6 +73,7 @@ FIGURE_NAMES = (
     "supplement_residuals",
     "supplement_arc_vs_parabola",
     "supplement_sensitivity",
+    "supplement_coordinates",
 )
 
 MM_PER_INCH = 25.4
@@ -85,15 +87,24 @@ SPECIES = ("monkey", "human")
 SPECIES_PLURAL = {"monkey": "monkeys", "human": "humans"}
 
 #: Colour of each model (Okabe-Ito palette, safe for colour-blind readers).
-MODEL_COLOURS = {"waterbed": "#0072B2", "arc": "#009E73", "boussinesq": "#D55E00"}
+MODEL_COLOURS = {
+    "waterbed": "#0072B2",
+    "shifted": "#CC79A7",
+    "arc": "#009E73",
+    "boussinesq": "#D55E00",
+}
 MODEL_NAMES = {
     "waterbed": "waterbed parabola (eq. 19)",
+    "shifted": "parabola in measured coordinates",
     "arc": "waterbed exact arc",
     "boussinesq": "modified Boussinesq",
 }
 DATA_COLOUR = "black"
 REST_COLOUR = "0.45"
 WINDOW_STYLE = {"color": "0.55", "linestyle": ":", "linewidth": 0.9}
+
+#: Line style of each model where several are drawn over each other.
+MODEL_LINESTYLES = {"waterbed": "-", "shifted": "-.", "arc": "--", "boussinesq": "-"}
 
 #: The shared style (matplotlib rcParams), applied to every figure and on saving.
 STYLE = {
@@ -321,6 +332,8 @@ def _model_curve_mm(model, distance_mm, depth_mm, row):
         return None
     if model == "waterbed" and _finite(row["waterbed_L_mm"]):
         return models.waterbed_deflection_mm(distance_mm, depth_mm, float(row["waterbed_L_mm"]))
+    if model == "shifted" and _finite(row["shifted_L_mm"]):
+        return models.shifted_deflection_mm(distance_mm, depth_mm, float(row["shifted_L_mm"]))
     if model == "arc" and _finite(row["arc_L_mm"]):
         return models.arc_deflection_mm(distance_mm, depth_mm, float(row["arc_L_mm"]))
     if (
@@ -1221,7 +1234,7 @@ def figure_species_fits(
 
 @_styled
 def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
-    """Supplement: data minus model for the three fits, by species and depth.
+    """Supplement: data minus model for the four fits, by species and depth.
 
     Rows are species and columns the depths in the data; in each panel, every
     subject contributes one thin line per model, coloured by model, over the
@@ -1270,7 +1283,7 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
                 if distance_mm.size == 0:
                     continue
                 row = _fit_row(fits, subject, depth_mm)
-                for model in ("boussinesq", "waterbed", "arc"):
+                for model in ("boussinesq", "waterbed", "shifted", "arc"):
                     values = _model_curve_mm(model, distance_mm, depth_mm, row)
                     if values is None:
                         continue
@@ -1283,7 +1296,7 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
                         alpha=0.8,
                         marker="o",
                         markersize=1.6,
-                        linestyle="--" if model == "arc" else "-",
+                        linestyle=MODEL_LINESTYLES[model],
                         gid=f"residual:{model}:{subject}",
                     )
                     all_x.append(distance_mm.min())
@@ -1314,16 +1327,16 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
             color=MODEL_COLOURS[m],
             marker="o",
             markersize=2,
-            linestyle="--" if m == "arc" else "-",
+            linestyle=MODEL_LINESTYLES[m],
             label=MODEL_NAMES[m],
         )
-        for m in ("waterbed", "arc", "boussinesq")
+        for m in ("waterbed", "shifted", "arc", "boussinesq")
     ]
     handles.append(Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE))
     fig.legend(
         handles=handles,
         loc="outside upper center",
-        ncols=4,
+        ncols=3,
         title="one line per subject and model; positive: skin deeper than the model",
         title_fontsize=7,
     )
@@ -1335,10 +1348,13 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
 def figure_arc_vs_parabola(fits, notice=""):
     """Supplement: the small-slope parabola (eq. 19) against the exact arc, per depth.
 
-    For each depth in the fit table, both shapes are drawn with W0 = depth and
-    the median fitted waterbed half-width L of that depth (top row); the
-    bottom row shows arc minus parabola at equal horizontal distance for the
-    median L (thick) and for each trial's own fitted L (thin).
+    For each depth in the fit table, three shapes are drawn with W0 = depth and
+    the median fitted waterbed half-width L of that depth (top row): eq. 19 read
+    at x as if it were X (the paper's procedure), the same parabola placed at
+    ``x = X + U(X)`` (measured coordinates) and the exact arc.  The bottom row
+    shows each of the other two minus the paper's parabola at equal horizontal
+    distance for the median L (thick) and arc minus parabola for each trial's
+    own fitted L (thin).
 
     Parameters
     ----------
@@ -1350,8 +1366,8 @@ def figure_arc_vs_parabola(fits, notice=""):
     Returns
     -------
     matplotlib.figure.Figure
-        Lines carry the gids ``parabola``, ``arc``, ``difference:median`` and
-        ``difference:trial``.
+        Lines carry the gids ``parabola``, ``shifted``, ``arc``,
+        ``difference:median``, ``difference:shifted`` and ``difference:trial``.
     """
     usable = fits[np.isfinite(fits["waterbed_L_mm"].astype(float))]
     depths = sorted({float(d) for d in usable["depth_mm"]})
@@ -1373,14 +1389,22 @@ def figure_arc_vs_parabola(fits, notice=""):
         x_hi = max(x_hi, float(L_values.max()))
         distance_mm = np.linspace(0.0, L_median, 400)
         parabola = models.waterbed_deflection_mm(distance_mm, depth_mm, L_median)
+        shifted = models.shifted_deflection_mm(distance_mm, depth_mm, L_median)
         arc = models.arc_deflection_mm(distance_mm, depth_mm, L_median)
         top, bottom = axes[0, j], axes[1, j]
         top.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
         top.plot(
             distance_mm, parabola, color=MODEL_COLOURS["waterbed"], linestyle="--", gid="parabola"
         )
+        top.plot(
+            distance_mm,
+            shifted,
+            color=MODEL_COLOURS["shifted"],
+            linestyle=MODEL_LINESTYLES["shifted"],
+            gid="shifted",
+        )
         top.plot(distance_mm, arc, color=MODEL_COLOURS["arc"], gid="arc")
-        profiles.extend([*parabola, *arc[np.isfinite(arc)]])
+        profiles.extend([*parabola, *arc[np.isfinite(arc)], *shifted[np.isfinite(shifted)]])
         for L_mm in L_values:
             d_mm = np.linspace(0.0, L_mm, 300)
             diff = models.arc_deflection_mm(d_mm, depth_mm, L_mm) - models.waterbed_deflection_mm(
@@ -1388,6 +1412,16 @@ def figure_arc_vs_parabola(fits, notice=""):
             )
             bottom.plot(d_mm, diff, color="0.6", linewidth=0.5, gid="difference:trial")
             differences.extend(diff[np.isfinite(diff)])
+        shifted_diff = shifted - parabola
+        bottom.plot(
+            distance_mm,
+            shifted_diff,
+            color=MODEL_COLOURS["shifted"],
+            linestyle=MODEL_LINESTYLES["shifted"],
+            linewidth=1.3,
+            gid="difference:shifted",
+        )
+        differences.extend(shifted_diff[np.isfinite(shifted_diff)])
         diff = arc - parabola
         bottom.plot(distance_mm, diff, color=DATA_COLOUR, linewidth=1.3, gid="difference:median")
         bottom.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
@@ -1405,7 +1439,8 @@ def figure_arc_vs_parabola(fits, notice=""):
         bottom.text(
             0.04,
             0.96,
-            f"largest: {100 * largest:.1f}% of $W_0$",
+            f"largest / $W_0$:\narc {100 * largest:.1f}%\n"
+            f"shifted {100 * float(np.nanmax(np.abs(shifted_diff))) / depth_mm:.1f}%",
             transform=bottom.transAxes,
             ha="left",
             va="top",
@@ -1415,9 +1450,9 @@ def figure_arc_vs_parabola(fits, notice=""):
     lo, hi = _padded_limits(profiles, 0.04)
     axes[0, 0].set_ylim(hi, lo)
     lo, hi = _padded_limits(differences, 0.1)
-    axes[1, 0].set_ylim(lo, hi + 0.6 * (hi - lo))
-    axes[0, 0].set_ylabel(DEFLECTION_LABEL)
-    axes[1, 0].set_ylabel("arc − parabola (mm)")
+    axes[1, 0].set_ylim(lo, hi + 1.2 * (hi - lo))
+    axes[0, 0].set_ylabel("deflection w (mm)")
+    axes[1, 0].set_ylabel("minus eq. 19 (mm)")
     for ax in axes[1]:
         ax.set_xlabel("distance x (mm)")
     handles = [
@@ -1428,15 +1463,30 @@ def figure_arc_vs_parabola(fits, notice=""):
             linestyle="--",
             label="parabola, eq. 19 (small slope)",
         ),
+        Line2D(
+            [],
+            [],
+            color=MODEL_COLOURS["shifted"],
+            linestyle=MODEL_LINESTYLES["shifted"],
+            label="same parabola at x = X + U (eqs 19-20)",
+        ),
         Line2D([], [], color=MODEL_COLOURS["arc"], label="exact arc (same $W_0$, L)"),
         Line2D(
             [],
             [],
             color=DATA_COLOUR,
             linewidth=1.3,
-            label="difference at the median L",
+            label="arc − parabola at the median L",
         ),
-        Line2D([], [], color="0.6", linewidth=0.5, label="difference at each trial's L"),
+        Line2D(
+            [],
+            [],
+            color=MODEL_COLOURS["shifted"],
+            linestyle=MODEL_LINESTYLES["shifted"],
+            linewidth=1.3,
+            label="shifted − parabola at the median L",
+        ),
+        Line2D([], [], color="0.6", linewidth=0.5, label="arc − parabola at each trial's L"),
     ]
     fig.legend(
         handles=handles,
@@ -1456,6 +1506,7 @@ SENSITIVITY_MODELS = {
     for model, colour in (
         ("waterbed", MODEL_COLOURS["waterbed"]),
         ("waterbed_free_depth", "#56B4E9"),
+        ("shifted", MODEL_COLOURS["shifted"]),
         ("arc", MODEL_COLOURS["arc"]),
         ("boussinesq", MODEL_COLOURS["boussinesq"]),
     )
@@ -1591,5 +1642,158 @@ def figure_sensitivity(sensitivity, checks, shift_limit=0.08, reach_claim_mm=3.0
         frameon=False,
         markerscale=2.0,
     )
+    _add_footer(fig, notice)
+    return fig
+
+
+@_styled
+def figure_coordinates(fits, checks, noise_mm, notice=""):
+    """Supplement: what the paper's coordinate approximation costs, trial by trial.
+
+    (a) L fitted in measured coordinates (the shifted parabola and the exact
+    arc) against L fitted the paper's way, each with its 95 % interval, and the
+    line of equality; (b) the largest vertical gap, over the fitted range,
+    between each of those fitted curves and the paper's, by depth, with the
+    digitising noise of one reading.
+
+    Parameters
+    ----------
+    fits : pandas.DataFrame
+        The fit table (``species``, ``depth_mm`` and the ``waterbed_``, ``shifted_``
+        and ``arc_`` L columns with their intervals).
+    checks : pandas.DataFrame
+        Per-trial checks with ``gap_shifted_mm`` and ``gap_arc_mm``.
+    noise_mm : float
+        Digitising noise of one reading (mm), drawn as a line in (b).
+    notice : str, optional
+        Footer text; empty for none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Point collections carry gids ``L:<model>`` and ``gap:<model>``.
+    """
+    usable = fits[np.isfinite(fits["waterbed_L_mm"].astype(float))]
+    if usable.empty:
+        return _message_figure("No finite waterbed fits in this dataset.", notice)
+    fig = _new_figure(DOUBLE_COLUMN_MM, 82.0)
+    ax_L, ax_gap = fig.subplots(1, 2)
+    consistent = ("shifted", "arc")
+    L_paper = usable["waterbed_L_mm"].astype(float).to_numpy()
+    limits = [L_paper.min(), L_paper.max()]
+    for model in consistent:
+        for species, marker in SPECIES_MARKERS.items():
+            rows = usable[usable["species"] == species]
+            if rows.empty:
+                continue
+            x = rows["waterbed_L_mm"].astype(float).to_numpy()
+            y = rows[f"{model}_L_mm"].astype(float).to_numpy()
+            y_err = np.abs(
+                np.vstack(
+                    [
+                        y - rows[f"{model}_L_ci_low_mm"].astype(float).to_numpy(),
+                        rows[f"{model}_L_ci_high_mm"].astype(float).to_numpy() - y,
+                    ]
+                )
+            )
+            x_err = np.abs(
+                np.vstack(
+                    [
+                        x - rows["waterbed_L_ci_low_mm"].astype(float).to_numpy(),
+                        rows["waterbed_L_ci_high_mm"].astype(float).to_numpy() - x,
+                    ]
+                )
+            )
+            ax_L.errorbar(
+                x,
+                y,
+                xerr=np.where(np.isfinite(x_err), x_err, 0.0),
+                yerr=np.where(np.isfinite(y_err), y_err, 0.0),
+                fmt="none",
+                ecolor=MODEL_COLOURS[model],
+                elinewidth=0.4,
+                alpha=0.5,
+            )
+            ax_L.scatter(
+                x,
+                y,
+                marker=marker,
+                s=12,
+                facecolors="none",
+                edgecolors=MODEL_COLOURS[model],
+                linewidths=0.8,
+                gid=f"L:{model}",
+            )
+            limits.extend(y[np.isfinite(y)])
+    lo, hi = _padded_limits(limits, 0.05)
+    ax_L.plot([lo, hi], [lo, hi], color="0.5", linewidth=0.7, linestyle=":", zorder=0)
+    ax_L.set_xlim(lo, hi)
+    ax_L.set_ylim(lo, hi)
+    ax_L.set_aspect("equal", adjustable="box")
+    ax_L.set_xlabel("L, paper's procedure (mm)")
+    ax_L.set_ylabel("L in measured coordinates (mm)")
+    ax_L.set_title("(a) fitted half-width", loc="left")
+    depths = sorted({float(d) for d in checks["depth_mm"]}) if len(checks) else []
+    gaps = [noise_mm]
+    for k, model in enumerate(consistent):
+        for species, marker in SPECIES_MARKERS.items():
+            rows = checks[checks["species"] == species]
+            if rows.empty:
+                continue
+            offset = (-0.06 if species == "monkey" else 0.06) + (k - 0.5) * 0.05
+            values = rows[f"gap_{model}_mm"].astype(float).to_numpy()
+            ax_gap.scatter(
+                rows["depth_mm"].astype(float).to_numpy() + offset,
+                values,
+                marker=marker,
+                s=12,
+                facecolors="none",
+                edgecolors=MODEL_COLOURS[model],
+                linewidths=0.8,
+                gid=f"gap:{model}",
+            )
+            gaps.extend(values[np.isfinite(values)])
+    ax_gap.axhline(noise_mm, color="0.5", linestyle=":", linewidth=0.8)
+    ax_gap.annotate(
+        f"digitising noise of one reading ({noise_mm:g} mm)",
+        xy=(0.02, noise_mm),
+        xycoords=("axes fraction", "data"),
+        xytext=(0, 2),
+        textcoords="offset points",
+        va="bottom",
+        fontsize=7,
+        color="0.4",
+    )
+    if depths:
+        ax_gap.set_xticks(depths, [f"{d:g}" for d in depths])
+        ax_gap.set_xlim(depths[0] - 0.3, depths[-1] + 0.3)
+    ax_gap.set_ylim(0.0, 1.15 * max(gaps))
+    ax_gap.set_xlabel("indentation depth (mm)")
+    ax_gap.set_ylabel("largest gap to the paper's curve (mm)")
+    ax_gap.set_title("(b) how far the fitted curve moves", loc="left")
+    handles = [
+        Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker="o",
+            markerfacecolor="none",
+            markeredgecolor=MODEL_COLOURS[m],
+            label=MODEL_NAMES[m],
+        )
+        for m in consistent
+    ] + [
+        Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker=marker,
+            markerfacecolor="none",
+            markeredgecolor=DATA_COLOUR,
+            label=SPECIES_PLURAL[species],
+        )
+        for species, marker in SPECIES_MARKERS.items()
+    ]
+    fig.legend(handles=handles, loc="outside upper center", ncols=4)
     _add_footer(fig, notice)
     return fig

@@ -262,6 +262,7 @@ FIGURE_GROUPS = {
         "supplement_residuals",
         "supplement_arc_vs_parabola",
         "supplement_sensitivity",
+        "supplement_coordinates",
     ],
 }
 

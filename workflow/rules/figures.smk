@@ -91,7 +91,7 @@ rule figure_fits:
 
 
 rule figure_supplement:
-    """Supplementary figures: residuals of the three fits; parabola against exact arc."""
+    """Supplementary figures: residuals, parabola against arc, sensitivity, coordinates."""
     input:
         code=FIGURE_CODE,
         averaged=expand(result("data", "averaged", "{batch}.csv"), batch=BATCH_IDS),
@@ -114,12 +114,13 @@ rule figure_supplement:
         notice=NOTICE,
         subjects=FIGURE_SUBJECT_ARGS,
         window_mm=config["fit_window_mm"],
+        noise_mm=config["claims"]["noise_mm"],
     shell:
         "$LINELOAD_PYTHON {input.code[0]:q} {params.figures} --outdir {params.outdir:q}"
         " --dpi {params.dpi} --notice={params.notice:q} {params.subjects}"
         " --averaged {input.averaged:q} --fits {input.fits:q}"
         " --sensitivity {input.sensitivity:q} --checks {input.checks:q}"
-        " --fit-window-mm {params.window_mm} > {log:q} 2>&1"
+        " --fit-window-mm {params.window_mm} --noise-mm {params.noise_mm} > {log:q} 2>&1"
 
 
 rule figures:

@@ -12,7 +12,7 @@ from pathlib import Path
 import pandas as pd
 
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
-from lineload import plotting
+from lineload import paper, plotting
 from lineload.io import read_results_csv
 
 #: Which inputs each figure needs (checked before anything is drawn).
@@ -27,6 +27,7 @@ NEEDS = {
     "supplement_residuals": ["averaged", "fits", "fit_window_mm"],
     "supplement_arc_vs_parabola": ["fits"],
     "supplement_sensitivity": ["sensitivity", "checks"],
+    "supplement_coordinates": ["fits", "checks", "noise_mm"],
 }
 
 
@@ -70,8 +71,7 @@ def parse_args():
     parser.add_argument("--schematic-depth-ratio", type=float)
     parser.add_argument("--sensitivity", help="the sensitivity refits (CSV)")
     parser.add_argument("--checks", help="the per-trial shift and reach (CSV)")
-    parser.add_argument("--shift-limit", type=float, default=0.08, help="paper's bound on U/X")
-    parser.add_argument("--reach-claim-mm", type=float, default=3.0, help="paper's reach")
+    parser.add_argument("--noise-mm", type=float, help="digitising noise of one reading (mm)")
     args = parser.parse_args()
     for name in args.figure:
         for need in NEEDS[name]:
@@ -127,9 +127,12 @@ def main():
         "supplement_sensitivity": lambda: plotting.figure_sensitivity(
             read_results_csv(args.sensitivity),
             read_results_csv(args.checks),
-            args.shift_limit,
-            args.reach_claim_mm,
+            paper.MAX_SHIFT_FRACTION,
+            paper.REACH_MM,
             notice,
+        ),
+        "supplement_coordinates": lambda: plotting.figure_coordinates(
+            fits, read_results_csv(args.checks), args.noise_mm, notice
         ),
     }
     print(f"footer: {notice!r}" if notice else "footer: none")
