@@ -248,6 +248,19 @@ def test_c5_range_of_L_under_the_papers_procedure():
     )
 
 
+def test_c5_with_no_fit_in_measured_coordinates_says_so():
+    rows = table([fit_row("A", "monkey", 1.0, waterbed_L_mm=20.0, shifted_L_mm=np.nan)])
+    row = CLAIM_FUNCTIONS["C5"](rows, None, SETTINGS)
+    assert row["verdict"] == FAILS and "no fit in measured coordinates" in row["reason"]
+
+
+def test_c5_fails_the_papers_way_but_not_in_measured_coordinates():
+    rows = table([fit_row("A", "human", 2.0, waterbed_L_mm=9.6, shifted_L_mm=10.6)])
+    row = CLAIM_FUNCTIONS["C5"](rows, None, SETTINGS)
+    assert row["verdict"] == FAILS
+    assert "every L is inside" in row["reason"] and "coordinate approximation" in row["reason"]
+
+
 def test_c5_says_when_the_coordinates_decide():
     agree = CLAIM_FUNCTIONS["C5"](table([fit_row("A", "monkey", 1.0)]), None, SETTINGS)
     assert agree["verdict"] == HOLDS and "agrees" in agree["reason"]
@@ -276,6 +289,18 @@ def test_c6_fails_where_neglecting_U_moves_the_fit():
     assert fraction < 0.08 and "below 8 % in 1 of 1" in deep["our_value"]
     no_shifted = table([fit_row("A", "monkey", 1.0, shifted_L_mm=np.nan)])
     assert verdict("C6", no_shifted, None) == UNTESTABLE
+
+
+def test_c6_without_an_interval_judges_the_gap_alone():
+    # equal L at 0.5 mm (curves within 0.002 mm) with no interval: a missing interval is
+    # not a move
+    no_interval = fit_row(
+        "A", "monkey", 0.5, waterbed_L_ci_low_mm=np.nan, waterbed_L_ci_high_mm=np.nan
+    )
+    row = CLAIM_FUNCTIONS["C6"](table([no_interval]), None, SETTINGS)
+    assert row["verdict"] == HOLDS and "in 0 of 0 with an interval" in row["our_value"]
+    far = dict(no_interval, shifted_L_mm=6.0)  # a curve far from the paper's: the gap decides
+    assert verdict("C6", table([far]), None) == FAILS
 
 
 @pytest.mark.parametrize(("depth_mm", "L_mm"), [(0.5, 10.0), (1.0, 12.3), (2.0, 14.9), (3.0, 7.0)])

@@ -102,6 +102,12 @@ class TestShiftedParabola:
         assert W.min() == pytest.approx(-depth_mm / 3.0, rel=1e-6)
 
 
+def test_shifted_parabola_of_a_flat_membrane_is_flat():
+    x = np.array([0.0, 0.5, 3.0])
+    assert np.all(models.shifted_deflection_mm(x, 1.0, np.inf) == 1.0)
+    assert np.array_equal(models.resting_position_mm(x, 1.0, np.inf), x)
+
+
 def test_shift_is_one_to_one_below_the_fold_only():
     depth_mm = 1.0
     fold_mm = np.sqrt(6.0) * depth_mm

@@ -296,21 +296,37 @@ def test_reading_noise_is_symmetric_and_not_clipped(readings):
     assert (readings["deflection_mm"] < 0).sum() > 10
 
 
-def test_registration_error_is_shared_by_a_trace_and_cancels_its_tilt():
-    subject = synthetic.shipped_subjects()[0]
-    registration = synthetic.registration_error_mm(subject)
-    assert list(registration) == list(subject.depths_mm)
-    offsets = np.array([o for o, _ in registration.values()])
-    tilts = np.array([t for _, t in registration.values()])
-    assert np.all(np.abs(offsets) < 5 * synthetic.REGISTRATION_OFFSET_SD_MM)
-    assert np.all(np.abs(tilts) < 5 * synthetic.REGISTRATION_TILT_SD)
-    assert len(set(offsets)) == offsets.size  # drawn per trial
-    # a tilt raises one side as much as it lowers the other: the left/right mean keeps the
-    # offset only.  Check on a finger's two sides read at the same distances.
-    offset, tilt = registration[subject.depths_mm[0]]
-    x = np.array([0.5, 1.0, 2.0])
-    left, right = offset + tilt * -x, offset + tilt * x
-    assert np.allclose((left + right) / 2, offset)
+def test_registration_error_is_shared_by_a_trace_and_cancels_its_tilt(readings):
+    # in the shipped readings: at distances read on both sides, the left/right mean minus
+    # the true mean is the trial's offset (the tilt cancels) up to noise; half the
+    # difference grows with distance as the tilt does
+    rounding = synthetic.IMAGE_RESOLUTION_MM / MAG
+    n_checked = 0
+    for subject in synthetic.shipped_subjects():
+        registration = synthetic.registration_error_mm(subject)
+        offsets = np.array([o for o, _ in registration.values()])
+        assert np.unique(offsets).size == offsets.size  # one draw per trial
+        rows = readings[readings["subject"] == subject.subject]
+        for depth_mm, (offset, tilt) in registration.items():
+            trial = synthetic.trial_parameters(subject, depth_mm)
+            sides = {}
+            for side in ("left", "right"):
+                g = rows[(rows["depth_mm"] == depth_mm) & (rows["side"] == side)]
+                x = g["distance_mm"].round(6).to_numpy()
+                true = synthetic.true_deflection_mm(
+                    x, depth_mm, trial.extent_mm(side), trial.exponent, trial.near_fraction
+                )
+                sides[side] = dict(zip(x, g["deflection_mm"].to_numpy() - true, strict=True))
+            common = sorted(set(sides["left"]) & set(sides["right"]) - {0.0})
+            left = np.array([sides["left"][x] for x in common])
+            right = np.array([sides["right"][x] for x in common])
+            sd = np.hypot(NOISE, rounding) / np.sqrt(2 * len(common))
+            assert np.mean((left + right) / 2) == pytest.approx(offset, abs=4 * sd)
+            half_difference = (right - left) / 2  # = tilt * x + noise
+            slope = np.polyfit(np.array(common), half_difference, 1)[0]
+            assert slope == pytest.approx(tilt, abs=4 * NOISE / np.ptp(common))
+            n_checked += 1
+    assert n_checked == 26
 
 
 def test_deformed_region_wider_in_humans(readings):

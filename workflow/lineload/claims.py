@@ -183,8 +183,8 @@ class ClaimSettings:
     symmetry_tolerance : float
         C2: largest RMS left-right difference, as a fraction of the depth.
     misfit_growth : float
-        C8: smallest rise of the noise-free relative misfit, from the smallest to
-        the largest depth of a subject, that counts as 'worse' (fraction of depth).
+        C8: smallest slope of the noise-free relative misfit against depth, per
+        mm of depth, that counts as 'worse' (fraction of the depth per mm).
     significance : float
         C10: family-wise error rate of the curvature comparison (Bonferroni over
         the trials tested).
@@ -220,6 +220,16 @@ def _span(values, decimals=2, unit=" mm"):
 
 def _pct(fraction, decimals=1):
     return f"{format_fixed(100.0 * fraction, decimals)} %"
+
+
+def _n(count, noun, plural=None):
+    """'1 trial', '3 trials'."""
+    return f"{count} {noun if count == 1 else plural or noun + 's'}"
+
+
+def _every(count, noun, plural=None):
+    """'the one trial' or 'all 3 trials'."""
+    return f"the one {noun}" if count == 1 else f"all {count} {plural or noun + 's'}"
 
 
 def _list(labels, limit=6):
@@ -476,7 +486,7 @@ def claim_c1(fits, averaged, settings):
     our += f" ({per_depth})"
     if len(wider) == len(shared):
         reason = (
-            f"At each of the {len(shared)} depths measured in both species, every human "
+            f"At {_every(len(shared), 'depth')} measured in both species, every human "
             "trial is deformed farther from the wedge than every monkey trial."
         )
         return _row("C1", our, HOLDS, reason, rule)
@@ -569,13 +579,14 @@ def claim_c3(fits, averaged, settings):
     )
     if better[usable].all():
         reason = (
-            f"In all {n_usable} trials the waterbed leaves smaller residuals than the "
+            f"In {_every(n_usable, 'trial')} the waterbed leaves smaller residuals than the "
             f"Boussinesq form on the same points, by a factor of "
             f"{format_fixed(np.median(ratio), 1)} (median)."
         )
         return _row("C3", our, HOLDS, reason, rule)
     reason = (
-        f"The Boussinesq form fits as well or better in {n_usable - n_better} of {n_usable} trials."
+        f"The Boussinesq form fits as well or better in {n_usable - n_better} of "
+        f"{_n(n_usable, 'trial')}."
     )
     return _row("C3", our, FAILS, reason, rule)
 
@@ -627,7 +638,7 @@ def claim_c4(fits, averaged, settings):
         our += f" ({_list(showing)})"
         reason = (
             "The readings rise above the resting surface where the curve predicts a bulge, "
-            f"in {len(showing)} trials."
+            f"in {_n(len(showing), 'trial')}."
         )
         return _row("C4", our, FAILS, reason, rule)
     reason = (
@@ -670,38 +681,42 @@ def claim_c5(fits, averaged, settings):
         reason = f"Every L fitted the paper's way lies within {low:g}-{high:g} mm"
     else:
         reason = f"Fitted the paper's way, L leaves {low:g}-{high:g} mm in {_list(outside)}"
-    shifted_agrees = (n_in_s == n_fit_s) == (verdict == HOLDS)
-    if shifted_agrees:
-        reason += "; the shifted parabola agrees."
-    elif verdict == HOLDS:
-        reason += (
-            f"; in measured coordinates (shifted parabola) L leaves the range in "
-            f"{_list(outside_s)}, so "
-            f"the verdict rests on the paper's coordinate approximation ({COORDINATES_FIGURE})."
-        )
-    else:
+    if n_fit_s == 0:
+        reason += "; there is no fit in measured coordinates to compare."
+    elif outside_s == outside:
+        reason += "; the shifted parabola agrees, trial for trial."
+    elif not outside_s:
         reason += (
             "; in measured coordinates (shifted parabola) every L is inside, so the failure "
             f"comes from the paper's coordinate approximation ({COORDINATES_FIGURE})."
+        )
+    else:
+        reason += (
+            f"; in measured coordinates (shifted parabola) L leaves the range in "
+            f"{_list(outside_s)} instead, so the verdict depends on the paper's coordinate "
+            f"approximation ({COORDINATES_FIGURE})."
         )
     return _row("C5", our, verdict, reason, rule)
 
 
 def claim_c6(fits, averaged, settings):
-    """C6: neglecting U moves neither the curve beyond the noise nor L out of its interval."""
+    """C6: can these data tell the paper's curve from the one in measured coordinates?"""
     noise_mm = settings.noise_mm
     limit = paper.MAX_SHIFT_FRACTION
     rule = (
-        "What neglecting U costs, per trial with the paper's and the shifted fit: (a) the "
-        "largest vertical gap, over the fitted range, between the paper's fitted curve and "
-        "the fitted small-slope curve in measured coordinates (W(X) at x = X + U(X)); (b) "
-        "whether the shifted L lies inside the 95 % interval of the paper's L. Holds if in "
-        f"every trial the gap is at most noise_mm = {format_fixed(noise_mm, 3)} mm (one "
-        "reading's digitising error) and the shifted L is inside the interval. The paper's "
-        f"own bound, |U(L/3)| / (L/3) < {_pct(limit, 0)} with U from eq. 20, is shown beside "
-        "it: it depends on the fitted L and the depth alone and cannot test the neglect."
+        "Neglecting U is negligible if these data cannot tell the difference it makes. Per "
+        "trial with the paper's and the shifted fit: (a) the largest vertical gap, over the "
+        "fitted range, between the paper's fitted curve and the fitted small-slope curve in "
+        "measured coordinates (W(X) at x = X + U(X)); (b) whether the shifted L lies inside "
+        "the 95 % interval of the paper's L (where that interval exists). Holds if in every "
+        f"trial the gap is at most noise_mm = {format_fixed(noise_mm, 3)} mm (one reading's "
+        "digitising error) and the shifted L is inside the interval. The difference itself "
+        "is set by W0/L; the data decide through their noise and the width of the interval. "
+        f"The paper's own bound, |U(L/3)| / (L/3) < {_pct(limit, 0)} with U from eq. 20, is "
+        "shown beside it: it compares U with an arbitrary fraction, not with the data's "
+        "precision."
     )
-    gaps, moved, labels, fractions = [], [], [], []
+    gaps, moved, tested, labels, fractions = [], [], [], [], []
     for _, fit in fits.iterrows():
         if not (_finite_L(fit) and _finite_L(fit, "shifted")):
             continue
@@ -711,7 +726,9 @@ def claim_c6(fits, averaged, settings):
             curve_gap_mm(depth_mm, L_mm, shifted_L_mm, float(fit["max_distance_mm"]), "shifted")
         )
         low, high = float(fit["waterbed_L_ci_low_mm"]), float(fit["waterbed_L_ci_high_mm"])
-        moved.append(not (low <= shifted_L_mm <= high))
+        has_interval = not (math.isnan(low) or math.isnan(high))
+        tested.append(has_interval)
+        moved.append(has_interval and not (low <= shifted_L_mm <= high))
         labels.append(_label(fit))
         shift_mm = float(waterbed_shift_mm(L_mm / 3.0, depth_mm, L_mm))
         fractions.append(abs(shift_mm) / (L_mm / 3.0))
@@ -729,23 +746,24 @@ def claim_c6(fits, averaged, settings):
     L_change = (fits["shifted_L_mm"] - fits["waterbed_L_mm"]).to_numpy(float)
     our = (
         f"largest gap between the curves {_span(gaps, 4)} (above {_mm(noise_mm, 3)} in "
-        f"{int(visible.sum())} of {gaps.size} trials); shifted L - paper's L "
+        f"{int(visible.sum())} of {_n(gaps.size, 'trial')}); shifted L - paper's L "
         f"{_span(L_change, 2)}, outside the paper's 95 % interval in {int(moved.sum())} of "
-        f"{gaps.size}; paper's bound |U(L/3)| / (L/3) = {_pct(fractions.min())} to "
-        f"{_pct(fractions.max())} (below {_pct(limit, 0)} in "
+        f"{sum(tested)} with an interval; paper's bound |U(L/3)| / (L/3) = "
+        f"{_span(100 * fractions, 1, ' %')} (below {_pct(limit, 0)} in "
         f"{int((fractions < limit).sum())} of {fractions.size})"
     )
     if not failing:
         reason = (
             f"Placing the curve in measured coordinates moves it by at most "
-            f"{_mm(gaps.max(), 4)} and keeps every L inside its interval."
+            f"{_mm(gaps.max(), 4)}, within one reading's noise, and keeps every L inside its "
+            "interval: these data cannot tell the difference."
         )
         return _row("C6", our, HOLDS, reason, rule)
     reason = (
-        f"In {len(failing)} trials ({_list(failing, 4)}) the curve in measured coordinates "
-        f"moves by up to {_mm(gaps.max(), 3)} or L leaves its interval, although U stays "
-        f"under the paper's {_pct(limit, 0)} bound in {int((fractions < limit).sum())} of "
-        f"{fractions.size} ({COORDINATES_FIGURE})."
+        f"In {_n(len(failing), 'trial')} ({_list(failing, 4)}) the data can tell: the curve "
+        f"in measured coordinates moves by up to {_mm(gaps.max(), 4)} or its L leaves the "
+        f"paper's interval, although U stays under the paper's {_pct(limit, 0)} bound in "
+        f"{int((fractions < limit).sum())} of {fractions.size} ({COORDINATES_FIGURE})."
     )
     return _row("C6", our, FAILS, reason, rule)
 
@@ -800,10 +818,12 @@ def claim_c8(fits, averaged, settings):
         "Per trial: the waterbed's misfit beyond the noise, relative to the depth, "
         "sqrt(max(RMSE^2 - s^2, 0)) / depth, with RMSE over the fit window and s^2 the mean "
         "noise variance of the averaged points there (noise_mm^2 over the number of sides "
-        "averaged). Holds if, in every subject with two or more depths, that value at the "
-        f"largest depth exceeds the value at the smallest by more than misfit_growth = "
-        f"{format_fixed(100 * growth, 1)} % of the depth. One profile shape scaled with the "
-        "depth keeps the value constant and does not pass."
+        "averaged). Per subject with two or more depths: the least-squares slope of that "
+        "value against depth. Holds if every subject's slope exceeds misfit_growth = "
+        f"{format_fixed(100 * growth, 1)} % of the depth per mm of depth. One profile shape "
+        "scaled with the depth keeps the value constant (slope 0) and does not pass. A "
+        "misfit that does not scale with depth (an offset shared by a trial's readings) "
+        "lowers the slope."
     )
     relative = {}
     for fit, points in _trials(fits, averaged):
@@ -811,17 +831,16 @@ def claim_c8(fits, averaged, settings):
         if points.empty or not math.isfinite(rmse_mm):
             continue
         _, _, sides = _window_points(fit, points)
-        variance = (
-            float(np.mean(_noise_sd_mm(settings.noise_mm, sides) ** 2)) if sides.size else 0.0
-        )
+        noise_sd_mm = _noise_sd_mm(settings.noise_mm, sides)
+        variance = float(np.mean(noise_sd_mm**2)) if sides.size else 0.0
         excess = math.sqrt(max(rmse_mm**2 - variance, 0.0)) / float(fit["depth_mm"])
         relative.setdefault(str(fit["subject"]), []).append((float(fit["depth_mm"]), excess))
-    rises = {
-        subject: max(values)[1] - min(values)[1]
-        for subject, values in relative.items()
-        if len({d for d, _ in values}) >= 2
-    }
-    if not rises:
+    slopes = {}
+    for subject, values in relative.items():
+        depths = np.array([d for d, _ in values])
+        if np.unique(depths).size >= 2:
+            slopes[subject] = float(np.polyfit(depths, [e for _, e in values], 1)[0])
+    if not slopes:
         return _row(
             "C8",
             "no subject measured at two or more depths",
@@ -833,24 +852,23 @@ def claim_c8(fits, averaged, settings):
     for values in relative.values():
         for depth_mm, excess in values:
             per_depth.setdefault(depth_mm, []).append(excess)
-    means = ", ".join(f"{d:g} mm {_pct(np.mean(v), 1)}" for d, v in sorted(per_depth.items()))
-    failing = [s for s, rise in rises.items() if not rise > growth]
+    means = ", ".join(f"{d:g} mm {_pct(np.mean(v), 2)}" for d, v in sorted(per_depth.items()))
+    failing = [s for s, slope in slopes.items() if not slope > growth]
+    per_subject = ", ".join(f"{s} {format_fixed(100 * v, 2)}" for s, v in slopes.items())
     our = (
-        f"misfit beyond noise / depth, mean per depth: {means}; rise from smallest to largest "
-        f"depth {_span([100 * r for r in rises.values()], 1, ' %')} of the depth; above "
-        f"{_pct(growth, 1)} in {len(rises) - len(failing)} of {len(rises)} subjects"
+        f"misfit beyond noise / depth, mean per depth: {means}; slope per mm of depth "
+        f"(% of depth): {per_subject}; above {format_fixed(100 * growth, 2)} in "
+        f"{len(slopes) - len(failing)} of {_n(len(slopes), 'subject')}"
     )
     if failing:
-        our += f" (not in {_list(failing)})"
         reason = (
-            f"In {_list(failing)} the waterbed's relative misfit does not grow by more than "
-            f"{_pct(growth, 1)} of the depth from the smallest to the largest depth."
+            f"In {_list(failing)} the waterbed's relative misfit, noise removed, grows by "
+            f"no more than {_pct(growth, 1)} of the depth per mm of depth."
         )
         return _row("C8", our, FAILS, reason, rule)
     reason = (
-        f"In every one of the {len(rises)} subjects the relative misfit, noise removed, grows "
-        f"by {_span([100 * r for r in rises.values()], 1, ' %')} of the depth from the "
-        "smallest to the largest depth."
+        f"In {_every(len(slopes), 'subject')} the relative misfit, noise removed, grows by "
+        f"{_span([100 * v for v in slopes.values()], 2, ' %')} of the depth per mm of depth."
     )
     return _row("C8", our, HOLDS, reason, rule)
 
@@ -902,24 +920,31 @@ def claim_c9(fits, averaged, settings):
     everywhere = [all(below[m][i] for m in models) for i in range(len(labels))]
     if all(everywhere):
         reason = (
-            f"In all {len(labels)} trials at {large:g} mm or deeper most readings lie below the "
-            "fitted curve, whichever coordinates the curve is placed in."
+            f"In {_every(len(labels), 'trial')} at {large:g} mm or deeper most readings lie "
+            "below the fitted curve, whichever coordinates the curve is placed in."
         )
         return _row("C9", our, HOLDS, reason, rule)
-    paper_only = [
-        lab
-        for i, lab in enumerate(labels)
-        if below[PAPER_FIT][i] and not all(below[m][i] for m in CONSISTENT_FITS)
-    ]
-    not_paper = [lab for i, lab in enumerate(labels) if not below[PAPER_FIT][i]]
+    not_paper, coordinates, finite = [], [], []
+    for i, lab in enumerate(labels):
+        if not below[PAPER_FIT][i]:
+            not_paper.append(lab)
+        elif not below["shifted"][i]:
+            coordinates.append(lab)
+        elif not below["arc"][i]:
+            finite.append(lab)
     parts = []
     if not_paper:
         parts.append(f"the readings are not below the paper's curve in {_list(not_paper)}")
-    if paper_only:
+    if coordinates:
         parts.append(
-            f"in {_list(paper_only)} they are below the paper's curve but not below a fit in "
-            "measured coordinates, so there the 'stiffer' reading is an artefact of the "
-            f"coordinates ({COORDINATES_FIGURE})"
+            f"in {_list(coordinates)} they are below the paper's curve but not below the same "
+            "parabola placed in measured coordinates, so there the 'stiffer' reading is an "
+            f"artefact of the paper's coordinates ({COORDINATES_FIGURE})"
+        )
+    if finite:
+        parts.append(
+            f"in {_list(finite)} they are below both parabolas but not below the exact arc, so "
+            "there it comes from the small-slope approximation rather than the fingertip"
         )
     reason = "; ".join(parts)
     return _row("C9", our, FAILS, reason[0].upper() + reason[1:] + ".", rule)
@@ -980,11 +1005,15 @@ def claim_c10(fits, averaged, settings):
     if significant:
         differences = [t[2] for t in tested if t[0] in significant]
         inner_more = sum(d > 0 for d in differences)
+        sides = []
+        if inner_more:
+            sides.append(f"the inner half more curved in {inner_more}")
+        if len(differences) - inner_more:
+            sides.append(f"the outer half in {len(differences) - inner_more}")
         our += f" ({_list(significant)})"
         reason = (
-            f"In {len(significant)} trials the two halves of the window bend measurably "
-            f"differently (the inner half more in {inner_more}), so the free skin is not a "
-            "single circle there."
+            f"In {_n(len(significant), 'trial')} the two halves of the window bend measurably "
+            f"differently ({', '.join(sides)}), so the free skin is not a single circle there."
         )
         return _row("C10", our, FAILS, reason, rule)
     if not resolved.any():
@@ -994,8 +1023,9 @@ def claim_c10(fits, averaged, settings):
         )
         return _row("C10", our, UNTESTABLE, reason, rule)
     reason = (
-        f"No trial shows a change of curvature between the halves; in the {int(resolved.sum())} "
-        "resolved trials a change as large as the curvature itself would have been seen."
+        "No trial shows a change of curvature between the halves; in the "
+        f"{_n(int(resolved.sum()), 'resolved trial')} a change as large as the curvature "
+        "itself would have been detected with 80 % power (the others cannot judge)."
     )
     return _row("C10", our, HOLDS, reason, rule)
 
