@@ -79,6 +79,32 @@ def test_unreadable_or_foreign_cache_is_a_miss(tmp_path):
     assert checkcache.load(path, "k") is None
 
 
+def test_anything_but_the_exact_complete_entry_is_a_miss(tmp_path):
+    path = tmp_path / "check.json"
+    result = {"config": {"fit_window_mm": 3.0}, "subjects": {"A1": {"species": "monkey"}}}
+    checkcache.store(path, "k", result)
+    entry = json.loads(path.read_text(encoding="utf-8"))
+    assert checkcache.load(path, "k") == result
+
+    def miss(changed):
+        path.write_text(json.dumps(changed), encoding="utf-8")
+        return checkcache.load(path, "k") is None
+
+    # an edited result with the right fingerprint
+    edited = json.loads(json.dumps(entry))
+    edited["result"]["config"]["fit_window_mm"] = 2.0
+    assert miss(edited)
+    # a field removed from the result, or from the entry, or one added to it
+    trimmed = json.loads(json.dumps(entry))
+    del trimmed["result"]["subjects"]
+    assert miss(trimmed)
+    assert miss({k: v for k, v in entry.items() if k != "digest"})
+    assert miss({**entry, "extra": 1})
+    # the untouched entry still loads: the misses above came from the edits
+    path.write_text(json.dumps(entry), encoding="utf-8")
+    assert checkcache.load(path, "k") == result
+
+
 def test_store_into_an_unwritable_place_is_silently_skipped(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("", encoding="utf-8")

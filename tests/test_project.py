@@ -10,22 +10,30 @@ from lineload.fitting import FIT_COLUMNS
 REPO = Path(__file__).resolve().parents[1]
 
 
-def pins_from_requirements():
+EDITABLE = "-e ."  # the project's own package, installed editable by both routes
+
+
+def requirement_lines():
     lines = (REPO / "requirements.txt").read_text().splitlines()
-    return dict(line.split("==") for line in (ln.split("#")[0].strip() for ln in lines) if line)
+    return [line for line in (ln.split("#")[0].strip() for ln in lines) if line]
 
 
-def test_requirements_are_all_pinned():
-    lines = [
-        ln.split("#")[0].strip() for ln in (REPO / "requirements.txt").read_text().splitlines()
-    ]
-    assert all(re.fullmatch(r"[A-Za-z0-9_.\-\[\]]+==[0-9][A-Za-z0-9.]*", ln) for ln in lines if ln)
+def pins_from_requirements():
+    return dict(line.split("==") for line in requirement_lines() if line != EDITABLE)
+
+
+def test_requirements_are_all_pinned_and_install_the_package():
+    lines = requirement_lines()
+    assert EDITABLE in lines
+    pins = [ln for ln in lines if ln != EDITABLE]
+    assert all(re.fullmatch(r"[A-Za-z0-9_.\-\[\]]+==[0-9][A-Za-z0-9.]*", ln) for ln in pins)
 
 
 def test_environment_pins_match_requirements():
     environment = yaml.safe_load((REPO / "environment.yml").read_text())
     pip_section = next(d["pip"] for d in environment["dependencies"] if isinstance(d, dict))
-    conda_pins = dict(item.split("==") for item in pip_section)
+    assert EDITABLE in pip_section
+    conda_pins = dict(item.split("==") for item in pip_section if item != EDITABLE)
     assert conda_pins == pins_from_requirements()
     assert "python=3.11" in environment["dependencies"]
 

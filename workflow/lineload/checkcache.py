@@ -10,8 +10,10 @@ A check is identified by a fingerprint: the SHA-256 of the config as given, the
 code and schemas that do the checking, and the name and bytes of every file in
 the raw-data folder (its top level, ``profiles/`` and ``outlines/``).  The
 result of a passed check (the config with its defaults filled in and a plain
-summary of the dataset) is stored under that fingerprint in a JSON file.  A
-check that fails is never stored, so a broken input fails on every run.
+summary of the dataset) is stored under that fingerprint in a JSON file, with
+a digest over both, so that anything but the exact, complete entry written by
+:func:`store` is a miss.  A check that fails is never stored, so a broken input
+fails on every run.
 """
 
 from __future__ import annotations
@@ -72,8 +74,19 @@ def fingerprint(config, raw_dir, code_paths):
     return digest.hexdigest()
 
 
+def _digest(key, result):
+    """SHA-256 of a fingerprint and a result as stored (compact JSON, key order kept)."""
+    text = json.dumps(result, separators=(",", ":"), allow_nan=False)
+    return hashlib.sha256(f"{key}\0{text}".encode()).hexdigest()
+
+
 def load(cache_path, key):
-    """The stored result for ``key``, or None if there is none (or it is unreadable).
+    """The stored result for ``key``, or None unless the file is an exact, complete match.
+
+    The file must hold exactly a ``fingerprint`` equal to ``key``, a ``result``
+    and the ``digest`` :func:`store` computed over both.  A missing or extra
+    field, another fingerprint, an edited result, a truncated or unreadable file:
+    all are misses, and the check simply runs again.
 
     Parameters
     ----------
@@ -89,16 +102,19 @@ def load(cache_path, key):
     try:
         with open(cache_path, encoding="utf-8") as handle:
             stored = json.load(handle)
-    except (OSError, ValueError):
+        if not isinstance(stored, dict) or set(stored) != {"fingerprint", "digest", "result"}:
+            return None
+        if stored["fingerprint"] != key or not isinstance(stored["result"], dict):
+            return None
+        if stored["digest"] != _digest(key, stored["result"]):
+            return None
+    except (OSError, ValueError, TypeError):
         return None
-    if not isinstance(stored, dict) or stored.get("fingerprint") != key:
-        return None
-    result = stored.get("result")
-    return result if isinstance(result, dict) else None
+    return stored["result"]
 
 
 def store(cache_path, key, result):
-    """Write ``result`` under ``key``, atomically; a failure to write is ignored.
+    """Write ``result`` under ``key`` with its digest, atomically; a failure to write is ignored.
 
     The cache only saves time, so a read-only working folder must not stop a
     build: if the file cannot be written, the check simply runs again next time.
@@ -110,11 +126,13 @@ def store(cache_path, key, result):
     key : str
         A fingerprint from :func:`fingerprint`.
     result : dict
-        JSON-serialisable result of the check.
+        JSON-serialisable result of the check (no NaN or infinity).
     """
     cache_path = Path(cache_path)
     # Key order is kept: the result lists subjects in subject-sheet order.
-    text = json.dumps({"fingerprint": key, "result": result}, indent=1)
+    entry = {"fingerprint": key, "digest": _digest(key, result), "result": result}
+    text = json.dumps(entry, indent=1, allow_nan=False)
+    temporary = None
     try:
         cache_path.parent.mkdir(parents=True, exist_ok=True)
         handle, temporary = tempfile.mkstemp(dir=cache_path.parent, prefix=".tmp-")
@@ -122,7 +140,5 @@ def store(cache_path, key, result):
             stream.write(text + "\n")
         os.replace(temporary, cache_path)
     except OSError:
-        try:
-            os.unlink(temporary)
-        except (OSError, UnboundLocalError):
-            pass
+        if temporary is not None:
+            Path(temporary).unlink(missing_ok=True)

@@ -8,21 +8,29 @@ half-written file behind.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
+import json
 import math
 import numbers
 import os
 import tempfile
+import traceback
 from pathlib import Path
 
 __all__ = [
     "FLOAT_FORMAT",
     "SCHEMA_DIR",
+    "concatenate_csv",
     "format_cell",
+    "json_text",
     "load_schema",
+    "output_to",
+    "read_json",
     "read_trials",
     "write_csv",
+    "write_json_if_changed",
     "write_rows",
     "write_text",
 ]
@@ -201,3 +209,125 @@ def read_trials(path):
             x.append(float(row[distance]))
             y.append(float(row[deflection]) if row[deflection] else math.nan)
     return {subject: dict(sorted(depths.items())) for subject, depths in trials.items()}
+
+
+def json_text(data):
+    """JSON as the workflow writes it: two-space indent, key order kept, newline at the end.
+
+    Parameters
+    ----------
+    data : JSON-serialisable object
+        No NaN or infinity (they are not JSON).
+
+    Returns
+    -------
+    str
+    """
+    return json.dumps(data, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+
+
+def write_json_if_changed(data, path):
+    """Write JSON unless the file already holds exactly that text; say whether it wrote.
+
+    A file rewritten only when its content changes keeps its modification time,
+    so a job that takes it as input reruns exactly when the values in it change.
+
+    Parameters
+    ----------
+    data : JSON-serialisable object
+    path : str or os.PathLike
+
+    Returns
+    -------
+    bool
+        True if the file was (re)written.
+    """
+    text = json_text(data)
+    try:
+        if Path(path).read_text(encoding="utf-8") == text:
+            return False
+    except (OSError, UnicodeDecodeError):
+        pass
+    write_text(text, path)
+    return True
+
+
+def read_json(path):
+    """Read a JSON file written by :func:`write_json_if_changed` or :func:`json_text`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    object
+    """
+    with open(path, encoding="utf-8") as handle:
+        return json.load(handle)
+
+
+@contextlib.contextmanager
+def output_to(log_path):
+    """Send a job's printed output and any traceback to its log file.
+
+    Parameters
+    ----------
+    log_path : str or os.PathLike
+        The job's log (created or overwritten).
+
+    Yields
+    ------
+    io.TextIOBase
+        The open log.
+    """
+    Path(log_path).parent.mkdir(parents=True, exist_ok=True)
+    with (
+        open(log_path, "w", encoding="utf-8") as log,
+        contextlib.redirect_stdout(log),
+        contextlib.redirect_stderr(log),
+    ):
+        try:
+            yield log
+        except BaseException:
+            traceback.print_exc()
+            raise
+
+
+def concatenate_csv(paths, output):
+    """Concatenate CSV tables with the same header, in the given order, without pandas.
+
+    Parameters
+    ----------
+    paths : sequence of str or os.PathLike
+        Tables written by this package (at least one).
+    output : str or os.PathLike
+        Destination, written atomically.
+
+    Returns
+    -------
+    int
+        Number of data rows written.
+
+    Raises
+    ------
+    ValueError
+        If a table's header differs from the first one's.
+    """
+    header, n_rows = None, 0
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    for path in paths:
+        with open(path, newline="", encoding="utf-8") as handle:
+            reader = csv.reader(handle)
+            this_header = next(reader, [])
+            if header is None:
+                header = this_header
+                writer.writerow(header)
+            elif this_header != header:
+                raise ValueError(f"{path}: columns differ from {paths[0]}")
+            for row in reader:
+                writer.writerow(row)
+                n_rows += 1
+    write_text(buffer.getvalue(), output)
+    return n_rows

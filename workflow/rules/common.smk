@@ -1,21 +1,17 @@
-# Loads and validates the config and every raw input before any job is planned.
-# A broken input stops the run here with one message naming file, line and
-# column: no job starts, so nothing partial is written.
-import json
-import shlex
+# Config and raw inputs, validated before any job is planned; what each job is given.
+# A broken input stops the run here with one message naming file, line and column:
+# no job starts, so nothing partial is written.
 import sys
 from pathlib import Path
 
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import min_version, validate
 
+from lineload import checkcache, codedeps
+from lineload.figures import registry
+from lineload.io import load_schema, write_json_if_changed
+
 min_version("9.0")
-
-WORKFLOW_DIR = Path(workflow.basedir) / "workflow"
-sys.path.insert(0, str(WORKFLOW_DIR))
-
-from lineload import checkcache  # noqa: E402  (standard library only)
-from lineload.io import load_schema  # noqa: E402
 
 
 def abort(message):
@@ -56,8 +52,7 @@ def check_inputs():
     raw = config["raw_data"]
     try:
         dataset = check_dataset(
-            raw,
-            {name: load_schema(name) for name in ("subjects", "profiles", "outlines")},
+            raw, {name: load_schema(name) for name in ("subjects", "profiles", "outlines")}
         )
         validate(dataset["subjects"], "../schemas/subjects.schema.yaml")
     except InputError as error:
@@ -89,14 +84,15 @@ def check_inputs():
 
 # The check reads every raw file (and imports pandas), so a passed check is
 # remembered under a fingerprint of the config, the checking code and the raw
-# files' bytes; an unchanged dataset is then not read again (see checkcache.py).
+# files' bytes; an unchanged dataset is then not read again (lineload/checkcache.py).
 CHECK_CACHE = Path(".snakemake", "lineload", "input-check.json")
 CHECK_CODE = [
-    WORKFLOW_DIR / "lineload" / name
-    for name in ("checkcache.py", "io.py", "validation.py")
+    str(Path(workflow.basedir, "rules", "common.smk")),
+    str(codedeps.PACKAGE_DIR / "validation.py"),
+    str(codedeps.PACKAGE_DIR / "checkcache.py"),
+    *codedeps.script_dependencies(codedeps.PACKAGE_DIR / "validation.py"),
+    *sorted(str(p) for p in Path(workflow.basedir, "schemas").glob("*.schema.yaml")),
 ]
-CHECK_CODE += [WORKFLOW_DIR / "rules" / "common.smk"]
-CHECK_CODE += sorted((WORKFLOW_DIR / "schemas").glob("*.schema.yaml"))
 _raw_given = config.get("raw_data")
 if _raw_given is None:  # not set: the schema's default
     _raw_given = load_schema("config")["properties"]["raw_data"]["default"]
@@ -115,12 +111,6 @@ else:
 
 RAW = config["raw_data"]
 RES = config["results"]
-# Every job runs the entry points with the interpreter that runs Snakemake (so an
-# unactivated virtual environment still works). It is set once as a shell variable
-# rather than passed in params, because `.venv/bin/python` and `.venv/bin/python3`
-# name the same interpreter, and in params the difference would read as a change.
-shell.prefix(f"LINELOAD_PYTHON={shlex.quote(sys.executable)}; ")
-SCRIPTS = WORKFLOW_DIR / "scripts"
 
 # Subject id -> {"species", "magnification", "label"}, in subject-sheet order.
 SUBJECTS = DATASET["subjects"]
@@ -142,100 +132,16 @@ for start in range(0, len(SUBJECT_IDS), PER_JOB):
 BATCH_IDS = list(BATCHES)
 
 
-def raw_files():
-    """Every raw input the build read: subject sheet, profiles, outlines, notice."""
-    files = [f"{RAW}/subjects.csv"]
-    files += [f"{RAW}/profiles/{s}.csv" for s in SUBJECT_IDS]
-    files += [f"{RAW}/outlines/{s}.csv" for s in DATASET["outlines"]]
-    if Path(RAW, "NOTICE.txt").is_file():
-        files.append(f"{RAW}/NOTICE.txt")
-    return files
-
-
-# The pinned environment named by all rules (conda directive), as documentation
-# for readers and as what `snakemake --use-conda` builds.
-ENVIRONMENT = "../../environment.yml"
-
-
-def subject_species_args(batch):
-    """'--subject ID SPECIES' for each subject of a batch, for the fit scripts."""
-    return " ".join(f"--subject {s} {SUBJECTS[s]['species']}" for s in BATCHES[batch])
-
-
-def code_inputs(script_name):
-    """An entry point (first) and every lineload module it imports, directly or not.
-
-    Given as inputs to its rule, so editing the science code reruns the jobs it
-    affects (Snakemake tracks a rule's shell text, not the Python it calls).
-    """
-    import re
-
-    package = WORKFLOW_DIR / "lineload"
-    pattern = re.compile(r"^\s*from (?:lineload|)\.?([a-z_]*) import ([\w, (]+)", re.M)
-    files, queue = [SCRIPTS / script_name], [SCRIPTS / script_name]
-    while queue:
-        text = queue.pop().read_text(encoding="utf-8")
-        for module, names in pattern.findall(text):
-            candidates = [module] if module else [n.strip() for n in names.split(",")]
-            for name in candidates:
-                path = package / f"{name}.py"
-                if path.is_file() and path not in files:
-                    files.append(path)
-                    queue.append(path)
-    return [str(files[0])] + sorted(str(f) for f in files[1:])
+wildcard_constraints:
+    # the same rule as subjects.schema.yaml: ids name files; a batch is named after its
+    # first subject, plus a sign and a count when it holds more
+    subject="[A-Za-z0-9][A-Za-z0-9_-]*",
+    batch="[A-Za-z0-9][A-Za-z0-9_-]*([+][0-9]{1,9})?",
 
 
 def result(*parts):
     """Path of an output under the results folder."""
     return str(Path(RES, *parts))
-
-
-SPECIES_SUBJECTS = {
-    species: [s for s in SUBJECT_IDS if SUBJECTS[s]["species"] == species]
-    for species in ("monkey", "human")
-}
-
-
-def first_of_each_species(candidates):
-    """The first monkey and the first human among candidates, in subject-sheet order."""
-    return [
-        next(s for s in SPECIES_SUBJECTS[sp] if s in candidates)
-        for sp in ("monkey", "human")
-        if any(s in candidates for s in SPECIES_SUBJECTS[sp])
-    ]
-
-
-def chosen_subjects(key, candidates, need):
-    """Subjects named in config['figures'][key], checked, or the default choice."""
-    requested = config["figures"][key]
-    for subject in requested:
-        if subject not in candidates:
-            abort(f"config, key 'figures/{key}': subject {subject!r} {need}")
-    return list(requested) or first_of_each_species(candidates)
-
-
-OUTLINE_SUBJECTS = chosen_subjects(
-    "outline_subjects", DATASET["outlines"], f"has no outline file in {RAW}/outlines/"
-)
-OUTLINE_DEPTH_MM = config["figures"]["outline_depth_mm"]
-if OUTLINE_SUBJECTS:
-    common_depths = set.intersection(
-        *(set(DATASET["outlines"][s]) for s in OUTLINE_SUBJECTS)
-    )
-    if OUTLINE_DEPTH_MM is None and common_depths:
-        OUTLINE_DEPTH_MM = min(common_depths)
-    if OUTLINE_DEPTH_MM not in common_depths:
-        abort(
-            "config, key 'figures/outline_depth_mm': expected a depth outlined for "
-            f"{', '.join(OUTLINE_SUBJECTS)} ({', '.join(f'{d:g}' for d in sorted(common_depths))}),"
-            f" got {OUTLINE_DEPTH_MM}"
-        )
-EXAMPLE_DEPTH_MM = config["figures"]["example_depth_mm"]
-EXAMPLE_SUBJECTS = chosen_subjects(
-    "example_subjects",
-    [s for s in SUBJECT_IDS if EXAMPLE_DEPTH_MM in DATASET["depths_mm"][s]],
-    f"is not in {RAW}/subjects.csv or has no profile at the figure depth",
-)
 
 
 def read_notice():
@@ -252,54 +158,39 @@ def read_notice():
 NOTICE = read_notice()
 
 
-# ---------------------------------------------------------------- figures
-# Figures drawn by each rule (file stems under results/figures/).
-FIGURE_GROUPS = {
-    "figure_outlines": ["figure1"],
-    "figure_schematics": ["figure3", "figure4", "figure5"],
-    "figure_fits": ["figure2", "figure6", "figure7"],
-    "figure_supplement": [
-        "supplement_residuals",
-        "supplement_arc_vs_parabola",
-        "supplement_sensitivity",
-        "supplement_coordinates",
-    ],
-}
+# ---------------------------------------------------------------- what each job is given
+# A job's values (settings from the config, the subjects it handles, the footer) are
+# written to <results>/specs/<rule>/<key>.json, and the file is an input of the job.
+# It is rewritten only when its content changes, so a job reruns exactly when its
+# values do; and a reviewer can open it to see what the job was given.  (Values passed
+# as params would do the same, but comparing them makes Snakemake import pandas on
+# every run.)
+def spec(rule, key="all", **values):
+    """Write a job's spec (if changed) and return its path."""
+    path = result("specs", rule, f"{key}.json")
+    write_json_if_changed(values, path)
+    return path
+
+
+def batch_specs(rule, **values):
+    """One spec per batch, with the batch's subjects; the path pattern for the rule."""
+    for batch, members in BATCHES.items():
+        subjects = {s: SUBJECTS[s] for s in members}
+        spec(rule, batch, subjects=subjects, **values)
+    return result("specs", rule, "{batch}.json")
+
+
+# ---------------------------------------------------------------- the code each job runs
+# Snakemake reruns a script: job when the script changes, not when a module it imports
+# does; the package files a script reaches through its imports are inputs of its rule.
+SCRIPTS = Path(workflow.basedir, "scripts")
+
+
+def code(script, modules=()):
+    """The package files a rule's script runs (lineload/codedeps.py)."""
+    return codedeps.script_dependencies(SCRIPTS / script, modules)
 
 
 # Snakemake's parser reads a line that starts with `report(` as its report keyword,
 # and snakefmt puts the call at a line start: call it by another name.
 report_item = report
-
-
-def figure_files(group):
-    """PDF and PNG of every figure a rule draws; the PNG goes into the report."""
-    files = []
-    for name in FIGURE_GROUPS[group]:
-        category = "Supplement" if name.startswith("supplement") else "Paper figures"
-        caption, labels = f"../report/{name}.rst", {"figure": name.replace("_", " ")}
-        png = result("figures", f"{name}.png")
-        files += [
-            result("figures", f"{name}.pdf"),
-            report_item(png, caption=caption, category=category, labels=labels),
-        ]
-    return files
-
-
-def figure_args(group):
-    """'--figure NAME' for every figure a rule draws."""
-    return " ".join(f"--figure {name}" for name in FIGURE_GROUPS[group])
-
-
-# Every figure file the default target builds (PDF and PNG of each).
-FIGURE_OUTPUTS = [path for group in FIGURE_GROUPS for path in figure_files(group)]
-
-# Shared arguments: the subject list (id, species, label) in sheet order, the
-# PNG resolution and the footer; the figure stage reads results files only.
-FIGURE_SUBJECT_ARGS = " ".join(
-    f"--subject {shlex.quote(s)} {SUBJECTS[s]['species']} {shlex.quote(SUBJECTS[s]['label'])}"
-    for s in SUBJECT_IDS
-)
-# The drawing code is an input too, so editing the figures' style redraws them.
-FIGURE_CODE = code_inputs("make_figures.py")
-FIGURE_DPI = config["figures"]["png_dpi"]

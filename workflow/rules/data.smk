@@ -4,19 +4,20 @@
 rule prepare_profiles:
     """Convert a batch of subjects' readings to tissue mm and average the two sides."""
     input:
-        code=code_inputs("prepare_profiles.py"),
+        spec=batch_specs("prepare_profiles"),
         profiles=lambda wildcards: [
             f"{RAW}/profiles/{s}.csv" for s in BATCHES[wildcards.batch]
         ],
+        code=code("prepare_profiles.py"),
     output:
-        converted=report(
+        converted=report_item(
             result("data", "converted", "{batch}.csv"),
             caption="../report/converted.rst",
             category="Data",
             subcategory="Readings in tissue mm",
             labels={"subjects": "{batch}"},
         ),
-        averaged=report(
+        averaged=report_item(
             result("data", "averaged", "{batch}.csv"),
             caption="../report/averaged.rst",
             category="Data",
@@ -25,34 +26,30 @@ rule prepare_profiles:
         ),
     log:
         result("logs", "prepare_profiles", "{batch}.log"),
-    conda:
-        ENVIRONMENT
-    params:
-        subjects=lambda wildcards, input: " ".join(
-            f"--subject {s} {SUBJECTS[s]['magnification']!r} {shlex.quote(path)}"
-            for s, path in zip(BATCHES[wildcards.batch], input.profiles, strict=True)
-        ),
-    shell:
-        "$LINELOAD_PYTHON {input.code[0]:q} {params.subjects}"
-        " --converted {output.converted:q} --averaged {output.averaged:q} > {log:q} 2>&1"
+    benchmark:
+        result("benchmarks", "prepare_profiles", "{batch}.tsv")
+    script:
+        "../scripts/prepare_profiles.py"
 
 
 rule prepare_outline:
     """Convert one subject's traced outlines (Figure 1) to tissue mm."""
     input:
-        code=code_inputs("prepare_outline.py"),
+        spec=result("specs", "prepare_outline", "{subject}.json"),
         outline=f"{RAW}/outlines/{{subject}}.csv",
+        code=code("prepare_outline.py"),
     output:
         result("data", "outlines", "{subject}.csv"),
     log:
         result("logs", "prepare_outline", "{subject}.log"),
-    conda:
-        ENVIRONMENT
-    params:
-        magnification=lambda wildcards: repr(
-            SUBJECTS[wildcards.subject]["magnification"]
-        ),
-    shell:
-        "$LINELOAD_PYTHON {input.code[0]:q} --subject {wildcards.subject}"
-        " --magnification {params.magnification} --outline {input.outline:q}"
-        " --output {output:q} > {log:q} 2>&1"
+    script:
+        "../scripts/prepare_outline.py"
+
+
+for _subject in DATASET["outlines"]:
+    spec(
+        "prepare_outline",
+        _subject,
+        subject=_subject,
+        magnification=SUBJECTS[_subject]["magnification"],
+    )

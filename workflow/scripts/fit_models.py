@@ -1,36 +1,26 @@
-"""Entry point of rule fit_models: the three models for each subject and depth of a batch."""
+"""Rule fit_models: every model for each subject and depth of a batch."""
 
-import argparse
-
-import _bootstrap  # noqa: F401  (puts the lineload package on the path)
 from lineload.fitting import FIT_COLUMNS, fit_trial
-from lineload.io import read_trials, write_rows
+from lineload.io import output_to, read_json, read_trials, write_rows
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument(
-        "--subject", nargs=2, action="append", required=True, metavar=("ID", "SPECIES")
-    )
-    parser.add_argument("--window-mm", type=float, required=True)
-    parser.add_argument("--averaged", required=True, help="input: averaged profiles")
-    parser.add_argument("--output", required=True, help="output: one row per subject and depth")
-    args = parser.parse_args()
-
-    trials = read_trials(args.averaged)  # numpy only: this job runs once per batch
+def fit_models(averaged, output, subjects, window_mm):
+    """Fit each trial of the batch's subjects; write one row per subject and depth."""
+    trials = read_trials(averaged)  # numpy only: this job runs once per batch
     rows = []
-    for subject, species in args.subject:
+    for subject, about in subjects.items():
         for depth_mm, (x, y) in trials.get(subject, {}).items():
-            row = fit_trial(x, y, depth_mm, args.window_mm)
-            rows.append({"subject": subject, "species": species, **row})
+            row = fit_trial(x, y, depth_mm, window_mm)
+            rows.append({"subject": subject, "species": about["species"], **row})
             print(
                 f"{subject} {depth_mm:g} mm: {row['n_points']} points, "
                 f"waterbed L = {row['waterbed_L_mm']:.3f} mm, "
-                f"RMSE waterbed/arc/Boussinesq = {row['waterbed_rmse_mm']:.4f}/"
-                f"{row['arc_rmse_mm']:.4f}/{row['boussinesq_rmse_mm']:.4f} mm"
+                f"RMSE waterbed/shifted/arc/Boussinesq = {row['waterbed_rmse_mm']:.4f}/"
+                f"{row['shifted_rmse_mm']:.4f}/{row['arc_rmse_mm']:.4f}/"
+                f"{row['boussinesq_rmse_mm']:.4f} mm"
             )
-    write_rows(rows, FIT_COLUMNS, args.output)
+    write_rows(rows, FIT_COLUMNS, output)
 
 
-if __name__ == "__main__":
-    main()
+with output_to(snakemake.log[0]):
+    fit_models(snakemake.input.averaged, snakemake.output[0], **read_json(snakemake.input.spec))

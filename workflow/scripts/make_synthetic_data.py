@@ -20,7 +20,6 @@ import argparse
 import sys
 from pathlib import Path
 
-import _bootstrap  # noqa: F401  (puts the lineload package on the path)
 import lineload.synthetic as synthetic
 from lineload.io import write_text
 

@@ -1,31 +1,20 @@
-"""Entry point of rule sensitivity_tables: collect the refits and summarise them."""
-
-import argparse
+"""Rule sensitivity_tables: collect the refits and per-trial checks; summarise them."""
 
 import pandas as pd
 
-import _bootstrap  # noqa: F401  (puts the lineload package on the path)
-from lineload.io import read_results_csv, write_csv, write_text
+from lineload.io import output_to, read_json, read_results_csv, write_csv, write_text
 from lineload.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS, summary_markdown
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--notice", default="")
-    parser.add_argument("--sensitivity", nargs="+", required=True)
-    parser.add_argument("--checks", nargs="+", required=True)
-    parser.add_argument("--sensitivity-out", required=True)
-    parser.add_argument("--checks-out", required=True)
-    parser.add_argument("--markdown", required=True)
-    args = parser.parse_args()
-
-    sensitivity = pd.concat([read_results_csv(p) for p in args.sensitivity], ignore_index=True)
-    checks = pd.concat([read_results_csv(p) for p in args.checks], ignore_index=True)
-    write_csv(sensitivity, args.sensitivity_out, SENSITIVITY_COLUMNS)
-    write_csv(checks, args.checks_out, CHECK_COLUMNS)
-    write_text(summary_markdown(sensitivity, checks, args.notice), args.markdown)
+def sensitivity_tables(inputs, outputs, notice):
+    """Concatenate the batches' refits and checks; write them and the Markdown summary."""
+    sensitivity = pd.concat([read_results_csv(p) for p in inputs.sensitivity], ignore_index=True)
+    checks = pd.concat([read_results_csv(p) for p in inputs.checks], ignore_index=True)
+    write_csv(sensitivity, outputs.sensitivity, SENSITIVITY_COLUMNS)
+    write_csv(checks, outputs.checks, CHECK_COLUMNS)
+    write_text(summary_markdown(sensitivity, checks, notice), outputs.markdown)
     print(f"{len(sensitivity)} refits and {len(checks)} trial checks collected")
 
 
-if __name__ == "__main__":
-    main()
+with output_to(snakemake.log[0]):
+    sensitivity_tables(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))

@@ -1,0 +1,103 @@
+"""The package files a workflow script depends on, from its real imports."""
+
+from pathlib import Path
+
+import pytest
+
+from lineload import codedeps
+
+
+def write(folder, files):
+    for name, text in files.items():
+        path = folder / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+
+
+@pytest.fixture
+def package(tmp_path):
+    """A package named lineload with a known import graph."""
+    root = tmp_path / "lineload"
+    write(
+        root,
+        {
+            "__init__.py": '"""Package."""\n',
+            "models.py": "import math\nimport numpy as np\n",
+            "fitting.py": "from .models import curve\n",
+            "paper.py": "",
+            "tables.py": "def f():\n    from . import paper\n",
+            "figures/__init__.py": "",
+            "figures/style.py": "from ..paper import SPECIES\n",
+            "figures/schematics.py": "from .style import STYLE\nfrom .. import models\n",
+            "figures/supplements.py": "from lineload.figures.style import STYLE\n"
+            "from lineload import fitting\n",
+            "figures/registry.py": "",
+        },
+    )
+    return root
+
+
+def names(files, package):
+    return sorted(str(Path(f).relative_to(package)) for f in files)
+
+
+def deps(tmp_path, package, text, modules=()):
+    script = tmp_path / "script.py"
+    script.write_text(text)
+    return names(codedeps.script_dependencies(script, modules, package_dir=package), package)
+
+
+def test_every_form_of_import_is_followed(tmp_path, package):
+    assert deps(tmp_path, package, "import lineload.models as m\n") == [
+        "__init__.py",
+        "models.py",
+    ]
+    # `from lineload import fitting` imports the module, and fitting imports models
+    assert deps(tmp_path, package, "from lineload import fitting\n") == [
+        "__init__.py",
+        "fitting.py",
+        "models.py",
+    ]
+    assert deps(tmp_path, package, "from lineload.fitting import fit\n") == [
+        "__init__.py",
+        "fitting.py",
+        "models.py",
+    ]
+    # an import inside a function runs when it is called, so it counts; relative imports
+    # resolve from the module that makes them
+    assert deps(tmp_path, package, "def f():\n    import lineload.tables\n") == [
+        "__init__.py",
+        "paper.py",
+        "tables.py",
+    ]
+    # other packages and the standard library are not ours
+    assert deps(tmp_path, package, "import numpy\nimport os.path\nimport lineloader\n") == []
+
+
+def test_subpackages_and_their_parents(tmp_path, package):
+    assert deps(tmp_path, package, "from lineload.figures import schematics\n") == [
+        "__init__.py",
+        "figures/__init__.py",
+        "figures/schematics.py",
+        "figures/style.py",
+        "models.py",
+        "paper.py",
+    ]
+    # a schematics job does not depend on the fit code, a supplements job does
+    supplements = deps(tmp_path, package, "import lineload.figures.supplements\n")
+    assert "fitting.py" in supplements and "models.py" in supplements
+
+
+def test_modules_imported_by_name_at_run_time(tmp_path, package):
+    script = "from lineload.figures import registry\n"
+    assert "figures/schematics.py" not in deps(tmp_path, package, script)
+    named = deps(tmp_path, package, script, modules=["lineload.figures.schematics"])
+    assert {"figures/registry.py", "figures/schematics.py", "figures/style.py"} <= set(named)
+
+
+def test_the_workflow_scripts_see_their_modules():
+    # on the real package: the fit job runs the models, not the claims
+    script = codedeps.PACKAGE_DIR.parents[0] / "scripts" / "fit_models.py"
+    files = {Path(f).name for f in codedeps.script_dependencies(script)}
+    assert {"fitting.py", "models.py"} <= files
+    assert "claims.py" not in files

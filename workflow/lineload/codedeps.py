@@ -1,0 +1,144 @@
+"""Which modules of this package a workflow script runs, read from its real imports.
+
+Snakemake reruns a ``script:`` job when the script changes, but not when a module
+it imports does.  The workflow therefore declares the package modules each job
+runs as inputs of its rule, computed here from the ``import`` statements of the
+script and, transitively, of every module it reaches (absolute ``lineload``
+imports and relative ones, at module level or inside functions, since either
+runs when called).  Standard library only, so it is cheap at parse time.
+"""
+
+from __future__ import annotations
+
+import ast
+from functools import lru_cache
+from pathlib import Path
+
+__all__ = ["PACKAGE", "PACKAGE_DIR", "module_files", "script_dependencies"]
+
+PACKAGE = "lineload"
+#: The folder of this package.
+PACKAGE_DIR = Path(__file__).resolve().parent
+
+
+def module_files(module, package_dir=PACKAGE_DIR):
+    """Source files that make up a dotted module name of this package.
+
+    ``lineload.figures.style`` is ``figures/style.py``, and importing it runs
+    ``lineload/__init__.py`` and ``figures/__init__.py`` too.
+
+    Parameters
+    ----------
+    module : str
+        Dotted name starting with ``lineload``.
+    package_dir : pathlib.Path, optional
+        Folder of the package (tests point it at a package of their own).
+
+    Returns
+    -------
+    list of pathlib.Path
+        Existing files, packages' ``__init__.py`` first; empty if the name is
+        not a module of this package.
+    """
+    parts = module.split(".")
+    if parts[0] != PACKAGE:
+        return []
+    files = []
+    folder = package_dir
+    for part in parts[1:]:
+        init = folder / "__init__.py"
+        if init.is_file():
+            files.append(init)
+        if (folder / part).is_dir():
+            folder = folder / part
+        elif (folder / f"{part}.py").is_file():
+            files.append(folder / f"{part}.py")
+            return files
+        else:
+            return []
+    init = folder / "__init__.py"
+    if init.is_file():
+        files.append(init)
+    return files
+
+
+def _module_name(path, package_dir):
+    """Dotted name of a file of this package (``figures/__init__.py`` -> ``lineload.figures``)."""
+    relative = path.relative_to(package_dir).with_suffix("")
+    parts = [PACKAGE, *relative.parts]
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imported_modules(path, package_dir):
+    """Dotted names of this package's modules that a file imports (candidates, unchecked)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    inside = package_dir in path.resolve().parents
+    here = _module_name(path.resolve(), package_dir) if inside else None
+    is_package = path.name == "__init__.py"
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                yield alias.name
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                if here is None:
+                    continue
+                base = here.split(".")
+                base = base if is_package else base[:-1]
+                base = base[: len(base) - (node.level - 1)]
+                stem = ".".join(base + ([node.module] if node.module else []))
+            else:
+                stem = node.module or ""
+            yield stem
+            # `from lineload import fitting` imports the module lineload.fitting
+            for alias in node.names:
+                yield f"{stem}.{alias.name}"
+
+
+@lru_cache(maxsize=None)
+def _direct(path, stamp, package_dir):
+    """This package's files a file imports directly (``stamp`` keys the cache to its version)."""
+    files = []
+    for module in _imported_modules(path, package_dir):
+        files.extend(f for f in module_files(module, package_dir) if f not in files)
+    return tuple(files)
+
+
+def _closure(path, package_dir):
+    """Every file of this package reached from ``path`` by imports."""
+    found, queue = {}, [Path(path)]
+    while queue:
+        current = queue.pop()
+        status = current.stat()
+        for file in _direct(current, (status.st_mtime_ns, status.st_size), package_dir):
+            if file not in found:
+                found[file] = None
+                queue.append(file)
+    return tuple(found)
+
+
+def script_dependencies(script, modules=(), package_dir=PACKAGE_DIR):
+    """The package files a script runs: its imports, theirs, and so on.
+
+    Parameters
+    ----------
+    script : str or os.PathLike
+        A Python file (a workflow script or a module).
+    modules : iterable of str, optional
+        Dotted names the script imports by name at run time (``importlib``),
+        which no ``import`` statement shows; their imports are followed too.
+    package_dir : pathlib.Path, optional
+        Folder of the package (tests point it at a package of their own).
+
+    Returns
+    -------
+    list of str
+        Paths of the package's source files, sorted, without the script itself.
+    """
+    package_dir = Path(package_dir).resolve()
+    files = set(_closure(Path(script).resolve(), package_dir))
+    for module in modules:
+        for file in module_files(module, package_dir):
+            files.add(file)
+            files.update(_closure(file, package_dir))
+    return sorted(str(f) for f in files)

@@ -1,0 +1,37 @@
+"""Rules figure_*: draw one group of figures from the registry, each as PDF and PNG.
+
+The job's spec names the group, the PNG resolution, the subject list and the
+settings its figures take; the tables they read are the job's named inputs.
+Which function draws each figure, and with which arguments, is in
+lineload.figures.registry.
+"""
+
+from importlib import import_module
+from pathlib import Path
+
+import pandas as pd
+
+from lineload.figures import registry
+from lineload.figures.style import save_figure
+from lineload.io import output_to, read_json, read_results_csv
+
+
+def draw_figures(inputs, outputs, group, dpi, subjects, settings):
+    """Draw and save every figure of ``group``."""
+    values = dict(settings)
+    values["subjects"] = pd.DataFrame(subjects, columns=["subject", "species", "label"])
+    for name in registry.arguments_of_group(group):
+        if registry.ARGUMENTS[name].kind == "file":
+            frames = [read_results_csv(path) for path in inputs[name]]
+            values[name] = pd.concat(frames, ignore_index=True) if frames else None
+    folder = Path(outputs[0]).parent
+    for figure in registry.figures_in_group(group):
+        draw = getattr(import_module(f"lineload.figures.{figure.module}"), figure.function)
+        fig = draw(**{a: values[a] for a in figure.arguments}, **dict(figure.fixed))
+        pdf, png = folder / f"{figure.name}.pdf", folder / f"{figure.name}.png"
+        save_figure(fig, pdf, png, dpi)
+        print(f"{figure.name}: {len(fig.axes)} axes -> {pdf}, {png} ({dpi} dpi)")
+
+
+with output_to(snakemake.log[0]):
+    draw_figures(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
