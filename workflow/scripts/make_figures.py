@@ -1,34 +1,23 @@
 """Entry point of the figure rules: read results files, draw the named figures, save them.
 
-Any subset of figures can be drawn in one run (``--figure figure2 --figure figure6``);
-each is written as ``<outdir>/<name>.pdf`` and ``<outdir>/<name>.png``.  The subject
-list (id, species, label) comes on the command line, so the figure stage reads
-results files only.
+Any subset of the registered figures (``lineload.figures.registry.FIGURES``) can be
+drawn in one run (``--figure figure2 --figure figure6``); each is written as
+``<outdir>/<name>.pdf`` and ``<outdir>/<name>.png``.  What a figure needs comes from
+the registry: each of its arguments is read from the command line here, and the
+subject list (id, species, label) comes on the command line too, so the figure stage
+reads results files only.
 """
 
 import argparse
+import importlib
 from pathlib import Path
 
 import pandas as pd
 
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
-from lineload import paper, plotting
+from lineload.figures import registry
+from lineload.figures.style import save_figure
 from lineload.io import read_results_csv
-
-#: Which inputs each figure needs (checked before anything is drawn).
-NEEDS = {
-    "figure1": ["outline_depth_mm"],
-    "figure2": ["averaged", "fits", "example_depth_mm", "fit_window_mm"],
-    "figure3": ["schematic_depth_ratio"],
-    "figure4": ["schematic_depth_ratio"],
-    "figure5": ["schematic_depth_ratio"],
-    "figure6": ["averaged", "fits", "fit_window_mm"],
-    "figure7": ["averaged", "fits", "fit_window_mm"],
-    "supplement_residuals": ["averaged", "fits", "fit_window_mm"],
-    "supplement_arc_vs_parabola": ["fits"],
-    "supplement_sensitivity": ["sensitivity", "checks"],
-    "supplement_coordinates": ["fits", "checks", "noise_mm"],
-}
 
 
 def parse_args():
@@ -37,7 +26,7 @@ def parse_args():
         "--figure",
         action="append",
         required=True,
-        choices=plotting.FIGURE_NAMES,
+        choices=[figure.name for figure in registry.FIGURES],
         help="figure to draw (repeatable)",
     )
     parser.add_argument("--outdir", required=True, help="folder of the PDF and PNG files")
@@ -73,10 +62,21 @@ def parse_args():
     parser.add_argument("--checks", help="the per-trial shift and reach (CSV)")
     parser.add_argument("--noise-mm", type=float, help="digitising noise of one reading (mm)")
     args = parser.parse_args()
+    # options without a default: a figure that takes one cannot be drawn without it
+    # (no averaged profiles or outlines is not an error: the figure says so)
+    required = {
+        "fits": args.fits,
+        "sensitivity": args.sensitivity,
+        "checks": args.checks,
+        "fit_window_mm": args.fit_window_mm,
+        "example_depth_mm": args.example_depth_mm,
+        "schematic_depth_ratio": args.schematic_depth_ratio,
+        "noise_mm": args.noise_mm,
+    }
     for name in args.figure:
-        for need in NEEDS[name]:
-            if need not in ("averaged", "outline_depth_mm") and getattr(args, need) is None:
-                parser.error(f"{name} needs --{need.replace('_', '-')}")
+        for argument in registry.figure_named(name).arguments:
+            if argument in required and required[argument] is None:
+                parser.error(f"{name} needs --{argument.replace('_', '-')}")
     return args
 
 
@@ -85,64 +85,50 @@ def read_csvs(paths):
     return pd.concat(frames, ignore_index=True) if frames else None
 
 
+def argument_values(args, names):
+    """The value of every named argument of :data:`registry.ARGUMENTS`, from the command line."""
+    values = {}
+    for name in names:
+        if name == "averaged":
+            averaged = read_csvs(args.averaged)
+            if averaged is None:
+                averaged = pd.DataFrame(
+                    columns=["subject", "depth_mm", "distance_mm", "deflection_mm"]
+                )
+            values[name] = averaged
+        elif name == "outlines":
+            values[name] = read_csvs(args.outline)
+        elif name == "outline_subjects":
+            # the subjects of the outline files given, in order
+            outlines = values["outlines"] if "outlines" in values else read_csvs(args.outline)
+            values[name] = [] if outlines is None else list(dict.fromkeys(outlines["subject"]))
+        elif name in ("fits", "sensitivity", "checks"):
+            path = getattr(args, name)
+            values[name] = read_results_csv(path) if path else None
+        elif name == "subjects":
+            values[name] = pd.DataFrame(args.subject, columns=["subject", "species", "label"])
+        elif name == "example_subjects":
+            values[name] = args.example_subject
+        else:  # notice and the numeric settings, spelled as their option
+            values[name] = getattr(args, name)
+    return values
+
+
 def main():
     args = parse_args()
-    subjects = pd.DataFrame(args.subject, columns=["subject", "species", "label"])
-    averaged = read_csvs(args.averaged)
-    if averaged is None:
-        averaged = pd.DataFrame(columns=["subject", "depth_mm", "distance_mm", "deflection_mm"])
-    fits = read_results_csv(args.fits) if args.fits else None
-    outlines = read_csvs(args.outline)
-    outline_ids = [] if outlines is None else list(dict.fromkeys(outlines["subject"]))
-    # One distance scale for Figures 6 and 7, so the two species compare at a glance.
-    distance_max_mm = float(averaged["distance_mm"].max()) if len(averaged) else None
+    figures = [registry.figure_named(name) for name in dict.fromkeys(args.figure)]
+    needed = {name for figure in figures for name in figure.arguments}
+    values = argument_values(args, [name for name in registry.ARGUMENTS if name in needed])
     notice = args.notice
-
-    draw = {
-        "figure1": lambda: plotting.figure_outlines(
-            outlines, subjects, outline_ids, args.outline_depth_mm, notice
-        ),
-        "figure2": lambda: plotting.figure_examples(
-            averaged,
-            fits,
-            subjects,
-            args.example_subject,
-            args.example_depth_mm,
-            args.fit_window_mm,
-            notice,
-        ),
-        "figure3": lambda: plotting.figure_channel_schematic(args.schematic_depth_ratio, notice),
-        "figure4": lambda: plotting.figure_material_point(args.schematic_depth_ratio, notice),
-        "figure5": lambda: plotting.figure_free_body(args.schematic_depth_ratio, notice),
-        "figure6": lambda: plotting.figure_species_fits(
-            averaged, fits, subjects, "monkey", args.fit_window_mm, notice, distance_max_mm
-        ),
-        "figure7": lambda: plotting.figure_species_fits(
-            averaged, fits, subjects, "human", args.fit_window_mm, notice, distance_max_mm
-        ),
-        "supplement_residuals": lambda: plotting.figure_residuals(
-            averaged, fits, subjects, args.fit_window_mm, notice
-        ),
-        "supplement_arc_vs_parabola": lambda: plotting.figure_arc_vs_parabola(fits, notice),
-        "supplement_sensitivity": lambda: plotting.figure_sensitivity(
-            read_results_csv(args.sensitivity),
-            read_results_csv(args.checks),
-            paper.MAX_SHIFT_FRACTION,
-            paper.REACH_MM,
-            notice,
-        ),
-        "supplement_coordinates": lambda: plotting.figure_coordinates(
-            fits, read_results_csv(args.checks), args.noise_mm, notice
-        ),
-    }
     print(f"footer: {notice!r}" if notice else "footer: none")
     outdir = Path(args.outdir)
     outdir.mkdir(parents=True, exist_ok=True)
-    for name in dict.fromkeys(args.figure):
-        fig = draw[name]()
-        pdf, png = outdir / f"{name}.pdf", outdir / f"{name}.png"
-        plotting.save_figure(fig, pdf, png, args.dpi)
-        print(f"{name}: {len(fig.axes)} axes -> {pdf}, {png} ({args.dpi} dpi)")
+    for figure in figures:
+        draw = getattr(importlib.import_module(figure.import_path), figure.function)
+        fig = draw(**{name: values[name] for name in figure.arguments}, **dict(figure.fixed))
+        pdf, png = outdir / f"{figure.name}.pdf", outdir / f"{figure.name}.png"
+        save_figure(fig, pdf, png, args.dpi)
+        print(f"{figure.name}: {len(fig.axes)} axes -> {pdf}, {png} ({args.dpi} dpi)")
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 import argparse
 
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
-from lineload.plotting import save_figure
+from lineload.figures.style import save_figure
 from lineload.rulegraph import draw_rulegraph, parse_rulegraph
 
 
