@@ -2,6 +2,8 @@
 reproducible.  Figure functions are called directly on data built here; one workflow run
 on a small dataset checks the rules, the file formats and byte-for-byte rebuilds."""
 
+import importlib
+import inspect
 import struct
 import subprocess
 import sys
@@ -13,7 +15,8 @@ import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 from conftest import REPO, run_snakemake, write_small_dataset
-from lineload import models, plotting
+from lineload import models
+from lineload.figures import data, registry, schematics, style, supplements
 
 NOTICE = "Made-up numbers for a test of the footer; they describe no finger at all, anywhere."
 WINDOW_MM = 3.0
@@ -89,7 +92,7 @@ def depth_gids(kind, depths_mm):
 )
 def test_species_figures_have_a_panel_per_subject_and_a_series_per_depth(figure_species, ids):
     averaged, fits, subjects = make_dataset(PAPER_LIKE)
-    fig = plotting.figure_species_fits(averaged, fits, subjects, figure_species, WINDOW_MM)
+    fig = data.figure_species_fits(averaged, fits, subjects, figure_species, WINDOW_MM)
     panels = panels_by_title(fig)
     assert len(fig.axes) == len(ids)
     assert set(panels) == {f"Finger {s} ({figure_species})" for s in ids}
@@ -104,7 +107,7 @@ def test_species_figures_have_a_panel_per_subject_and_a_series_per_depth(figure_
 
 def test_species_figure_model_lines_are_the_fitted_waterbed():
     averaged, fits, subjects = make_dataset({"M9": ("monkey", [1.5])})
-    fig = plotting.figure_species_fits(averaged, fits, subjects, "monkey", WINDOW_MM)
+    fig = data.figure_species_fits(averaged, fits, subjects, "monkey", WINDOW_MM)
     (line,) = [ln for ln in fig.axes[0].get_lines() if ln.get_gid() == "model:1.5"]
     L_mm = float(fits["waterbed_L_mm"].iloc[0])
     np.testing.assert_allclose(
@@ -120,26 +123,26 @@ def test_species_figure_model_lines_are_the_fitted_waterbed():
 def test_panels_follow_a_different_dataset():
     spec = {"A": ("monkey", [0.75, 1.25, 3.0]), "B": ("human", [1.0]), "C": ("human", [0.5, 1.0])}
     averaged, fits, subjects = make_dataset(spec)
-    monkeys = plotting.figure_species_fits(averaged, fits, subjects, "monkey", WINDOW_MM)
+    monkeys = data.figure_species_fits(averaged, fits, subjects, "monkey", WINDOW_MM)
     assert len(monkeys.axes) == 1
     assert gids(monkeys.axes[0], "data:") == depth_gids("data", [0.75, 1.25, 3.0])
     assert gids(monkeys.axes[0], "model:") == depth_gids("model", [0.75, 1.25, 3.0])
-    humans = plotting.figure_species_fits(averaged, fits, subjects, "human", WINDOW_MM)
+    humans = data.figure_species_fits(averaged, fits, subjects, "human", WINDOW_MM)
     assert [ax.get_title(loc="left") for ax in humans.axes] == [
         "Finger B (human)",
         "Finger C (human)",
     ]
     assert gids(humans.axes[1], "model:") == ["model:0.5", "model:1"]
     # supplement: one row per species, one column per depth in the data
-    residuals = plotting.figure_residuals(averaged, fits, subjects, WINDOW_MM)
+    residuals = supplements.figure_residuals(averaged, fits, subjects, WINDOW_MM)
     assert len(residuals.axes) == 2 * 5
-    arcs = plotting.figure_arc_vs_parabola(fits)
+    arcs = supplements.figure_arc_vs_parabola(fits)
     assert len(arcs.axes) == 2 * 5
 
 
 def test_a_species_without_subjects_gives_one_axis_that_says_so():
     averaged, fits, subjects = make_dataset({"A": ("monkey", [1.0])})
-    fig = plotting.figure_species_fits(averaged, fits, subjects, "human", WINDOW_MM)
+    fig = data.figure_species_fits(averaged, fits, subjects, "human", WINDOW_MM)
     assert len(fig.axes) == 1
     messages = [t.get_text() for t in fig.axes[0].texts if t.get_gid() == "message"]
     assert messages and "human" in messages[0]
@@ -147,7 +150,7 @@ def test_a_species_without_subjects_gives_one_axis_that_says_so():
 
 def test_residuals_are_data_minus_each_fitted_model_inside_the_window():
     averaged, fits, subjects = make_dataset({"A": ("monkey", [1.0]), "B": ("human", [1.0])})
-    fig = plotting.figure_residuals(averaged, fits, subjects, WINDOW_MM)
+    fig = supplements.figure_residuals(averaged, fits, subjects, WINDOW_MM)
     assert len(fig.axes) == 2
     row = fits.set_index("subject").loc["A"]
     trial = averaged[(averaged["subject"] == "A") & (averaged["distance_mm"] <= WINDOW_MM)]
@@ -206,7 +209,7 @@ def test_figure1_is_drawn_to_one_scale():
     subjects = pd.DataFrame(
         {"subject": ["M1", "H1"], "species": ["monkey", "human"], "label": ["Monkey 1", "Human 1"]}
     )
-    fig = plotting.figure_outlines(outlines, subjects, ["M1", "H1"], 1.0)
+    fig = data.figure_outlines(outlines, subjects, ["M1", "H1"], 1.0)
     assert len(fig.axes) == 2
     for ax in fig.axes:
         assert ax.get_aspect() == 1.0
@@ -227,14 +230,14 @@ def test_figure1_is_drawn_to_one_scale():
 
 
 def test_figure1_without_outlines_says_so():
-    fig = plotting.figure_outlines(pd.DataFrame(), pd.DataFrame(), [], None)
+    fig = data.figure_outlines(pd.DataFrame(), pd.DataFrame(), [], None)
     assert len(fig.axes) == 1
     assert [t.get_gid() for t in fig.axes[0].texts] == ["message"]
 
 
 def test_figure2_uses_a_log_distance_axis_and_both_models():
     averaged, fits, subjects = make_dataset(PAPER_LIKE)
-    fig = plotting.figure_examples(averaged, fits, subjects, ["M1", "H1"], 1.0, WINDOW_MM)
+    fig = data.figure_examples(averaged, fits, subjects, ["M1", "H1"], 1.0, WINDOW_MM)
     assert len(fig.axes) == 2
     for ax in fig.axes:
         assert ax.get_xscale() == "log"
@@ -246,9 +249,9 @@ def test_figure2_uses_a_log_distance_axis_and_both_models():
 
 
 SCHEMATICS = [
-    plotting.figure_channel_schematic,
-    plotting.figure_material_point,
-    plotting.figure_free_body,
+    schematics.figure_channel_schematic,
+    schematics.figure_material_point,
+    schematics.figure_free_body,
 ]
 
 
@@ -260,13 +263,13 @@ def footer_texts(fig):
     "draw",
     [
         *[lambda notice, f=f: f(0.15, notice) for f in SCHEMATICS],
-        lambda notice: plotting.figure_species_fits(
+        lambda notice: data.figure_species_fits(
             *make_dataset(PAPER_LIKE), "human", WINDOW_MM, notice
         ),
-        lambda notice: plotting.figure_species_fits(
+        lambda notice: data.figure_species_fits(
             *make_dataset({"A": ("monkey", [1.0])}), "monkey", WINDOW_MM, notice
         ),
-        lambda notice: plotting.figure_outlines(pd.DataFrame(), pd.DataFrame(), [], None, notice),
+        lambda notice: data.figure_outlines(pd.DataFrame(), pd.DataFrame(), [], None, notice),
     ],
 )
 def test_footer_appears_with_a_notice_only_and_clears_the_axes(draw):
@@ -286,7 +289,7 @@ def test_footer_appears_with_a_notice_only_and_clears_the_axes(draw):
 
 @pytest.mark.parametrize("ratio", [0.1, 0.27])
 def test_figure3_membrane_is_equation_19_at_the_stated_ratio(ratio):
-    fig = plotting.figure_channel_schematic(ratio)
+    fig = schematics.figure_channel_schematic(ratio)
     (ax,) = fig.axes
     (membrane,) = [ln for ln in ax.get_lines() if ln.get_gid() == "membrane-deformed"]
     X, Z = membrane.get_xdata(), membrane.get_ydata()
@@ -300,8 +303,10 @@ def test_figure3_membrane_is_equation_19_at_the_stated_ratio(ratio):
 
 
 def test_figure4_point_moves_by_the_shift_of_equation_20():
-    ratio, X_A, factor = 0.2, 0.25, 10
-    fig = plotting.figure_material_point(ratio, point_X_over_L=X_A, shift_exaggeration=factor)
+    ratio, X_A = 0.2, schematics.MATERIAL_POINT_X_OVER_L
+    factor = schematics.shift_exaggeration_for(ratio, X_A)
+    assert factor > 1  # U is drawn magnified, and the figure says by how much
+    fig = schematics.figure_material_point(ratio)
     lines = {ln.get_gid(): ln for ln in fig.axes[0].get_lines()}
     U = models.waterbed_shift_mm(X_A, ratio, 1.0)
     W = models.waterbed_deflection_mm(X_A, ratio, 1.0)
@@ -312,7 +317,7 @@ def test_figure4_point_moves_by_the_shift_of_equation_20():
 
 def test_figure5_states_the_load_angle_of_the_solution():
     ratio = 0.1
-    fig = plotting.figure_free_body(ratio)
+    fig = schematics.figure_free_body(ratio)
     angle_deg = np.degrees(np.arctan(4 * ratio))  # slope of eq. 19 at the load is 4 W0 / L
     assert any(f"{angle_deg:.1f}°" in t.get_text() for ax in fig.axes for t in ax.texts)
 
@@ -341,9 +346,9 @@ def png_width_px(path):
 
 
 def test_save_figure_is_reproducible_and_carries_no_dates(tmp_path):
-    fig = plotting.figure_channel_schematic(0.15, NOTICE)
+    fig = schematics.figure_channel_schematic(0.15, NOTICE)
     for name in ("a", "b"):
-        plotting.save_figure(fig, tmp_path / f"{name}.pdf", tmp_path / f"{name}.png", 250)
+        style.save_figure(fig, tmp_path / f"{name}.pdf", tmp_path / f"{name}.png", 250)
     for ext in ("pdf", "png"):
         assert (tmp_path / f"a.{ext}").read_bytes() == (tmp_path / f"b.{ext}").read_bytes()
     pdf = (tmp_path / "a.pdf").read_bytes()
@@ -351,7 +356,7 @@ def test_save_figure_is_reproducible_and_carries_no_dates(tmp_path):
         assert key not in pdf
     assert b"Software" not in (tmp_path / "a.png").read_bytes()
     assert png_dpi(tmp_path / "a.png") == pytest.approx(250, abs=0.5)
-    assert png_width_px(tmp_path / "a.png") == round(plotting.DOUBLE_COLUMN_MM / 25.4 * 250)
+    assert png_width_px(tmp_path / "a.png") == round(style.DOUBLE_COLUMN_MM / 25.4 * 250)
 
 
 def test_prepare_outline_converts_to_tissue_mm(tmp_path):
@@ -384,7 +389,8 @@ def test_prepare_outline_converts_to_tissue_mm(tmp_path):
     assert list(table["x_mm"]) == [-2.0, 2.0, -2.0, 2.0]
 
 
-FIGURE_FILES = [f"{name}.{ext}" for name in plotting.FIGURE_NAMES for ext in ("pdf", "png")]
+FIGURE_NAMES = [figure.name for figure in registry.FIGURES]
+FIGURE_FILES = [f"{name}.{ext}" for name in FIGURE_NAMES for ext in ("pdf", "png")]
 
 
 def test_workflow_builds_every_figure(tmp_path, snakemake_available):
@@ -429,38 +435,47 @@ def test_workflow_builds_every_figure(tmp_path, snakemake_available):
 
 
 def every_figure(notice):
+    """Every registered figure, drawn as a job draws it: from one value per argument name."""
     averaged, fits, subjects = make_dataset(PAPER_LIKE)
-    outlines = pd.concat(
-        [circle_outline("M1", 1.0, 8.0, 6.0), circle_outline("H1", 1.0, 45.0, 11.0)]
-    )
-    return {
-        "figure1": plotting.figure_outlines(outlines, subjects, ["M1", "H1"], 1.0, notice),
-        "figure2": plotting.figure_examples(
-            averaged, fits, subjects, ["M1", "H1"], 1.0, WINDOW_MM, notice
+    sensitivity, checks = sensitivity_inputs()
+    values = {
+        "averaged": averaged,
+        "fits": fits,
+        "outlines": pd.concat(
+            [circle_outline("M1", 1.0, 8.0, 6.0), circle_outline("H1", 1.0, 45.0, 11.0)]
         ),
-        "figure3": plotting.figure_channel_schematic(0.15, notice),
-        "figure4": plotting.figure_material_point(0.15, notice),
-        "figure5": plotting.figure_free_body(0.15, notice),
-        "figure6": plotting.figure_species_fits(
-            averaged, fits, subjects, "monkey", WINDOW_MM, notice
-        ),
-        "figure7": plotting.figure_species_fits(
-            averaged, fits, subjects, "human", WINDOW_MM, notice
-        ),
-        "supplement_residuals": plotting.figure_residuals(
-            averaged, fits, subjects, WINDOW_MM, notice
-        ),
-        "supplement_arc_vs_parabola": plotting.figure_arc_vs_parabola(fits, notice),
-        "supplement_sensitivity": plotting.figure_sensitivity(*sensitivity_inputs(), notice=notice),
-        "supplement_coordinates": plotting.figure_coordinates(
-            *coordinates_inputs(), noise_mm=0.01, notice=notice
-        ),
+        "sensitivity": sensitivity,
+        "checks": checks,
+        "subjects": subjects,
+        "notice": notice,
+        "fit_window_mm": WINDOW_MM,
+        "example_subjects": ["M1", "H1"],
+        "example_depth_mm": 1.0,
+        "outline_subjects": ["M1", "H1"],
+        "outline_depth_mm": 1.0,
+        "schematic_depth_ratio": 0.15,
+        "noise_mm": 0.01,
     }
+    assert set(values) == set(registry.ARGUMENTS)
+    figures = {}
+    for figure in registry.FIGURES:
+        if figure.name == "supplement_coordinates":  # a fit table with intervals, for the checks
+            figures[figure.name] = draw_registered(
+                figure, {**values, "fits": coordinates_inputs()[0]}
+            )
+        else:
+            figures[figure.name] = draw_registered(figure, values)
+    return figures
+
+
+def draw_registered(figure, values):
+    function = getattr(importlib.import_module(figure.import_path), figure.function)
+    return function(**{name: values[name] for name in figure.arguments}, **dict(figure.fixed))
 
 
 def test_every_figure_fits_its_journal_width_and_keeps_legends_and_labels_on_the_page():
     figures = every_figure(NOTICE)
-    assert set(figures) == set(plotting.FIGURE_NAMES)
+    assert list(figures) == FIGURE_NAMES
     for name, fig in figures.items():
         width_mm = fig.get_figwidth() * 25.4
         assert min(abs(width_mm - w) for w in (85.0, 175.0)) < 1e-6, name
@@ -505,7 +520,7 @@ def sensitivity_inputs(trials=SENSITIVITY_TRIALS, seed=4):
 def test_sensitivity_figure_has_a_point_per_trial_model_and_window():
     trials = SENSITIVITY_TRIALS
     refits, checks = sensitivity_inputs(trials)
-    fig = plotting.figure_sensitivity(refits, checks)
+    fig = supplements.figure_sensitivity(refits, checks)
     collections = {c.get_gid(): c for ax in fig.axes for c in ax.collections}
     for model in ("waterbed", "waterbed_free_depth", "shifted", "arc"):
         assert len(collections[f"L:{model}"].get_offsets()) == 3 * len(trials)
@@ -537,7 +552,7 @@ def coordinates_inputs():
 
 def test_coordinates_figure_has_a_point_per_trial_and_the_noise_line():
     fits, checks = coordinates_inputs()
-    fig = plotting.figure_coordinates(fits, checks, noise_mm=0.01)
+    fig = supplements.figure_coordinates(fits, checks, noise_mm=0.01)
     collections = {}
     for ax in fig.axes:
         for c in ax.collections:
@@ -549,5 +564,100 @@ def test_coordinates_figure_has_a_point_per_trial_and_the_noise_line():
         assert sorted(gap_points[:, 1]) == pytest.approx(sorted(checks[f"gap_{model}_mm"]))
     noise_lines = [ln for ln in fig.axes[1].get_lines() if list(ln.get_ydata()) == [0.01, 0.01]]
     assert noise_lines
-    empty = plotting.figure_coordinates(fits.iloc[0:0], checks.iloc[0:0], 0.01)
+    empty = supplements.figure_coordinates(fits.iloc[0:0], checks.iloc[0:0], 0.01)
     assert len(empty.axes) == 1
+
+
+# ---------------------------------------------------------------- the registry
+
+
+def test_every_registered_figure_function_takes_exactly_its_arguments():
+    for figure in registry.FIGURES:
+        module = importlib.import_module(figure.import_path)
+        function = getattr(module, figure.function, None)
+        assert callable(function), f"{figure.name}: no {figure.import_path}.{figure.function}"
+        parameters = inspect.signature(function).parameters
+        fixed = [name for name, _ in figure.fixed]
+        # called with keywords only: the names must match, the order need not
+        assert sorted(parameters) == sorted([*figure.arguments, *fixed]), figure.name
+        kinds = {p.kind for p in parameters.values()}
+        assert kinds <= {inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.KEYWORD_ONLY}
+        assert set(figure.arguments) <= set(registry.ARGUMENTS), figure.name
+        assert not set(fixed) & set(registry.ARGUMENTS), figure.name  # fixed is not a value
+
+
+def test_registry_lists_each_figure_once_in_its_group():
+    names = [figure.name for figure in registry.FIGURES]
+    assert len(set(names)) == len(names)
+    groups = {
+        group: [f.name for f in registry.figures_in_group(group)] for group in registry.GROUPS
+    }
+    assert groups == {
+        "outlines": ["figure1"],
+        "schematics": ["figure3", "figure4", "figure5"],
+        "fits": ["figure2", "figure6", "figure7"],
+        "supplements": [
+            "supplement_residuals",
+            "supplement_arc_vs_parabola",
+            "supplement_sensitivity",
+            "supplement_coordinates",
+        ],
+    }
+    # the paper's figures in its order, then the supplements
+    assert names[:7] == [f"figure{i}" for i in range(1, 8)]
+    categories = [figure.category for figure in registry.FIGURES]
+    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 4
+    for figure in registry.FIGURES:
+        assert figure.module in ("data", "schematics", "supplements"), figure.name
+        assert figure.title and "\n" not in figure.title, figure.name
+    used = {name for figure in registry.FIGURES for name in figure.arguments}
+    assert used == set(registry.ARGUMENTS)  # no argument is described but never taken
+    assert {argument.kind for argument in registry.ARGUMENTS.values()} == set(registry.KINDS)
+    with pytest.raises(KeyError):
+        registry.figures_in_group("figures")
+    with pytest.raises(KeyError):
+        registry.figure_named("figure8")
+
+
+def test_each_group_reads_the_tables_its_figures_take():
+    assert registry.file_arguments("outlines") == ("outlines",)
+    assert registry.file_arguments("schematics") == ()
+    assert registry.file_arguments("fits") == ("averaged", "fits")
+    assert registry.file_arguments("supplements") == ("averaged", "fits", "sensitivity", "checks")
+    assert registry.arguments_of_group("schematics") == ("notice", "schematic_depth_ratio")
+    assert registry.arguments_of_group("fits", "dataset") == ("subjects",)
+
+
+def test_the_registry_imports_nothing_heavy():
+    # Snakemake reads the registry while it parses the workflow
+    code = (
+        "import sys; import lineload.figures, lineload.figures.registry; "
+        "print(sorted(m for m in ('matplotlib', 'numpy', 'pandas') if m in sys.modules))"
+    )
+    process = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=REPO / "workflow",
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert process.stdout.strip() == "[]"
+
+
+def test_make_figures_draws_registered_figures_and_names_a_missing_option(tmp_path):
+    script = str(REPO / "workflow" / "scripts" / "make_figures.py")
+    common = [script, "--outdir", str(tmp_path), "--dpi", "72"]
+    process = subprocess.run(
+        [sys.executable, *common, "--figure", "figure5", "--schematic-depth-ratio", "0.15"],
+        capture_output=True,
+        text=True,
+    )
+    assert process.returncode == 0, process.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["figure5.pdf", "figure5.png"]
+    process = subprocess.run(
+        [sys.executable, *common, "--figure", "figure2", "--fit-window-mm", "3"],
+        capture_output=True,
+        text=True,
+    )
+    assert process.returncode == 2
+    assert "figure2 needs --fits" in process.stderr

@@ -1,0 +1,454 @@
+"""Figures drawn from the measurements: outlines (1), examples (2) and per-species fits (6, 7).
+
+Every function takes data (pandas DataFrames, plain numbers) and returns a
+:class:`matplotlib.figure.Figure`; parameter names are those of
+:data:`lineload.figures.registry.ARGUMENTS`.  Lengths are tissue millimetres and
+deflection is downward positive, drawn on a downward axis.
+
+gids: ``outline:resting``, ``outline:deformed`` and ``wedge`` in Figure 1;
+``data``, ``model:waterbed``, ``model:boussinesq`` and ``fit-window`` in
+Figure 2; ``data:<depth>``, ``model:<depth>`` and ``fit-window`` in Figures 6
+and 7; ``footer`` for the data notice.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib import patches
+from matplotlib.lines import Line2D
+
+from .. import models
+from .style import (
+    DATA_COLOUR,
+    DEFLECTION_LABEL,
+    DISTANCE_LABEL,
+    DOUBLE_COLUMN_MM,
+    MODEL_COLOURS,
+    REST_COLOUR,
+    SINGLE_COLUMN_MM,
+    WINDOW_STYLE,
+    add_footer,
+    depth_colours,
+    grid_shape,
+    label_outer_axes,
+    log_distance_axis,
+    message_figure,
+    new_figure,
+    padded_limits,
+    panel_title,
+    styled,
+    subject_table,
+    two_row_legend,
+)
+
+__all__ = [
+    "figure_examples",
+    "figure_outlines",
+    "figure_species_fits",
+    "fit_row",
+    "model_curve_mm",
+    "trial_points",
+]
+
+
+# ---------------------------------------------------------------- reading the tables
+
+
+def trial_points(averaged, subject, depth_mm):
+    """Finite averaged points of one subject at one depth, sorted by distance.
+
+    Parameters
+    ----------
+    averaged : pandas.DataFrame
+        Averaged profiles (``subject``, ``depth_mm``, ``distance_mm``, ``deflection_mm``).
+    subject : str
+    depth_mm : float
+
+    Returns
+    -------
+    distance_mm, deflection_mm : numpy.ndarray
+        Empty when the subject has no profile at that depth.
+    """
+    rows = averaged[
+        (averaged["subject"] == subject) & np.isclose(averaged["depth_mm"].astype(float), depth_mm)
+    ]
+    rows = rows[np.isfinite(rows["deflection_mm"].astype(float))]
+    rows = rows.sort_values("distance_mm", kind="stable")
+    return rows["distance_mm"].to_numpy(float), rows["deflection_mm"].to_numpy(float)
+
+
+def fit_row(fits, subject, depth_mm):
+    """The fit-table row of one subject and depth.
+
+    Returns
+    -------
+    pandas.Series or None
+        None when the table has no such row.
+    """
+    rows = fits[(fits["subject"] == subject) & np.isclose(fits["depth_mm"].astype(float), depth_mm)]
+    return None if rows.empty else rows.iloc[0]
+
+
+def _finite(value):
+    return value is not None and np.isfinite(float(value))
+
+
+def model_curve_mm(model, distance_mm, depth_mm, row):
+    """Deflection of a fitted model at the given distances.
+
+    Parameters
+    ----------
+    model : str
+        ``waterbed``, ``shifted``, ``arc`` or ``boussinesq``.
+    distance_mm : numpy.ndarray
+        Distances from the wedge (mm).
+    depth_mm : float
+        Indentation depth W0 (mm) of the waterbed forms.
+    row : pandas.Series or None
+        The trial's fit-table row (:func:`fit_row`).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        Deflection (mm, downward positive); None without a row or when the
+        model's parameters in it are not finite.
+    """
+    if row is None:
+        return None
+    if model == "waterbed" and _finite(row["waterbed_L_mm"]):
+        return models.waterbed_deflection_mm(distance_mm, depth_mm, float(row["waterbed_L_mm"]))
+    if model == "shifted" and _finite(row["shifted_L_mm"]):
+        return models.shifted_deflection_mm(distance_mm, depth_mm, float(row["shifted_L_mm"]))
+    if model == "arc" and _finite(row["arc_L_mm"]):
+        return models.arc_deflection_mm(distance_mm, depth_mm, float(row["arc_L_mm"]))
+    if (
+        model == "boussinesq"
+        and _finite(row["boussinesq_A_mm"])
+        and _finite(row["boussinesq_x0_mm"])
+    ):
+        return models.boussinesq_deflection_mm(
+            distance_mm, float(row["boussinesq_A_mm"]), float(row["boussinesq_x0_mm"])
+        )
+    return None
+
+
+# ---------------------------------------------------------------- Figure 1
+
+
+@styled
+def figure_outlines(outlines, subjects, outline_subjects, outline_depth_mm, notice=""):
+    """Figure 1: resting and deformed outlines of fingertips, drawn to scale.
+
+    Parameters
+    ----------
+    outlines : pandas.DataFrame or None
+        Outline points in tissue mm: ``subject``, ``depth_mm``, ``state``
+        (``resting`` or ``deformed``), ``x_mm`` (wedge at 0) and ``z_mm``
+        (upward positive).
+    subjects : pandas.DataFrame
+        ``subject``, ``species`` and optionally ``label``.
+    outline_subjects : list of str
+        Subjects to draw, one panel each, top to bottom; empty gives a figure
+        saying that the data hold no outlines.
+    outline_depth_mm : float or None
+        Indentation depth of the photographs to draw.
+    notice : str
+        Footer text; empty for none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Panels share one millimetre scale on both axes (equal aspect, equal
+        limits), so fingers can be compared by size.
+    """
+    if not outline_subjects or outline_depth_mm is None:
+        return message_figure(
+            "No outline files (outlines/<subject>.csv) in this dataset: there are no "
+            "resting and deformed outlines to draw.",
+            notice,
+        )
+    table = subject_table(subjects)
+    selected = {}
+    for subject in outline_subjects:
+        rows = outlines[
+            (outlines["subject"] == subject)
+            & np.isclose(outlines["depth_mm"].astype(float), outline_depth_mm)
+        ]
+        selected[subject] = {
+            state: rows[rows["state"] == state].sort_values("x_mm", kind="stable")
+            for state in ("resting", "deformed")
+        }
+    all_x = np.concatenate([s[k]["x_mm"].to_numpy(float) for s in selected.values() for k in s])
+    all_z = np.concatenate([s[k]["z_mm"].to_numpy(float) for s in selected.values() for k in s])
+    half_span_mm = float(np.max(np.abs(all_x))) * 1.04 if all_x.size else 1.0
+    wedge_top_mm = max(float(np.max(all_z)) if all_z.size else 0.0, 0.0) + 0.08 * half_span_mm
+    wedge_half_angle = np.radians(12.0)
+    z_lo = min(float(np.min(all_z)) if all_z.size else -outline_depth_mm, -outline_depth_mm)
+    z_lo -= 0.03 * half_span_mm
+    z_hi = wedge_top_mm + 0.02 * half_span_mm
+    n = len(outline_subjects)
+    width_mm = DOUBLE_COLUMN_MM
+    axes_width_mm = width_mm - 14.0
+    panel_height_mm = axes_width_mm * (z_hi - z_lo) / (2 * half_span_mm) + 9.0
+    footer_mm = 5.0 if notice else 0.0
+    fig = new_figure(width_mm, n * panel_height_mm + 12.0 + footer_mm, layout="compressed")
+    axes = fig.subplots(n, 1, squeeze=False, sharex=True, sharey=True)[:, 0]
+    for ax, subject in zip(axes, outline_subjects, strict=True):
+        for state, style in (
+            ("resting", {"color": REST_COLOUR, "linestyle": "--", "linewidth": 1.0}),
+            ("deformed", {"color": DATA_COLOUR, "linestyle": "-", "linewidth": 1.2}),
+        ):
+            rows = selected[subject][state]
+            for side in (rows[rows["x_mm"] <= 0], rows[rows["x_mm"] >= 0]):
+                ax.plot(side["x_mm"], side["z_mm"], gid=f"outline:{state}", **style)
+        apex_z = -outline_depth_mm
+        half_top = (wedge_top_mm - apex_z) * np.tan(wedge_half_angle)
+        ax.add_patch(
+            patches.Polygon(
+                [(0.0, apex_z), (-half_top, wedge_top_mm), (half_top, wedge_top_mm)],
+                closed=True,
+                facecolor="0.8",
+                edgecolor="0.3",
+                linewidth=0.6,
+                gid="wedge",
+                zorder=3,
+            )
+        )
+        species = table.loc[subject, "species"] if subject in table.index else ""
+        label = table.loc[subject, "label"] if subject in table.index else subject
+        ax.set_title(
+            f"{panel_title(label, species)}, wedge {outline_depth_mm:g} mm deep", loc="left"
+        )
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_xlim(-half_span_mm, half_span_mm)
+        ax.set_ylim(z_lo, z_hi)
+        ax.set_ylabel("height z (mm)")
+    axes[-1].set_xlabel("horizontal position x (mm; wedge at 0)")
+    handles = [
+        Line2D([], [], color=REST_COLOUR, linestyle="--", label="resting outline"),
+        Line2D([], [], color=DATA_COLOUR, linestyle="-", label="deformed outline"),
+        patches.Patch(facecolor="0.8", edgecolor="0.3", linewidth=0.6, label="wedge (schematic)"),
+    ]
+    fig.legend(handles=handles, loc="outside upper center", ncols=3)
+    add_footer(fig, notice)
+    return fig
+
+
+# ---------------------------------------------------------------- Figure 2
+
+
+@styled
+def figure_examples(
+    averaged, fits, subjects, example_subjects, example_depth_mm, fit_window_mm, notice=""
+):
+    """Figure 2: one depth on a log distance axis, data against both fitted models.
+
+    Parameters
+    ----------
+    averaged : pandas.DataFrame
+        Averaged profiles: ``subject``, ``depth_mm``, ``distance_mm``,
+        ``deflection_mm`` (left/right mean).
+    fits : pandas.DataFrame
+        The fit table (``subject``, ``depth_mm``, ``waterbed_L_mm``,
+        ``boussinesq_A_mm``, ``boussinesq_x0_mm``...).
+    subjects : pandas.DataFrame
+        ``subject``, ``species`` and optionally ``label``.
+    example_subjects : list of str
+        One panel per subject, left to right.
+    example_depth_mm : float
+        The indentation depth shown.
+    fit_window_mm : float
+        Outer edge of the fitted region (mm), marked on every panel.
+    notice : str
+        Footer text; empty for none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if not example_subjects:
+        return message_figure(
+            f"No subject in this dataset has a profile at {example_depth_mm:g} mm depth.", notice
+        )
+    table = subject_table(subjects)
+    n = len(example_subjects)
+    width_mm = SINGLE_COLUMN_MM if n == 1 else DOUBLE_COLUMN_MM
+    fig = new_figure(width_mm, 72.0)
+    axes = fig.subplots(1, n, squeeze=False, sharey=True)[0]
+    y_values = []
+    for ax, subject in zip(axes, example_subjects, strict=True):
+        distance_mm, deflection_mm = trial_points(averaged, subject, example_depth_mm)
+        keep = distance_mm > 0
+        distance_mm, deflection_mm = distance_mm[keep], deflection_mm[keep]
+        row = fit_row(fits, subject, example_depth_mm)
+        lo = distance_mm.min() / 1.3 if distance_mm.size else 0.05
+        hi = distance_mm.max() * 1.3 if distance_mm.size else 10.0
+        curve_mm = np.geomspace(lo, hi, 400)
+        ax.axvline(fit_window_mm, gid="fit-window", **WINDOW_STYLE)
+        for model in ("boussinesq", "waterbed"):
+            values = model_curve_mm(model, curve_mm, example_depth_mm, row)
+            if values is not None:
+                ax.plot(curve_mm, values, color=MODEL_COLOURS[model], gid=f"model:{model}")
+                y_values.append(values)
+        ax.plot(
+            distance_mm,
+            deflection_mm,
+            linestyle="none",
+            marker="o",
+            markersize=3.2,
+            markerfacecolor="white",
+            markeredgecolor=DATA_COLOUR,
+            markeredgewidth=0.8,
+            color=DATA_COLOUR,
+            gid="data",
+            zorder=3,
+        )
+        y_values.append(deflection_mm)
+        log_distance_axis(ax)
+        ax.set_xlim(lo, hi)
+        ax.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
+        species = table.loc[subject, "species"] if subject in table.index else ""
+        label = table.loc[subject, "label"] if subject in table.index else subject
+        ax.set_title(f"{panel_title(label, species)}, {example_depth_mm:g} mm depth", loc="left")
+        ax.set_xlabel("distance from the wedge x (mm, log scale)")
+    axes[0].set_ylabel(DEFLECTION_LABEL)
+    values = np.concatenate([np.ravel(v) for v in y_values]) if y_values else np.array([])
+    values = np.clip(values[np.isfinite(values)], -0.6 * example_depth_mm, 1.3 * example_depth_mm)
+    y_lo, y_hi = padded_limits(np.append(values, 0.0))
+    axes[0].set_ylim(y_hi, y_lo)
+    handles = [
+        Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker="o",
+            markerfacecolor="white",
+            markeredgecolor=DATA_COLOUR,
+            label="data (mean of left and right)",
+        ),
+        Line2D([], [], color=MODEL_COLOURS["waterbed"], label="waterbed fit (eq. 19)"),
+        Line2D([], [], color=MODEL_COLOURS["boussinesq"], label="modified Boussinesq fit"),
+        Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE),
+    ]
+    fig.legend(handles=handles, loc="outside upper center", ncols=4 if n > 1 else 2)
+    add_footer(fig, notice)
+    return fig
+
+
+# ---------------------------------------------------------------- Figures 6 and 7
+
+
+@styled
+def figure_species_fits(averaged, fits, subjects, species, fit_window_mm, notice=""):
+    """Figures 6 (monkeys) and 7 (humans): every depth of every subject with its waterbed fit.
+
+    Panels follow the subject sheet (one per subject of the species, in its
+    order) and each panel follows its data (one point series and one fitted
+    line per depth present).  The colour of a depth is the same in every panel.
+    The distance axis ends just beyond the farthest point of any subject of
+    either species, so Figures 6 and 7 share one scale.
+
+    Parameters
+    ----------
+    averaged : pandas.DataFrame
+        Averaged profiles of every subject (``subject``, ``depth_mm``,
+        ``distance_mm``, ``deflection_mm``); all of them set the distance axis.
+    fits : pandas.DataFrame
+        The fit table (``subject``, ``depth_mm``, ``waterbed_L_mm``).
+    subjects : pandas.DataFrame
+        ``subject``, ``species`` and optionally ``label``, in display order.
+    species : str
+        ``monkey`` or ``human``.
+    fit_window_mm : float
+        Outer edge of the fitted region (mm), marked on every panel.
+    notice : str
+        Footer text; empty for none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        With no subject of that species, one axis that says so.
+    """
+    table = subject_table(subjects)
+    subject_ids = [s for s in table["subject"] if table.loc[s, "species"] == species]
+    if not subject_ids:
+        return message_figure(f"No {species} subjects in this dataset.", notice)
+    rows = averaged[averaged["subject"].isin(subject_ids)]
+    colours = depth_colours(rows["depth_mm"].astype(float))
+    n = len(subject_ids)
+    n_rows, n_columns = grid_shape(n)
+    width_mm = SINGLE_COLUMN_MM if n == 1 else DOUBLE_COLUMN_MM
+    fig = new_figure(width_mm, 22.0 + 56.0 * n_rows)
+    axes = fig.subplots(n_rows, n_columns, squeeze=False, sharex=True, sharey=True)
+    present = np.zeros(axes.shape, dtype=bool)
+    present.flat[:n] = True
+    for ax in axes.flat[n:]:
+        fig.delaxes(ax)
+    distance_max_mm = float(averaged["distance_mm"].max()) if len(averaged) else 1.0
+    x_hi = 1.03 * distance_max_mm
+    curve_mm = np.linspace(0.0, x_hi, 500)
+    y_values = [np.zeros(1)]
+    for ax, subject in zip(axes.flat[:n], subject_ids, strict=True):
+        ax.axvline(fit_window_mm, gid="fit-window", **WINDOW_STYLE)
+        ax.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
+        subject_rows = rows[rows["subject"] == subject]
+        for depth_mm in sorted({float(d) for d in subject_rows["depth_mm"]}):
+            colour = colours[depth_mm]
+            distance_mm, deflection_mm = trial_points(rows, subject, depth_mm)
+            model = model_curve_mm("waterbed", curve_mm, depth_mm, fit_row(fits, subject, depth_mm))
+            if model is not None:
+                ax.plot(curve_mm, model, color=colour, linewidth=1.0, gid=f"model:{depth_mm:g}")
+                y_values.append(model)
+            ax.plot(
+                distance_mm,
+                deflection_mm,
+                linestyle="none",
+                marker="o",
+                markersize=2.6,
+                markerfacecolor="white",
+                markeredgecolor=colour,
+                markeredgewidth=0.7,
+                gid=f"data:{depth_mm:g}",
+                zorder=3,
+            )
+            y_values.append(deflection_mm)
+        if subject_rows.empty:
+            ax.text(0.5, 0.5, "no profiles", transform=ax.transAxes, ha="center", va="center")
+        ax.set_title(panel_title(table.loc[subject, "label"], species), loc="left")
+    axes[0, 0].set_xlim(0.0, x_hi)
+    y_lo, y_hi = padded_limits(np.concatenate(y_values), 0.04)
+    axes[0, 0].set_ylim(y_hi, y_lo)
+    label_outer_axes(axes, present, DISTANCE_LABEL, DEFLECTION_LABEL)
+    depth_handles = [
+        Line2D(
+            [],
+            [],
+            color=colours[d],
+            marker="o",
+            markersize=3,
+            markerfacecolor="white",
+            label=f"depth {d:g} mm",
+        )
+        for d in sorted(colours)
+    ]
+    key_handles = [
+        Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker="o",
+            markersize=3,
+            markerfacecolor="white",
+            markeredgecolor="0.3",
+            label="data: left/right mean",
+        ),
+        Line2D([], [], color="0.3", label="waterbed fit, eq. 19"),
+        Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE),
+    ]
+    if width_mm > SINGLE_COLUMN_MM:
+        handles, n_columns = two_row_legend(depth_handles, key_handles)
+    else:  # too narrow for one row of each: two columns, filled top to bottom
+        handles, n_columns = depth_handles + key_handles, 2
+    fig.legend(handles=handles, loc="outside upper center", ncols=n_columns)
+    add_footer(fig, notice)
+    return fig

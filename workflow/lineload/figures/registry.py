@@ -1,0 +1,299 @@
+"""The one list of the workflow's figures: what each is, who draws it and from what.
+
+Snakemake reads this module when it parses the workflow, so it imports nothing
+but the standard library (no matplotlib, numpy or pandas).  A job that draws a
+group of figures reads the files and settings named in :data:`ARGUMENTS` and
+calls, for each :class:`Figure` of its group::
+
+    function = getattr(importlib.import_module(figure.import_path), figure.function)
+    function(**{name: values[name] for name in figure.arguments}, **dict(figure.fixed))
+
+Every figure function takes exactly ``arguments`` and the names in ``fixed``
+(``tests/test_figures.py`` checks it).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = [
+    "ARGUMENTS",
+    "CATEGORIES",
+    "FIGURES",
+    "GROUPS",
+    "KINDS",
+    "Argument",
+    "Figure",
+    "arguments_of_group",
+    "figure_named",
+    "figures_in_group",
+    "file_arguments",
+]
+
+#: Kinds of figure argument: a results table a job reads, the subject sheet, a setting.
+KINDS = ("file", "dataset", "setting")
+
+#: The jobs that draw figures, each a group of figures drawn in one process.
+GROUPS = ("outlines", "schematics", "fits", "supplements")
+
+#: Report categories of the figures.
+CATEGORIES = ("Paper figures", "Supplement")
+
+
+@dataclass(frozen=True)
+class Argument:
+    """One value a figure function takes.
+
+    Attributes
+    ----------
+    kind : str
+        ``file``: a results table the job reads (one or more CSV files, given to
+        the function as one DataFrame); ``dataset``: the subject sheet;
+        ``setting``: a value from the config or the raw folder.
+    description : str
+        What it is, with its unit.
+    """
+
+    kind: str
+    description: str
+
+
+#: Every argument name a figure function may take.
+ARGUMENTS = {
+    "averaged": Argument(
+        "file",
+        "averaged profiles of every subject (data/averaged/*.csv): subject, depth_mm, "
+        "distance_mm, deflection_mm (mean of left and right, mm)",
+    ),
+    "fits": Argument("file", "the fit table, one row per subject and depth (tables/fits.csv)"),
+    "outlines": Argument(
+        "file",
+        "outlines in tissue mm of the Figure 1 subjects (data/outlines/*.csv); "
+        "None when the dataset has none",
+    ),
+    "sensitivity": Argument(
+        "file", "refits per trial, model and fit window (tables/sensitivity.csv)"
+    ),
+    "checks": Argument(
+        "file", "per-trial shift, reach and coordinate gaps (tables/trial_checks.csv)"
+    ),
+    "subjects": Argument(
+        "dataset", "the subject sheet in its order: a DataFrame of subject, species, label"
+    ),
+    "notice": Argument("setting", "footer text on every figure; empty for none"),
+    "fit_window_mm": Argument("setting", "outer edge of the fitted region (mm)"),
+    "example_subjects": Argument("setting", "the subjects of Figure 2, one panel each, in order"),
+    "example_depth_mm": Argument("setting", "the indentation depth shown in Figure 2 (mm)"),
+    "outline_subjects": Argument("setting", "the subjects of Figure 1, one panel each, in order"),
+    "outline_depth_mm": Argument(
+        "setting", "the indentation depth of the Figure 1 outlines (mm); None without outlines"
+    ),
+    "schematic_depth_ratio": Argument(
+        "setting", "W0 / L at which Figures 3-5 draw the model (dimensionless)"
+    ),
+    "noise_mm": Argument("setting", "digitising noise of one reading (mm)"),
+}
+
+
+@dataclass(frozen=True)
+class Figure:
+    """One figure of the workflow and how it is drawn.
+
+    Attributes
+    ----------
+    name : str
+        File stem under ``results/figures/`` (``figure2``, ``supplement_residuals``).
+    group : str
+        The job that draws it, one of :data:`GROUPS`.
+    module : str
+        ``data``, ``schematics`` or ``supplements``: the module
+        ``lineload.figures.<module>`` that holds the function.
+    function : str
+        Name of the figure function in that module.
+    arguments : tuple of str
+        Keyword names the function takes, each a key of :data:`ARGUMENTS`.
+    fixed : tuple of (str, object)
+        Further keyword arguments with their values, the same in every run
+        (e.g. ``(("species", "monkey"),)``).
+    category : str
+        Report category, one of :data:`CATEGORIES`.
+    title : str
+        What the figure shows, in one line.
+    """
+
+    name: str
+    group: str
+    module: str
+    function: str
+    arguments: tuple
+    fixed: tuple = ()
+    category: str = "Paper figures"
+    title: str = ""
+
+    @property
+    def import_path(self):
+        """Dotted path of the module that holds the function."""
+        return f"lineload.figures.{self.module}"
+
+
+_SPECIES_FITS = ("averaged", "fits", "subjects", "fit_window_mm", "notice")
+
+#: Every figure: the paper's in its order, then the supplements.
+FIGURES = (
+    Figure(
+        "figure1",
+        "outlines",
+        "data",
+        "figure_outlines",
+        ("outlines", "subjects", "outline_subjects", "outline_depth_mm", "notice"),
+        title="Resting and indented outlines of a monkey and a human fingertip, to one scale",
+    ),
+    Figure(
+        "figure2",
+        "fits",
+        "data",
+        "figure_examples",
+        (
+            "averaged",
+            "fits",
+            "subjects",
+            "example_subjects",
+            "example_depth_mm",
+            "fit_window_mm",
+            "notice",
+        ),
+        title="One depth against log distance, with the waterbed and Boussinesq fits",
+    ),
+    Figure(
+        "figure3",
+        "schematics",
+        "schematics",
+        "figure_channel_schematic",
+        ("schematic_depth_ratio", "notice"),
+        title="The waterbed model: a membrane over fluid in a rigid channel, under a line load",
+    ),
+    Figure(
+        "figure4",
+        "schematics",
+        "schematics",
+        "figure_material_point",
+        ("schematic_depth_ratio", "notice"),
+        title="Where a point of the membrane moves: from (X, 0) to (X + U, W)",
+    ),
+    Figure(
+        "figure5",
+        "schematics",
+        "schematics",
+        "figure_free_body",
+        ("schematic_depth_ratio", "notice"),
+        title="Force balance at the load and on a small piece of membrane",
+    ),
+    Figure(
+        "figure6",
+        "fits",
+        "data",
+        "figure_species_fits",
+        _SPECIES_FITS,
+        fixed=(("species", "monkey"),),
+        title="Every monkey at every depth, with its waterbed fit",
+    ),
+    Figure(
+        "figure7",
+        "fits",
+        "data",
+        "figure_species_fits",
+        _SPECIES_FITS,
+        fixed=(("species", "human"),),
+        title="Every human at every depth, with its waterbed fit",
+    ),
+    Figure(
+        "supplement_residuals",
+        "supplements",
+        "supplements",
+        "figure_residuals",
+        ("averaged", "fits", "subjects", "fit_window_mm", "notice"),
+        category="Supplement",
+        title="Data minus each fitted model inside the fit window, by species and depth",
+    ),
+    Figure(
+        "supplement_arc_vs_parabola",
+        "supplements",
+        "supplements",
+        "figure_arc_vs_parabola",
+        ("fits", "notice"),
+        category="Supplement",
+        title="How far the small-slope parabola is from the exact arc at the fitted sizes",
+    ),
+    Figure(
+        "supplement_sensitivity",
+        "supplements",
+        "supplements",
+        "figure_sensitivity",
+        ("sensitivity", "checks", "notice"),
+        category="Supplement",
+        title="Fitted size, model ranking, shift and reach across fit windows, trial by trial",
+    ),
+    Figure(
+        "supplement_coordinates",
+        "supplements",
+        "supplements",
+        "figure_coordinates",
+        ("fits", "checks", "noise_mm", "notice"),
+        category="Supplement",
+        title="What fitting in measured coordinates changes, against the reading noise",
+    ),
+)
+
+
+def figure_named(name):
+    """The registered figure with this file stem.
+
+    Raises
+    ------
+    KeyError
+        If no figure has that name.
+    """
+    for figure in FIGURES:
+        if figure.name == name:
+            return figure
+    raise KeyError(f"no figure named {name!r}; known: {', '.join(f.name for f in FIGURES)}")
+
+
+def figures_in_group(group):
+    """The figures one job draws, in registry order.
+
+    Raises
+    ------
+    KeyError
+        If the group is not one of :data:`GROUPS`.
+    """
+    if group not in GROUPS:
+        raise KeyError(f"no figure group {group!r}; known: {', '.join(GROUPS)}")
+    return tuple(figure for figure in FIGURES if figure.group == group)
+
+
+def arguments_of_group(group, kind=None):
+    """Argument names the figures of a group take, in :data:`ARGUMENTS` order.
+
+    Parameters
+    ----------
+    group : str
+        One of :data:`GROUPS`.
+    kind : str, optional
+        Only arguments of this kind (one of :data:`KINDS`).
+
+    Returns
+    -------
+    tuple of str
+    """
+    wanted = {name for figure in figures_in_group(group) for name in figure.arguments}
+    return tuple(
+        name
+        for name, argument in ARGUMENTS.items()
+        if name in wanted and (kind is None or argument.kind == kind)
+    )
+
+
+def file_arguments(group):
+    """The results tables a group's job reads (its inputs), in :data:`ARGUMENTS` order."""
+    return arguments_of_group(group, "file")

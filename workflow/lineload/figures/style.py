@@ -1,0 +1,400 @@
+"""The shared look of every figure, the one place figures are saved, and shared helpers.
+
+Every figure function in :mod:`lineload.figures` draws inside :func:`figure_style`
+(the :func:`styled` decorator) and returns a :class:`matplotlib.figure.Figure`;
+none of them reads or writes files.  :func:`save_figure` writes a figure as PDF
+and PNG with every time stamp and version string removed, so two builds give
+identical bytes.
+
+Conventions
+-----------
+* Lengths are tissue millimetres; the schematics (Figures 3-5) are drawn in
+  units of the membrane half-width ``L``.
+* Deflection is downward positive, as in the models.  Profile plots put the
+  deflection axis downward (zero at the top), so the curves look like the skin
+  surface they describe; residual plots use an ordinary upward axis.
+* Artists that tests or readers may want to find carry a ``gid`` (listed in
+  each figure function's docstring); the data notice is ``footer`` and the
+  text of a figure with nothing to draw is ``message``.
+"""
+
+from __future__ import annotations
+
+import math
+import textwrap
+from functools import wraps
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np
+import pandas as pd
+from matplotlib import colormaps, ticker
+from matplotlib.figure import Figure
+from matplotlib.layout_engine import PlaceHolderLayoutEngine
+from matplotlib.lines import Line2D
+
+__all__ = [
+    "DATA_COLOUR",
+    "DEFLECTION_LABEL",
+    "DISTANCE_LABEL",
+    "DOUBLE_COLUMN_MM",
+    "FOOTER_FONT_PT",
+    "MODEL_COLOURS",
+    "MODEL_LINESTYLES",
+    "MODEL_NAMES",
+    "REST_COLOUR",
+    "SINGLE_COLUMN_MM",
+    "SPECIES_PLURAL",
+    "STYLE",
+    "WINDOW_STYLE",
+    "add_footer",
+    "depth_colours",
+    "figure_style",
+    "grid_shape",
+    "label_outer_axes",
+    "log_distance_axis",
+    "message_figure",
+    "new_figure",
+    "padded_limits",
+    "panel_title",
+    "save_figure",
+    "styled",
+    "subject_table",
+    "two_row_legend",
+]
+
+MM_PER_INCH = 25.4
+#: Journal column widths (mm).
+SINGLE_COLUMN_MM = 85.0
+DOUBLE_COLUMN_MM = 175.0
+#: Size of the data-notice footer (points).
+FOOTER_FONT_PT = 6.5
+
+SPECIES_PLURAL = {"monkey": "monkeys", "human": "humans"}
+
+#: Colour of each fitted model (Okabe-Ito palette, safe for colour-blind readers).
+MODEL_COLOURS = {
+    "waterbed": "#0072B2",
+    "shifted": "#CC79A7",
+    "arc": "#009E73",
+    "boussinesq": "#D55E00",
+}
+#: Legend name of each model of the fit table (the sensitivity refits have their
+#: own names, in :data:`lineload.sensitivity.MODEL_NAMES`).
+MODEL_NAMES = {
+    "waterbed": "waterbed parabola (eq. 19)",
+    "shifted": "parabola in measured coordinates",
+    "arc": "waterbed exact arc",
+    "boussinesq": "modified Boussinesq",
+}
+#: Line style of each model where several are drawn over each other.
+MODEL_LINESTYLES = {"waterbed": "-", "shifted": "-.", "arc": "--", "boussinesq": "-"}
+DATA_COLOUR = "black"
+REST_COLOUR = "0.45"
+WINDOW_STYLE = {"color": "0.55", "linestyle": ":", "linewidth": 0.9}
+
+DEFLECTION_LABEL = "deflection w (mm, downward)"
+DISTANCE_LABEL = "distance from the wedge x (mm)"
+
+#: The shared style (matplotlib rcParams), applied to every figure and on saving.
+STYLE = {
+    "font.family": "DejaVu Sans",
+    "font.size": 8.0,
+    "axes.titlesize": 8.0,
+    "axes.labelsize": 8.0,
+    "xtick.labelsize": 7.0,
+    "ytick.labelsize": 7.0,
+    "legend.fontsize": 7.0,
+    "figure.titlesize": 8.5,
+    "mathtext.default": "regular",
+    "axes.linewidth": 0.6,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "axes.titlepad": 4.0,
+    "xtick.major.width": 0.6,
+    "ytick.major.width": 0.6,
+    "xtick.minor.width": 0.4,
+    "ytick.minor.width": 0.4,
+    "xtick.major.size": 3.0,
+    "ytick.major.size": 3.0,
+    "lines.linewidth": 1.1,
+    "lines.markersize": 3.0,
+    "legend.frameon": False,
+    "legend.handlelength": 2.2,
+    "legend.columnspacing": 1.4,
+    "figure.dpi": 100,
+    "figure.constrained_layout.h_pad": 0.04,
+    "figure.constrained_layout.w_pad": 0.04,
+    "pdf.fonttype": 42,
+    "savefig.facecolor": "white",
+    "image.composite_image": True,
+}
+
+
+def figure_style():
+    """Context manager applying :data:`STYLE` (used by every figure and by saving).
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+    """
+    return matplotlib.rc_context(STYLE)
+
+
+def styled(function):
+    """Decorator: run a figure function inside :func:`figure_style`."""
+
+    @wraps(function)
+    def wrapper(*args, **kwargs):
+        with figure_style():
+            return function(*args, **kwargs)
+
+    return wrapper
+
+
+def save_figure(fig, pdf_path, png_path, dpi):
+    """Write a figure as PDF and PNG, byte-for-byte reproducibly.
+
+    The layout is computed once and then frozen, so both files (and any later
+    save of the same figure) share the same geometry.  The PDF carries no
+    creation or modification date and no creator/producer strings (which name
+    the matplotlib version); the PNG carries no ``Software`` text chunk.
+    Rendering is otherwise deterministic (no random state, no time stamps), so
+    the same figure gives the same bytes.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure to write.
+    pdf_path, png_path : str or os.PathLike
+        Destinations of the two formats.
+    dpi : int
+        Resolution of the PNG (dots per inch), also recorded in its pHYs chunk.
+    """
+    with figure_style():
+        if not isinstance(fig.get_layout_engine(), (PlaceHolderLayoutEngine, type(None))):
+            fig.draw_without_rendering()  # run the layout once...
+            fig.set_layout_engine("none")  # ...and keep it for both formats
+        fig.savefig(
+            pdf_path,
+            format="pdf",
+            metadata={"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None},
+        )
+        fig.savefig(png_path, format="png", dpi=dpi, metadata={"Software": None})
+
+
+# ---------------------------------------------------------------- building figures
+
+
+def new_figure(width_mm, height_mm, layout="constrained"):
+    """An empty figure of the given size (mm) with a layout engine."""
+    return Figure(figsize=(width_mm / MM_PER_INCH, height_mm / MM_PER_INCH), layout=layout)
+
+
+def add_footer(fig, notice):
+    """Print the data notice as a grey footer and keep the layout clear of it.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    notice : str
+        Footer text; empty for none (then nothing is added).
+    """
+    if not notice:
+        return
+    width_pt = fig.get_figwidth() * 72.0
+    # DejaVu Sans averages about 0.55 em per character; leave a margin.
+    per_line = max(20, int(0.92 * width_pt / (0.58 * FOOTER_FONT_PT)))
+    lines = textwrap.wrap(notice, per_line) or [notice]
+    height_pt = fig.get_figheight() * 72.0
+    pad_pt = 3.0
+    footer_pt = len(lines) * 1.25 * FOOTER_FONT_PT + 2 * pad_pt
+    fig.text(
+        0.5,
+        pad_pt / height_pt,
+        "\n".join(lines),
+        ha="center",
+        va="bottom",
+        fontsize=FOOTER_FONT_PT,
+        color="0.4",
+        gid="footer",
+    )
+    bottom = footer_pt / height_pt
+    engine = fig.get_layout_engine()
+    if engine is not None:
+        engine.set(rect=(0.0, bottom, 1.0, 1.0 - bottom))
+
+
+def message_figure(message, notice, width_mm=SINGLE_COLUMN_MM, height_mm=45.0):
+    """A figure with one empty axis that says why there is nothing to draw.
+
+    Parameters
+    ----------
+    message : str
+        The reason, wrapped to the figure's width (gid ``message``).
+    notice : str
+        Footer text; empty for none.
+    width_mm, height_mm : float, optional
+        Size of the figure (mm).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = new_figure(width_mm, height_mm)
+    ax = fig.add_subplot()
+    ax.set_xticks([])
+    ax.set_yticks([])
+    for spine in ax.spines.values():
+        spine.set_visible(True)
+        spine.set_color("0.7")
+    ax.text(
+        0.5,
+        0.5,
+        "\n".join(textwrap.wrap(message, int(44 * width_mm / SINGLE_COLUMN_MM))),
+        ha="center",
+        va="center",
+        transform=ax.transAxes,
+        gid="message",
+    )
+    add_footer(fig, notice)
+    return fig
+
+
+def panel_title(label, species):
+    """Panel title naming a subject and its species.
+
+    Parameters
+    ----------
+    label : str
+        Display name of the subject (e.g. ``Monkey 1`` or an id).
+    species : str
+        ``monkey`` or ``human``.
+
+    Returns
+    -------
+    str
+        The label alone if it already names the species, else ``label (species)``.
+    """
+    return label if species.lower() in label.lower() else f"{label} ({species})"
+
+
+def subject_table(subjects):
+    """Subject sheet as a DataFrame indexed by id, with a label for every subject.
+
+    Parameters
+    ----------
+    subjects : pandas.DataFrame
+        ``subject``, ``species`` and optionally ``label`` (a missing or blank
+        label falls back to the id).
+
+    Returns
+    -------
+    pandas.DataFrame
+    """
+    table = pd.DataFrame(subjects).copy()
+    if "label" not in table.columns:
+        table["label"] = table["subject"]
+    labels = table["label"].astype(object)
+    missing = labels.isna() | (labels.astype(str).str.strip() == "")
+    table["label"] = np.where(missing, table["subject"], labels.astype(str))
+    return table.set_index("subject", drop=False)
+
+
+def depth_colours(depths_mm):
+    """One colour per depth, ordered from shallow (dark) to deep (light).
+
+    Parameters
+    ----------
+    depths_mm : iterable of float
+        Depths (mm); duplicates are ignored.
+
+    Returns
+    -------
+    dict of float to tuple
+        RGBA colour of each depth; the same depths always get the same colours.
+    """
+    unique = sorted({float(d) for d in depths_mm})
+    cmap = colormaps["plasma"]
+    if len(unique) == 1:
+        return {unique[0]: cmap(0.0)}
+    return {d: cmap(0.78 * i / (len(unique) - 1)) for i, d in enumerate(unique)}
+
+
+# ---------------------------------------------------------------- axes and legends
+
+
+def two_row_legend(first_row, second_row):
+    """Handles and column count for a legend with one row per list.
+
+    Legends fill column by column, so the rows are interleaved, with invisible
+    blank entries where one row is shorter.
+    """
+    n_columns = max(len(first_row), len(second_row))
+    blank = Line2D([], [], linestyle="none", label=" ")
+    handles = []
+    for i in range(n_columns):
+        handles.append(first_row[i] if i < len(first_row) else blank)
+        handles.append(second_row[i] if i < len(second_row) else blank)
+    return handles, n_columns
+
+
+def grid_shape(n_panels, max_columns=2):
+    """Rows and columns of a grid holding n_panels, at most max_columns wide."""
+    n_columns = min(n_panels, max_columns)
+    return math.ceil(n_panels / n_columns), n_columns
+
+
+def label_outer_axes(axes_grid, present, xlabel, ylabel):
+    """Axis labels on the left column and on the lowest panel of each column.
+
+    Parameters
+    ----------
+    axes_grid : numpy.ndarray of Axes
+        Two-dimensional, as from ``Figure.subplots(squeeze=False)``.
+    present : numpy.ndarray of bool
+        Same shape: which cells hold a panel.
+    xlabel, ylabel : str
+    """
+    n_rows, n_columns = axes_grid.shape
+    for i in range(n_rows):
+        for j in range(n_columns):
+            if not present[i, j]:
+                continue
+            ax = axes_grid[i, j]
+            lowest = not present[i + 1 :, j].any()
+            ax.tick_params(labelbottom=lowest)
+            if lowest:
+                ax.set_xlabel(xlabel)
+            if j == 0:
+                ax.set_ylabel(ylabel)
+            else:
+                ax.tick_params(labelleft=False)
+
+
+def padded_limits(values, pad_fraction=0.06):
+    """Axis limits around the finite values, widened by pad_fraction of their range.
+
+    Returns
+    -------
+    tuple of float
+        ``(low, high)``; ``(-1, 1)`` when no value is finite.
+    """
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return -1.0, 1.0
+    lo, hi = float(values.min()), float(values.max())
+    pad = pad_fraction * (hi - lo) if hi > lo else max(abs(hi), 1.0) * 0.1
+    return lo - pad, hi + pad
+
+
+def log_distance_axis(ax):
+    """Log distance axis with plain-number ticks at 1, 2 and 5 times powers of ten."""
+    ax.set_xscale("log")
+    ax.xaxis.set_major_locator(ticker.LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    ax.xaxis.set_major_formatter(ticker.FuncFormatter(lambda value, _: f"{value:g}"))
+    ax.xaxis.set_minor_locator(ticker.LogLocator(base=10.0, subs=(3.0, 4.0, 6.0, 7.0, 8.0, 9.0)))
+    ax.xaxis.set_minor_formatter(ticker.NullFormatter())
