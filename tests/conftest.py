@@ -75,7 +75,7 @@ def run_snakemake(*args, raw, results, config=(), cwd=REPO, timeout=600):
         "-m",
         "snakemake",
         "--snakefile",
-        str(REPO / "Snakefile"),
+        str(REPO / "workflow" / "Snakefile"),
         "--directory",
         str(cwd),
         "--cores",

@@ -65,7 +65,7 @@ def outputs(results):
 
 def start_build(raw, results):
     command = [
-        sys.executable, "-m", "snakemake", "--snakefile", str(REPO / "Snakefile"),
+        sys.executable, "-m", "snakemake", "--snakefile", str(REPO / "workflow" / "Snakefile"),
         "--directory", str(REPO), "--cores", "2",
         "--config", f"raw_data={raw}", f"results={results}",
     ]  # fmt: skip

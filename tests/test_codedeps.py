@@ -101,3 +101,25 @@ def test_the_workflow_scripts_see_their_modules():
     files = {Path(f).name for f in codedeps.script_dependencies(script)}
     assert {"fitting.py", "models.py"} <= files
     assert "claims.py" not in files
+
+
+def test_import_statements_over_several_lines_and_look_alikes(tmp_path, package):
+    text = (
+        '"""A docstring that mentions\n'
+        "from lineload.tables import\n"  # not a statement: does not parse, skipped
+        '"""\n'
+        "from lineload.fitting import (\n"
+        "    fit,\n"
+        "    other,\n"
+        ")\n"
+        "from lineload.figures.style import \\\n"
+        "    STYLE\n"
+    )
+    assert deps(tmp_path, package, text) == [
+        "__init__.py",
+        "figures/__init__.py",
+        "figures/style.py",
+        "fitting.py",
+        "models.py",
+        "paper.py",
+    ]

@@ -16,7 +16,10 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 from conftest import REPO, run_snakemake, write_small_dataset
 from lineload import models
+from lineload.averaging import OUTLINE_COLUMNS, outline_to_tissue_mm
 from lineload.figures import data, registry, schematics, style, supplements
+from lineload.io import load_schema
+from lineload.validation import read_table
 
 NOTICE = "Made-up numbers for a test of the footer; they describe no finger at all, anywhere."
 WINDOW_MM = 3.0
@@ -365,24 +368,9 @@ def test_prepare_outline_converts_to_tissue_mm(tmp_path):
         "depth_mm,state,x_image_mm,z_image_mm\n"
         "1,deformed,40,-30\n1,resting,-40,-8\n1,resting,40,-8\n1,deformed,-40,-31\n"
     )
-    out = tmp_path / "out" / "M1.csv"
-    subprocess.run(
-        [
-            sys.executable,
-            str(REPO / "workflow" / "scripts" / "prepare_outline.py"),
-            "--subject",
-            "M1",
-            "--magnification",
-            "20",
-            "--outline",
-            str(raw),
-            "--output",
-            str(out),
-        ],
-        check=True,
-        capture_output=True,
-    )
-    table = pd.read_csv(out)
+    outline = read_table(raw, load_schema("outlines"))
+    table = outline_to_tissue_mm(outline, "M1", 20.0)
+    assert list(table.columns) == OUTLINE_COLUMNS and set(table["subject"]) == {"M1"}
     assert list(table["state"]) == ["deformed", "deformed", "resting", "resting"]
     np.testing.assert_allclose(table["x_mm"], table["x_image_mm"] / 20)
     np.testing.assert_allclose(table["z_mm"], table["z_image_mm"] / 20)
@@ -417,7 +405,7 @@ def test_workflow_builds_every_figure(tmp_path, snakemake_available):
         else:
             assert first.read_bytes().startswith(b"%PDF")
     logs = tmp_path / "first" / "logs"
-    for rule in ("figure_outlines", "figure_schematics", "figure_fits", "figure_supplement"):
+    for rule in ("figure_outlines", "figure_schematics", "figure_fits", "figure_supplements"):
         assert (logs / f"{rule}.log").is_file()
     # a notice with shell-awkward characters reaches the figures intact (and changes them)
     out = tmp_path / "notice"
@@ -642,22 +630,3 @@ def test_the_registry_imports_nothing_heavy():
         check=True,
     )
     assert process.stdout.strip() == "[]"
-
-
-def test_make_figures_draws_registered_figures_and_names_a_missing_option(tmp_path):
-    script = str(REPO / "workflow" / "scripts" / "make_figures.py")
-    common = [script, "--outdir", str(tmp_path), "--dpi", "72"]
-    process = subprocess.run(
-        [sys.executable, *common, "--figure", "figure5", "--schematic-depth-ratio", "0.15"],
-        capture_output=True,
-        text=True,
-    )
-    assert process.returncode == 0, process.stderr
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["figure5.pdf", "figure5.png"]
-    process = subprocess.run(
-        [sys.executable, *common, "--figure", "figure2", "--fit-window-mm", "3"],
-        capture_output=True,
-        text=True,
-    )
-    assert process.returncode == 2
-    assert "figure2 needs --fits" in process.stderr

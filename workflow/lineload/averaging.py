@@ -11,7 +11,14 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-__all__ = ["AVERAGED_COLUMNS", "CONVERTED_COLUMNS", "average_sides", "to_tissue_mm"]
+__all__ = [
+    "AVERAGED_COLUMNS",
+    "CONVERTED_COLUMNS",
+    "OUTLINE_COLUMNS",
+    "average_sides",
+    "outline_to_tissue_mm",
+    "to_tissue_mm",
+]
 
 #: Distances closer than this (mm) are taken as the same reading position.
 DISTANCE_TOLERANCE_MM = 1e-9
@@ -158,3 +165,51 @@ def average_sides(converted):
     if not frames:
         return pd.DataFrame(columns=AVERAGED_COLUMNS)
     return pd.concat(frames, ignore_index=True)[AVERAGED_COLUMNS]
+
+
+OUTLINE_COLUMNS = [
+    "subject",
+    "depth_mm",
+    "state",
+    "x_image_mm",
+    "z_image_mm",
+    "magnification",
+    "x_mm",
+    "z_mm",
+]
+
+
+def outline_to_tissue_mm(outline, subject, magnification):
+    """Convert a traced outline (Figure 1) from the enlargement to tissue millimetres.
+
+    Parameters
+    ----------
+    outline : pandas.DataFrame
+        Validated points with ``depth_mm``, ``state``, ``x_image_mm`` and ``z_image_mm``.
+    subject : str
+        Subject id, copied into every row.
+    magnification : float
+        Enlargement factor of the photographs (> 0).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns :data:`OUTLINE_COLUMNS`, the image-unit values kept beside the tissue
+        ones, sorted by depth, state and x so that each outline can be drawn as a line.
+    """
+    if not magnification > 0:
+        raise ValueError(f"magnification must be > 0, got {magnification!r}")
+    out = pd.DataFrame(
+        {
+            "subject": subject,
+            "depth_mm": outline["depth_mm"].astype(float).to_numpy(),
+            "state": outline["state"].to_numpy(),
+            "x_image_mm": outline["x_image_mm"].astype(float).to_numpy(),
+            "z_image_mm": outline["z_image_mm"].astype(float).to_numpy(),
+            "magnification": float(magnification),
+        }
+    )
+    out["x_mm"] = out["x_image_mm"] / magnification
+    out["z_mm"] = out["z_image_mm"] / magnification
+    out = out.sort_values(["depth_mm", "state", "x_mm"], kind="stable")
+    return out.reset_index(drop=True)[OUTLINE_COLUMNS]

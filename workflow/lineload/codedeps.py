@@ -11,7 +11,9 @@ runs when called).  Standard library only, so it is cheap at parse time.
 from __future__ import annotations
 
 import ast
-from functools import lru_cache
+import re
+import textwrap
+from functools import cache
 from pathlib import Path
 
 __all__ = ["PACKAGE", "PACKAGE_DIR", "module_files", "script_dependencies"]
@@ -69,13 +71,41 @@ def _module_name(path, package_dir):
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
+#: Where an import statement may start: a line beginning ``import x`` or ``from x import``.
+_IMPORT_START = re.compile(r"^[ \t]*(?:import[ \t]+\w|from[ \t]+[.\w]+[ \t]+import\b)", re.M)
+
+
+def _import_statements(text):
+    """The import statements of a source text, each parsed on its own.
+
+    Parsing a whole module costs far more than its few import lines; each
+    candidate statement (with its parenthesised or backslash continuation) is
+    parsed alone.  A candidate that is not Python (a line of a docstring that
+    looks like an import but is not one) does not parse and is skipped; one
+    that does parse is counted, which can only add a dependency, never miss one.
+    """
+    for match in _IMPORT_START.finditer(text):
+        end, depth = match.start(), 0
+        while True:
+            newline = text.find("\n", end)
+            line = text[end : newline if newline >= 0 else len(text)]
+            depth += line.count("(") - line.count(")")
+            end = newline + 1 if newline >= 0 else len(text)
+            if newline < 0 or (depth <= 0 and not line.rstrip().endswith("\\")):
+                break
+        try:
+            yield from ast.parse(textwrap.dedent(text[match.start() : end])).body
+        except SyntaxError:
+            continue
+
+
 def _imported_modules(path, package_dir):
     """Dotted names of this package's modules that a file imports (candidates, unchecked)."""
-    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    statements = _import_statements(path.read_text(encoding="utf-8"))
     inside = package_dir in path.resolve().parents
     here = _module_name(path.resolve(), package_dir) if inside else None
     is_package = path.name == "__init__.py"
-    for node in ast.walk(tree):
+    for node in statements:
         if isinstance(node, ast.Import):
             for alias in node.names:
                 yield alias.name
@@ -95,7 +125,7 @@ def _imported_modules(path, package_dir):
                 yield f"{stem}.{alias.name}"
 
 
-@lru_cache(maxsize=None)
+@cache
 def _direct(path, stamp, package_dir):
     """This package's files a file imports directly (``stamp`` keys the cache to its version)."""
     files = []

@@ -1,6 +1,7 @@
 # Config and raw inputs, validated before any job is planned; what each job is given.
 # A broken input stops the run here with one message naming file, line and column:
 # no job starts, so nothing partial is written.
+import os
 import sys
 from pathlib import Path
 
@@ -12,6 +13,16 @@ from lineload.figures import registry
 from lineload.io import load_schema, write_json_if_changed
 
 min_version("9.0")
+
+# The software every rule runs: one environment for the whole workflow, installed once
+# with pip (requirements.txt) or conda (environment.yml, pinned alike); the rules run
+# in the environment Snakemake runs in.  Naming the file here documents it per rule.
+ENVIRONMENT = "../../environment.yml"
+
+
+# Snakemake's parser reads a line that starts with `report(` as its report keyword,
+# and snakefmt puts the call at a line start: call it by another name.
+report_item = report
 
 
 def abort(message):
@@ -52,7 +63,8 @@ def check_inputs():
     raw = config["raw_data"]
     try:
         dataset = check_dataset(
-            raw, {name: load_schema(name) for name in ("subjects", "profiles", "outlines")}
+            raw,
+            {name: load_schema(name) for name in ("subjects", "profiles", "outlines")},
         )
         validate(dataset["subjects"], "../schemas/subjects.schema.yaml")
     except InputError as error:
@@ -132,13 +144,6 @@ for start in range(0, len(SUBJECT_IDS), PER_JOB):
 BATCH_IDS = list(BATCHES)
 
 
-wildcard_constraints:
-    # the same rule as subjects.schema.yaml: ids name files; a batch is named after its
-    # first subject, plus a sign and a count when it holds more
-    subject="[A-Za-z0-9][A-Za-z0-9_-]*",
-    batch="[A-Za-z0-9][A-Za-z0-9_-]*([+][0-9]{1,9})?",
-
-
 def result(*parts):
     """Path of an output under the results folder."""
     return str(Path(RES, *parts))
@@ -165,19 +170,31 @@ NOTICE = read_notice()
 # values do; and a reviewer can open it to see what the job was given.  (Values passed
 # as params would do the same, but comparing them makes Snakemake import pandas on
 # every run.)
-def spec(rule, key="all", **values):
+def spec(job, key="all", **values):
     """Write a job's spec (if changed) and return its path."""
-    path = result("specs", rule, f"{key}.json")
+    path = result("specs", job, f"{key}.json")
     write_json_if_changed(values, path)
     return path
 
 
-def batch_specs(rule, **values):
+def batch_specs(job, **values):
     """One spec per batch, with the batch's subjects; the path pattern for the rule."""
     for batch, members in BATCHES.items():
         subjects = {s: SUBJECTS[s] for s in members}
-        spec(rule, batch, subjects=subjects, **values)
-    return result("specs", rule, "{batch}.json")
+        spec(job, batch, subjects=subjects, **values)
+    return result("specs", job, "{batch}.json")
+
+
+def subject_specs(job, subjects):
+    """One spec per subject (its id and magnification); the path pattern for the rule."""
+    for subject in subjects:
+        spec(
+            job,
+            subject,
+            subject=subject,
+            magnification=SUBJECTS[subject]["magnification"],
+        )
+    return result("specs", job, "{subject}.json")
 
 
 # ---------------------------------------------------------------- the code each job runs
@@ -187,10 +204,123 @@ SCRIPTS = Path(workflow.basedir, "scripts")
 
 
 def code(script, modules=()):
-    """The package files a rule's script runs (lineload/codedeps.py)."""
-    return codedeps.script_dependencies(SCRIPTS / script, modules)
+    """The package files a rule's script runs (lineload/codedeps.py), as relative paths."""
+    return [
+        os.path.relpath(path)
+        for path in codedeps.script_dependencies(SCRIPTS / script, modules)
+    ]
 
 
-# Snakemake's parser reads a line that starts with `report(` as its report keyword,
-# and snakefmt puts the call at a line start: call it by another name.
-report_item = report
+# ---------------------------------------------------------------- figures
+def first_of_each_species(candidates):
+    """The first subject of each species among candidates, in subject-sheet order."""
+    chosen = {}
+    for subject in SUBJECT_IDS:
+        if subject in candidates:
+            chosen.setdefault(SUBJECTS[subject]["species"], subject)
+    return list(chosen.values())
+
+
+def chosen_subjects(key, candidates, need):
+    """Subjects named in config['figures'][key], checked, or the default choice."""
+    requested = config["figures"][key]
+    for subject in requested:
+        if subject not in candidates:
+            abort(f"config, key 'figures/{key}': subject {subject!r} {need}")
+    return list(requested) or first_of_each_species(candidates)
+
+
+OUTLINE_SUBJECTS = chosen_subjects(
+    "outline_subjects", DATASET["outlines"], f"has no outline file in {RAW}/outlines/"
+)
+OUTLINE_DEPTH_MM = config["figures"]["outline_depth_mm"]
+if OUTLINE_SUBJECTS:
+    common_depths = set.intersection(
+        *(set(DATASET["outlines"][s]) for s in OUTLINE_SUBJECTS)
+    )
+    if OUTLINE_DEPTH_MM is None and common_depths:
+        OUTLINE_DEPTH_MM = min(common_depths)
+    if OUTLINE_DEPTH_MM not in common_depths:
+        abort(
+            "config, key 'figures/outline_depth_mm': expected a depth outlined for "
+            f"{', '.join(OUTLINE_SUBJECTS)} ({', '.join(f'{d:g}' for d in sorted(common_depths))}),"
+            f" got {OUTLINE_DEPTH_MM}"
+        )
+EXAMPLE_DEPTH_MM = config["figures"]["example_depth_mm"]
+EXAMPLE_SUBJECTS = chosen_subjects(
+    "example_subjects",
+    [s for s in SUBJECT_IDS if EXAMPLE_DEPTH_MM in DATASET["depths_mm"][s]],
+    f"is not in {RAW}/subjects.csv or has no profile at the figure depth",
+)
+
+# The values a figure function may take as settings (lineload.figures.registry.ARGUMENTS).
+FIGURE_SETTINGS = {
+    "notice": NOTICE,
+    "fit_window_mm": config["fit_window_mm"],
+    "example_subjects": EXAMPLE_SUBJECTS,
+    "example_depth_mm": EXAMPLE_DEPTH_MM,
+    "outline_subjects": OUTLINE_SUBJECTS,
+    "outline_depth_mm": OUTLINE_DEPTH_MM,
+    "schematic_depth_ratio": config["figures"]["schematic_depth_ratio"],
+    "noise_mm": config["claims"]["noise_mm"],
+}
+# The results tables a figure function may take (registry kind "file").
+FIGURE_TABLES = {
+    "averaged": expand(result("data", "averaged", "{batch}.csv"), batch=BATCH_IDS),
+    "fits": [result("tables", "fits.csv")],
+    "outlines": expand(
+        result("data", "outlines", "{subject}.csv"), subject=OUTLINE_SUBJECTS
+    ),
+    "sensitivity": [result("tables", "sensitivity.csv")],
+    "checks": [result("tables", "trial_checks.csv")],
+}
+
+
+def figure_files(group):
+    """PDF and PNG of every figure of a group; the PNG goes into the report."""
+    files = []
+    for figure in registry.figures_in_group(group):
+        caption, labels = f"../report/{figure.name}.rst", {"figure": figure.title}
+        png = result("figures", f"{figure.name}.png")
+        files += [
+            result("figures", f"{figure.name}.pdf"),
+            report_item(png, caption=caption, category=figure.category, labels=labels),
+        ]
+    return files
+
+
+def figure_inputs(group):
+    """Named inputs of a group's job: its spec, the tables its figures read, its code."""
+    arguments = registry.arguments_of_group(group)
+    subjects = [[s, SUBJECTS[s]["species"], SUBJECTS[s]["label"]] for s in SUBJECT_IDS]
+    settings = {a: FIGURE_SETTINGS[a] for a in arguments if a in FIGURE_SETTINGS}
+    inputs = {
+        "spec": spec(
+            f"figure_{group}",
+            group=group,
+            dpi=config["figures"]["png_dpi"],
+            subjects=subjects if "subjects" in arguments else [],
+            settings=settings,
+        ),
+        "code": code(
+            "draw_figures.py",
+            sorted({f.import_path for f in registry.figures_in_group(group)}),
+        ),
+    }
+    inputs.update({a: FIGURE_TABLES[a] for a in arguments if a in FIGURE_TABLES})
+    return inputs
+
+
+# Every figure file the default target builds (PDF and PNG of each).
+FIGURE_FILES = [f for group in registry.GROUPS for f in figure_files(group)]
+
+
+# ---------------------------------------------------------------- provenance
+def raw_files():
+    """Every raw input the build read: subject sheet, profiles, outlines, notice."""
+    files = [f"{RAW}/subjects.csv"]
+    files += [f"{RAW}/profiles/{s}.csv" for s in SUBJECT_IDS]
+    files += [f"{RAW}/outlines/{s}.csv" for s in DATASET["outlines"]]
+    if Path(RAW, "NOTICE.txt").is_file():
+        files.append(f"{RAW}/NOTICE.txt")
+    return files

@@ -28,6 +28,8 @@ rule prepare_profiles:
         result("logs", "prepare_profiles", "{batch}.log"),
     benchmark:
         result("benchmarks", "prepare_profiles", "{batch}.tsv")
+    conda:
+        ENVIRONMENT
     script:
         "../scripts/prepare_profiles.py"
 
@@ -35,21 +37,14 @@ rule prepare_profiles:
 rule prepare_outline:
     """Convert one subject's traced outlines (Figure 1) to tissue mm."""
     input:
-        spec=result("specs", "prepare_outline", "{subject}.json"),
+        spec=subject_specs("prepare_outline", DATASET["outlines"]),
         outline=f"{RAW}/outlines/{{subject}}.csv",
         code=code("prepare_outline.py"),
     output:
         result("data", "outlines", "{subject}.csv"),
     log:
         result("logs", "prepare_outline", "{subject}.log"),
+    conda:
+        ENVIRONMENT
     script:
         "../scripts/prepare_outline.py"
-
-
-for _subject in DATASET["outlines"]:
-    spec(
-        "prepare_outline",
-        _subject,
-        subject=_subject,
-        magnification=SUBJECTS[_subject]["magnification"],
-    )

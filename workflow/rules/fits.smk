@@ -14,6 +14,8 @@ rule fit_models:
         result("logs", "fit_models", "{batch}.log"),
     benchmark:
         result("benchmarks", "fit_models", "{batch}.tsv")
+    conda:
+        ENVIRONMENT
     script:
         "../scripts/fit_models.py"
 
@@ -32,6 +34,8 @@ rule fits_table:
         ),
     log:
         result("logs", "fits_table.log"),
+    conda:
+        ENVIRONMENT
     script:
         "../scripts/concat_tables.py"
 
@@ -55,6 +59,8 @@ rule fit_sensitivity:
     benchmark:
         result("benchmarks", "fit_sensitivity", "{batch}.tsv")
     priority: 1
+    conda:
+        ENVIRONMENT
     script:
         "../scripts/fit_sensitivity.py"
 
@@ -85,5 +91,7 @@ rule sensitivity_tables:
     log:
         result("logs", "sensitivity_tables.log"),
     priority: 1
+    conda:
+        ENVIRONMENT
     script:
         "../scripts/sensitivity_tables.py"

@@ -1,16 +1,6 @@
 # Stage 5, report: the provenance record of the build.
 
 
-def raw_files():
-    """Every raw input the build read: subject sheet, profiles, outlines, notice."""
-    files = [f"{RAW}/subjects.csv"]
-    files += [f"{RAW}/profiles/{s}.csv" for s in SUBJECT_IDS]
-    files += [f"{RAW}/outlines/{s}.csv" for s in DATASET["outlines"]]
-    if Path(RAW, "NOTICE.txt").is_file():
-        files.append(f"{RAW}/NOTICE.txt")
-    return files
-
-
 rule provenance:
     """Hash every raw input and record config, software versions and git commit."""
     input:
@@ -24,9 +14,10 @@ rule provenance:
         # built last, so the record is rewritten whenever any output is; listing every
         # intermediate here also makes each a target of the default build
         outputs=[
-            rules.prepare_profiles.output,
-            rules.fit_models.output,
-            rules.fit_sensitivity.output,
+            expand(rules.prepare_profiles.output, batch=BATCH_IDS),
+            expand(rules.fit_models.output, batch=BATCH_IDS),
+            expand(rules.fit_sensitivity.output, batch=BATCH_IDS),
+            expand(rules.prepare_outline.output, subject=DATASET["outlines"]),
             rules.fits_table.output,
             rules.sensitivity_tables.output,
             rules.fit_tables.output,
@@ -43,5 +34,7 @@ rule provenance:
         ),
     log:
         result("logs", "provenance.log"),
+    conda:
+        ENVIRONMENT
     script:
         "../scripts/write_provenance.py"

@@ -20,6 +20,8 @@ rule fit_tables:
         summary_tex=result("tables", "summary.tex"),
     log:
         result("logs", "fit_tables.log"),
+    conda:
+        ENVIRONMENT
     script:
         "../scripts/make_tables.py"
 
@@ -41,5 +43,7 @@ rule claims_table:
         md=result("tables", "claims.md"),
     log:
         result("logs", "claims_table.log"),
+    conda:
+        ENVIRONMENT
     script:
         "../scripts/make_claims.py"

@@ -6,6 +6,7 @@ cost should be Python's start-up alone.
 
 from lineload.io import concatenate_csv, output_to
 
-with output_to(snakemake.log[0]):
-    n_rows = concatenate_csv(snakemake.input.tables, snakemake.output[0])
-    print(f"{snakemake.output[0]}: {n_rows} rows from {len(snakemake.input.tables)} files")
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        n_rows = concatenate_csv(snakemake.input.tables, snakemake.output[0])
+        print(f"{snakemake.output[0]}: {n_rows} rows from {len(snakemake.input.tables)} files")

@@ -20,18 +20,19 @@ def draw_figures(inputs, outputs, group, dpi, subjects, settings):
     """Draw and save every figure of ``group``."""
     values = dict(settings)
     values["subjects"] = pd.DataFrame(subjects, columns=["subject", "species", "label"])
-    for name in registry.arguments_of_group(group):
-        if registry.ARGUMENTS[name].kind == "file":
-            frames = [read_results_csv(path) for path in inputs[name]]
-            values[name] = pd.concat(frames, ignore_index=True) if frames else None
+    for name in registry.file_arguments(group):
+        frames = [read_results_csv(path) for path in inputs[name]]
+        values[name] = pd.concat(frames, ignore_index=True) if frames else None
     folder = Path(outputs[0]).parent
+    print(f"footer: {values['notice']!r}" if values.get("notice") else "footer: none")
     for figure in registry.figures_in_group(group):
-        draw = getattr(import_module(f"lineload.figures.{figure.module}"), figure.function)
+        draw = getattr(import_module(figure.import_path), figure.function)
         fig = draw(**{a: values[a] for a in figure.arguments}, **dict(figure.fixed))
         pdf, png = folder / f"{figure.name}.pdf", folder / f"{figure.name}.png"
         save_figure(fig, pdf, png, dpi)
         print(f"{figure.name}: {len(fig.axes)} axes -> {pdf}, {png} ({dpi} dpi)")
 
 
-with output_to(snakemake.log[0]):
-    draw_figures(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        draw_figures(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))

@@ -22,5 +22,6 @@ def fit_models(averaged, output, subjects, window_mm):
     write_rows(rows, FIT_COLUMNS, output)
 
 
-with output_to(snakemake.log[0]):
-    fit_models(snakemake.input.averaged, snakemake.output[0], **read_json(snakemake.input.spec))
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        fit_models(snakemake.input.averaged, snakemake.output[0], **read_json(snakemake.input.spec))

@@ -8,9 +8,7 @@ from lineload.io import output_to, read_json, read_trials, write_rows
 from lineload.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS, sensitivity_rows, trial_checks
 
 
-def fit_sensitivity(
-    averaged, sensitivity, checks, subjects, window_mm, windows_mm, reach_fraction
-):
+def fit_sensitivity(averaged, sensitivity, checks, subjects, window_mm, windows_mm, reach_fraction):
     """Refit every trial in each window (null: the whole profile) and check U and reach."""
     windows_mm = [math.inf if w is None else float(w) for w in windows_mm]
     trials = read_trials(averaged)  # numpy only: this job runs once per batch
@@ -31,10 +29,11 @@ def fit_sensitivity(
     write_rows(check_rows, CHECK_COLUMNS, checks)
 
 
-with output_to(snakemake.log[0]):
-    fit_sensitivity(
-        snakemake.input.averaged,
-        snakemake.output.sensitivity,
-        snakemake.output.checks,
-        **read_json(snakemake.input.spec),
-    )
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        fit_sensitivity(
+            snakemake.input.averaged,
+            snakemake.output.sensitivity,
+            snakemake.output.checks,
+            **read_json(snakemake.input.spec),
+        )

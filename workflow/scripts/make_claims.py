@@ -17,10 +17,11 @@ def make_claims(fits_path, averaged_paths, outputs, settings, notice):
         print(f"{row['claim']}: {row['verdict']} ({row['our_value']})")
 
 
-with output_to(snakemake.log[0]):
-    make_claims(
-        snakemake.input.fits,
-        snakemake.input.averaged,
-        snakemake.output,
-        **read_json(snakemake.input.spec),
-    )
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        make_claims(
+            snakemake.input.fits,
+            snakemake.input.averaged,
+            snakemake.output,
+            **read_json(snakemake.input.spec),
+        )

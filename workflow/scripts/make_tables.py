@@ -23,5 +23,6 @@ def make_tables(fits_path, outputs, notice):
     print(f"{fits_path}: {len(fits)} trials -> {len(summary)} species/depth rows")
 
 
-with output_to(snakemake.log[0]):
-    make_tables(snakemake.input.fits, snakemake.output, **read_json(snakemake.input.spec))
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        make_tables(snakemake.input.fits, snakemake.output, **read_json(snakemake.input.spec))

@@ -30,10 +30,11 @@ def prepare_profiles(profiles, subjects, converted_path, averaged_path):
     write_csv(pd.concat(averaged, ignore_index=True), averaged_path, AVERAGED_COLUMNS)
 
 
-with output_to(snakemake.log[0]):
-    prepare_profiles(
-        snakemake.input.profiles,
-        read_json(snakemake.input.spec)["subjects"],
-        snakemake.output.converted,
-        snakemake.output.averaged,
-    )
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        prepare_profiles(
+            snakemake.input.profiles,
+            read_json(snakemake.input.spec)["subjects"],
+            snakemake.output.converted,
+            snakemake.output.averaged,
+        )

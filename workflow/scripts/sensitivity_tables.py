@@ -16,5 +16,6 @@ def sensitivity_tables(inputs, outputs, notice):
     print(f"{len(sensitivity)} refits and {len(checks)} trial checks collected")
 
 
-with output_to(snakemake.log[0]):
-    sensitivity_tables(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        sensitivity_tables(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))

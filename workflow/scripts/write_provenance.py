@@ -14,5 +14,8 @@ def write_provenance(raw_files, output, raw_dir, config, source_dir):
     )
 
 
-with output_to(snakemake.log[0]):
-    write_provenance(snakemake.input.raw, snakemake.output[0], **read_json(snakemake.input.spec))
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        write_provenance(
+            snakemake.input.raw, snakemake.output[0], **read_json(snakemake.input.spec)
+        )
