@@ -352,6 +352,9 @@ def test_save_figure_is_reproducible_and_carries_no_dates(tmp_path):
     fig = schematics.figure_channel_schematic(0.15, NOTICE)
     for name in ("a", "b"):
         style.save_figure(fig, tmp_path / f"{name}.pdf", tmp_path / f"{name}.png", 250)
+        # laid out once, then no engine at all (not even the placeholder that
+        # "none" leaves, with which every savefig draws the figure once more)
+        assert fig.get_layout_engine() is None
     for ext in ("pdf", "png"):
         assert (tmp_path / f"a.{ext}").read_bytes() == (tmp_path / f"b.{ext}").read_bytes()
     pdf = (tmp_path / "a.pdf").read_bytes()

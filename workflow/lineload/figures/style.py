@@ -157,10 +157,12 @@ def styled(function):
 def save_figure(fig, pdf_path, png_path, dpi):
     """Write a figure as PDF and PNG, byte-for-byte reproducibly.
 
-    The layout is computed once and then frozen, so both files (and any later
-    save of the same figure) share the same geometry.  The PDF carries no
-    creation or modification date and no creator/producer strings (which name
-    the matplotlib version); the PNG carries no ``Software`` text chunk.
+    The layout engine (constrained or compressed) runs once and is then
+    removed, so both files (and any later save of the same figure) share the
+    same geometry, and neither save lays out or draws the figure more than
+    once.  The PDF carries no creation or modification date and no
+    creator/producer strings (which name the matplotlib version); the PNG
+    carries no ``Software`` text chunk.
     Rendering is otherwise deterministic (no random state, no time stamps), so
     the same figure gives the same bytes.
 
@@ -174,9 +176,16 @@ def save_figure(fig, pdf_path, png_path, dpi):
         Resolution of the PNG (dots per inch), also recorded in its pHYs chunk.
     """
     with figure_style():
-        if not isinstance(fig.get_layout_engine(), (PlaceHolderLayoutEngine, type(None))):
-            fig.draw_without_rendering()  # run the layout once...
-            fig.set_layout_engine("none")  # ...and keep it for both formats
+        engine = fig.get_layout_engine()
+        if engine is not None:
+            if not isinstance(engine, PlaceHolderLayoutEngine):
+                engine.execute(fig)  # only the layout, not a whole (unrendered) draw
+            # Then no engine at all: "none" would leave a placeholder engine, and
+            # with any engine set, savefig draws the figure once more before saving.
+            with matplotlib.rc_context(
+                {"figure.autolayout": False, "figure.constrained_layout.use": False}
+            ):
+                fig.set_layout_engine(None)
         fig.savefig(
             pdf_path,
             format="pdf",
