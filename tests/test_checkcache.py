@@ -3,6 +3,8 @@
 import json
 import shutil
 
+import pytest
+
 from conftest import REPO, run_snakemake, write_small_dataset
 from lineload import checkcache
 
@@ -112,6 +114,7 @@ def test_store_into_an_unwritable_place_is_silently_skipped(tmp_path):
     assert checkcache.load(blocker / "check.json", "k") is None
 
 
+@pytest.mark.e2e
 def test_workflow_rechecks_a_dataset_broken_after_a_passed_check(tmp_path, snakemake_available):
     """A passed check is remembered, but a later corruption is still caught, with no output."""
     raw = write_small_dataset(tmp_path / "raw")
@@ -138,10 +141,15 @@ def test_workflow_rechecks_a_dataset_broken_after_a_passed_check(tmp_path, snake
     lines[2] = ",".join(cells)
     profile.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
+    # the valid dry runs wrote the jobs' specs; the broken run must add or change nothing
+    def snapshot():
+        return {p: p.read_bytes() for p in results.rglob("*") if p.is_file()}
+
+    before = snapshot()
     broken = run_snakemake("fits", raw=str(raw), results=str(results), cwd=work)
     output = broken.stdout + broken.stderr
     assert broken.returncode != 0, output
     errors = [line for line in output.splitlines() if line.startswith("Error: ")]
     assert errors == [errors[0]] and f"{raw}/profiles/MK.csv, line 3" in errors[0], output
-    assert not results.exists()
+    assert snapshot() == before
     assert json.loads(cache.read_text(encoding="utf-8"))["fingerprint"] == stored["fingerprint"]

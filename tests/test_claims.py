@@ -427,6 +427,7 @@ def test_c10_cannot_judge_a_profile_whose_curvature_the_noise_hides():
 # ------------------------------------------------------------------- through snakemake
 
 
+@pytest.mark.e2e
 def test_table_rules_end_to_end(tmp_path):
     raw = write_small_dataset(tmp_path / "raw")  # has no NOTICE.txt: no footer
     out = tmp_path / "out"

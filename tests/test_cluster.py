@@ -7,9 +7,12 @@ import subprocess
 import sys
 import time
 
+import pytest
 import yaml
 
 from conftest import REPO, run_snakemake, write_small_dataset
+
+pytestmark = pytest.mark.e2e  # every test here runs Snakemake
 
 SUBJECTS = {
     "MK": ("monkey", [1.0, 2.0], 5.0),

@@ -2,7 +2,11 @@
 
 import shutil
 
+import pytest
+
 from conftest import run_snakemake, write_small_dataset
+
+pytestmark = pytest.mark.e2e  # every test here runs Snakemake
 
 # Timings by design: they differ from run to run and are not results.
 NOT_COMPARED = {"logs", "benchmarks"}

@@ -384,6 +384,7 @@ FIGURE_NAMES = [figure.name for figure in registry.FIGURES]
 FIGURE_FILES = [f"{name}.{ext}" for name in FIGURE_NAMES for ext in ("pdf", "png")]
 
 
+@pytest.mark.e2e
 def test_workflow_builds_every_figure(tmp_path, snakemake_available):
     """Every figure in both formats at journal width; byte identity: test_determinism.py."""
     raw = write_small_dataset(

@@ -6,6 +6,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from conftest import REPO
 
 BIN = Path(sys.executable).parent
@@ -15,6 +17,7 @@ def run(*command):
     return subprocess.run(command, cwd=REPO, capture_output=True, text=True, timeout=300)
 
 
+@pytest.mark.e2e
 def test_snakemake_lint_reports_nothing():
     process = run(sys.executable, "-m", "snakemake", "--lint")
     output = process.stdout + process.stderr
@@ -42,6 +45,7 @@ def rule_graph(dot_text):
     return set(labels.values()), {(labels[a], labels[b]) for a, b in edges}
 
 
+@pytest.mark.e2e
 def test_committed_rule_graph_matches_the_workflow(tmp_path):
     # docs/rulegraph.png (shown in the README) is drawn from docs/rulegraph.dot by
     # docs/rulegraph.sh; a rule added or rewired without redrawing them fails here

@@ -62,6 +62,7 @@ def test_trial_checks_match_the_analytic_shift():
     assert checks["n_beyond_window"] == np.sum(DISTANCE_MM > 3.0)
 
 
+@pytest.mark.e2e
 def test_sensitivity_tables_on_a_small_dataset(tmp_path):
     raw = write_small_dataset(tmp_path / "raw")
     out = tmp_path / "out"

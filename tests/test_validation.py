@@ -285,6 +285,7 @@ CASES = {
 TRACEBACK = re.compile(r"Traceback|^\s*File \".*\", line \d+|\w+(Error|Exception) in file", re.M)
 
 
+@pytest.mark.e2e
 @pytest.mark.parametrize("case", list(CASES.values()), ids=list(CASES))
 def test_broken_input_is_refused_with_one_line(case, tmp_path, snakemake_available):
     raw = write_small_dataset(tmp_path / "raw")
@@ -319,6 +320,7 @@ def test_broken_input_is_refused_with_one_line(case, tmp_path, snakemake_availab
         assert word in message, (word, message)
 
 
+@pytest.mark.e2e
 def test_clean_dataset_runs_green(tmp_path, snakemake_available):
     """The unbroken dataset passes the same command: each refusal above is the corruption's."""
     raw = write_small_dataset(tmp_path / "raw")
@@ -340,6 +342,7 @@ def test_clean_dataset_runs_green(tmp_path, snakemake_available):
     assert "Nothing to be done" in again.stdout + again.stderr
 
 
+@pytest.mark.e2e
 def test_target_goes_before_config(tmp_path, snakemake_available):
     """A target passed to run_snakemake must be a target, not a --config word."""
     raw = write_small_dataset(tmp_path / "raw")
@@ -347,7 +350,9 @@ def test_target_goes_before_config(tmp_path, snakemake_available):
     output = proc.stdout + proc.stderr
     assert proc.returncode == 0, output
     assert "fits_table" in output
-    assert not (tmp_path / "out").exists()  # dry run
+    # a dry run writes the jobs' specs (what each job is given) and nothing else
+    written = [p.relative_to(tmp_path / "out") for p in (tmp_path / "out").rglob("*.*")]
+    assert written and all(p.parts[0] == "specs" and p.suffix == ".json" for p in written)
 
 
 # ----------------------------------------------------------------------- unit: read_table

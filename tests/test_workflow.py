@@ -10,6 +10,8 @@ from conftest import REPO, reading_grid_mm, run_snakemake, write_small_dataset
 from lineload import models
 from lineload.fitting import FIT_COLUMNS
 
+pytestmark = pytest.mark.e2e  # every test here runs Snakemake
+
 
 def check_ok(process):
     assert process.returncode == 0, process.stderr[-3000:]

@@ -14,7 +14,7 @@ from lineload.io import load_schema, write_json_if_changed
 
 min_version("9.0")
 
-# The software every rule runs: one environment for the whole workflow, installed once
+# The software of every job, one environment for the whole workflow, installed once
 # with pip (requirements.txt) or conda (environment.yml, pinned alike); the rules run
 # in the environment Snakemake runs in.  Naming the file here documents it per rule.
 ENVIRONMENT = "../../environment.yml"
