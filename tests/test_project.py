@@ -63,3 +63,35 @@ def test_every_fit_column_is_in_the_data_dictionary():
     dictionary = text[text.index("## Data dictionary") :]
     documented = set(re.findall(r"^\| `([A-Za-z0-9_]+)` \|", dictionary, re.M))
     assert set(FIT_COLUMNS) <= documented
+
+
+def schema_defaults(properties, prefix=""):
+    """Every leaf key of the config schema with its default, as (dotted key, default)."""
+    for key, rules in properties.items():
+        if "properties" in rules:
+            yield from schema_defaults(rules["properties"], f"{prefix}{key}.")
+        else:
+            yield f"{prefix}{key}", rules["default"]
+
+
+def test_config_readme_documents_every_key_with_its_default():
+    schema = yaml.safe_load((REPO / "workflow" / "schemas" / "config.schema.yaml").read_text())
+    text = (REPO / "config" / "README.md").read_text()
+    rows = dict(re.findall(r"^\| `(\w+)` \| [^|]* \| `([^`]*)` \|", text, re.M))
+    for dotted, default in schema_defaults(schema["properties"]):
+        key = dotted.split(".")[-1]
+        assert key in rows, f"config/README.md does not document {dotted}"
+        shown = "null" if default is None else str(default).replace("None", "null")
+        assert rows[key] == shown, (dotted, rows[key], default)
+    config = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
+    assert set(config) == set(schema["properties"])  # the shipped config sets every key
+
+
+def test_the_species_are_named_once():
+    # the schema of subjects.csv is data, so a test ties it to the one list in the package
+    from lineload import paper
+
+    schema = yaml.safe_load(
+        (REPO / "workflow" / "schemas" / "subjects.schema.yaml").read_text(encoding="utf-8")
+    )
+    assert tuple(schema["properties"]["species"]["enum"]) == paper.SPECIES

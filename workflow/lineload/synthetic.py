@@ -33,6 +33,9 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from . import paper
+from .tables import markdown_table
+
 __all__ = [
     "DEFAULT_SEED",
     "DEPTHS_MM",
@@ -93,7 +96,8 @@ OUTLINE_MAX_FRACTION_OF_RADIUS = 0.9
 #: Depths at which outlines are drawn (Figure 1).
 OUTLINE_DEPTHS_MM = (1.0, 2.0)
 
-SPECIES_CODE = {"monkey": 0, "human": 1}
+#: Species number in the random-stream key (the order of lineload.paper.SPECIES).
+SPECIES_CODE = {species: code for code, species in enumerate(paper.SPECIES)}
 SPECIES_PREFIX = {"monkey": "M", "human": "H"}
 SPECIES_LABEL = {"monkey": "Monkey", "human": "Human"}
 
@@ -648,19 +652,30 @@ def parameter_markdown(subjects):
     str
         A Markdown table ending with a newline.
     """
-    table = parameter_table(subjects)
-    lines = [
-        "| subject | species | depth (mm) | edge left e_L (mm) | edge right e_R (mm) "
-        "| p | beta | q |",
-        "|---|---|---|---|---|---|---|---|",
+    headers = [
+        "subject",
+        "species",
+        "depth (mm)",
+        "edge left e_L (mm)",
+        "edge right e_R (mm)",
+        "p",
+        "beta",
+        "q",
     ]
-    for row in table.itertuples(index=False):
-        lines.append(
-            f"| {row.subject} | {row.species} | {row.depth_mm:.2f} | {row.extent_left_mm:.2f} "
-            f"| {row.extent_right_mm:.2f} | {row.exponent:.3f} | {row.near_fraction:.4f} "
-            f"| {row.near_exponent:g} |"
-        )
-    return "\n".join(lines) + "\n"
+    rows = [
+        [
+            row.subject,
+            row.species,
+            f"{row.depth_mm:.2f}",
+            f"{row.extent_left_mm:.2f}",
+            f"{row.extent_right_mm:.2f}",
+            f"{row.exponent:.3f}",
+            f"{row.near_fraction:.4f}",
+            f"{row.near_exponent:g}",
+        ]
+        for row in parameter_table(subjects).itertuples(index=False)
+    ]
+    return markdown_table(headers, rows, "l" * len(headers))
 
 
 def subject_markdown(subjects):
@@ -675,20 +690,34 @@ def subject_markdown(subjects):
     str
         A Markdown table ending with a newline.
     """
-    lines = [
-        "| subject | species | depths (mm) | e at 0.5 mm | e at 2 mm | p at 0.5 mm | p at 2 mm "
-        "| beta at 2 mm | a (left/right) | resting radius (mm) |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+    headers = [
+        "subject",
+        "species",
+        "depths (mm)",
+        "e at 0.5 mm",
+        "e at 2 mm",
+        "p at 0.5 mm",
+        "p at 2 mm",
+        "beta at 2 mm",
+        "a (left/right)",
+        "resting radius (mm)",
     ]
-    for s in subjects:
-        depths = ", ".join(f"{d:g}" for d in s.depths_mm)
-        radius = "-" if s.resting_radius_mm is None else f"{s.resting_radius_mm:g}"
-        lines.append(
-            f"| {s.subject} | {s.species} | {depths} | {s.extent_shallow_mm:g} "
-            f"| {s.extent_deep_mm:g} | {s.exponent_shallow:g} | {s.exponent_deep:g} "
-            f"| {s.near_fraction_deep:g} | {s.side_asymmetry:+g} | {radius} |"
-        )
-    return "\n".join(lines) + "\n"
+    rows = [
+        [
+            s.subject,
+            s.species,
+            ", ".join(f"{d:g}" for d in s.depths_mm),
+            f"{s.extent_shallow_mm:g}",
+            f"{s.extent_deep_mm:g}",
+            f"{s.exponent_shallow:g}",
+            f"{s.exponent_deep:g}",
+            f"{s.near_fraction_deep:g}",
+            f"{s.side_asymmetry:+g}",
+            "-" if s.resting_radius_mm is None else f"{s.resting_radius_mm:g}",
+        ]
+        for s in subjects
+    ]
+    return markdown_table(headers, rows, "l" * len(headers))
 
 
 def _csv_text(table, formats):

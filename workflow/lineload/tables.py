@@ -16,8 +16,9 @@ import math
 import numpy as np
 import pandas as pd
 
+from . import paper
+
 __all__ = [
-    "SPECIES_ORDER",
     "SUMMARY_COLUMNS",
     "escape_latex",
     "escape_markdown",
@@ -31,8 +32,6 @@ __all__ = [
     "summary_markdown",
 ]
 
-#: Species in the order tables list them; any other species follows, sorted.
-SPECIES_ORDER = ("monkey", "human")
 
 #: The three fitted models, as named in the fit-table columns, and their labels.
 MODELS = (("waterbed", "waterbed"), ("arc", "exact arc"), ("boussinesq", "Boussinesq"))
@@ -200,11 +199,11 @@ def latex_table(head_lines, rows, column_spec, caption, label, notice=""):
 
 
 def _species_rank(species):
-    """Sort key: the species of :data:`SPECIES_ORDER` first, in that order, then others."""
+    """Sort key: the species of :data:`lineload.paper.SPECIES` first, in that order, then others."""
     species = str(species)
-    if species in SPECIES_ORDER:
-        return (SPECIES_ORDER.index(species), "")
-    return (len(SPECIES_ORDER), species)
+    if species in paper.SPECIES:
+        return (paper.SPECIES.index(species), "")
+    return (len(paper.SPECIES), species)
 
 
 def _fit_window_text(fits):
@@ -313,7 +312,7 @@ def summarise_fits(fits):
     -------
     pandas.DataFrame
         Columns :data:`SUMMARY_COLUMNS`, one row per species and depth: species
-        in the order of :data:`SPECIES_ORDER` (others after, sorted), depths
+        in the order of :data:`lineload.paper.SPECIES` (others after, sorted), depths
         ascending.  The SD uses ``n - 1`` and is NaN for a single trial.
     """
     rows = []

@@ -44,6 +44,8 @@ rule prepare_outline:
         result("data", "outlines", "{subject}.csv"),
     log:
         result("logs", "prepare_outline", "{subject}.log"),
+    benchmark:
+        result("benchmarks", "prepare_outline", "{subject}.tsv")
     conda:
         ENVIRONMENT
     script:

@@ -34,6 +34,8 @@ rule fits_table:
         ),
     log:
         result("logs", "fits_table.log"),
+    benchmark:
+        result("benchmarks", "fits_table.tsv")
     conda:
         ENVIRONMENT
     script:
@@ -90,6 +92,8 @@ rule sensitivity_tables:
         markdown=result("tables", "sensitivity.md"),
     log:
         result("logs", "sensitivity_tables.log"),
+    benchmark:
+        result("benchmarks", "sensitivity_tables.tsv")
     priority: 1
     conda:
         ENVIRONMENT

@@ -34,6 +34,8 @@ rule provenance:
         ),
     log:
         result("logs", "provenance.log"),
+    benchmark:
+        result("benchmarks", "provenance.tsv")
     conda:
         ENVIRONMENT
     script:

@@ -20,6 +20,8 @@ rule fit_tables:
         summary_tex=result("tables", "summary.tex"),
     log:
         result("logs", "fit_tables.log"),
+    benchmark:
+        result("benchmarks", "fit_tables.tsv")
     conda:
         ENVIRONMENT
     script:
@@ -43,6 +45,8 @@ rule claims_table:
         md=result("tables", "claims.md"),
     log:
         result("logs", "claims_table.log"),
+    benchmark:
+        result("benchmarks", "claims_table.tsv")
     conda:
         ENVIRONMENT
     script:
