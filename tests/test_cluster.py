@@ -1,7 +1,6 @@
 """The workflow through a non-local executor, and resumed after being killed."""
 
 import os
-import shutil
 import signal
 import subprocess
 import sys
@@ -59,8 +58,12 @@ def test_fits_through_a_cluster_executor_equal_a_local_run(tmp_path):
 
 
 def outputs(results):
+    """Every output but logs and timings, with the folder's own name (which the provenance
+    record and its spec hold) written as <results>, so builds in two folders compare."""
     return {
-        path.relative_to(results).as_posix(): path.read_bytes()
+        path.relative_to(results).as_posix(): path.read_bytes().replace(
+            str(results).encode(), b"<results>"
+        )
         for path in sorted(results.rglob("*"))
         if path.is_file() and path.relative_to(results).parts[0] not in ("logs", "benchmarks")
     }
@@ -86,21 +89,51 @@ def wait_for_files(folder, pattern, count, timeout_s=120):
     raise AssertionError(f"no {count} files {pattern} in {folder} after {timeout_s} s")
 
 
-def test_killed_build_resumes_to_the_same_files(tmp_path):
+#: When to kill a build: after a delay (seconds; early ones fall in the DAG building and
+#: the first job selection) or once some file exists (mid-way through each stage).
+KILL_MOMENTS = [
+    ("after", 0.3),
+    ("after", 1.0),
+    ("after", 2.0),
+    ("file", "data/averaged/*.csv"),
+    ("file", "fits/*.csv"),
+    ("file", "tables/fits.csv"),
+    ("file", "figures/*.pdf"),
+    ("file", "tables/claims.csv"),
+]
+
+
+def stop(process, timeout_s=30):
+    """Wait for a killed build to exit; if it hangs, kill its whole process group and fail."""
+    try:
+        return process.wait(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait(timeout=30)
+        raise AssertionError(f"the build did not stop within {timeout_s} s of SIGTERM") from None
+
+
+def test_killed_builds_stop_and_resume_to_the_same_files(tmp_path):
+    """`kill` (SIGTERM) at many moments: the build stops within seconds every time, and
+    `--rerun-incomplete` then ends with the same files as an uninterrupted build."""
     raw = write_small_dataset(tmp_path / "raw", subjects=SUBJECTS)
-    results = tmp_path / "results"
-    # kill the run (SIGTERM, as `kill` does) while fits are being written
-    process = start_build(raw, results)
-    wait_for_files(results, "fits/*.csv", 1)
-    os.kill(process.pid, signal.SIGTERM)
-    process.wait(timeout=60)
-    assert not (results / "tables" / "claims.md").exists(), "the build finished before the kill"
-    check_ok(run_snakemake("--rerun-incomplete", raw=raw, results=results))
-    resumed = outputs(results)
-    # the same build, uninterrupted, in the same folder
-    shutil.rmtree(results)
-    check_ok(run_snakemake(raw=raw, results=results))
-    assert outputs(results) == resumed
+    reference = tmp_path / "reference"
+    check_ok(run_snakemake(raw=raw, results=reference))
+    expected = outputs(reference)
+    for kind, when in KILL_MOMENTS:
+        results = tmp_path / f"killed-{kind}-{str(when).replace('/', '_').replace('*', 'x')}"
+        process = start_build(raw, results)
+        if kind == "after":
+            time.sleep(when)
+        else:
+            wait_for_files(results, when, 1)
+        os.kill(process.pid, signal.SIGTERM)
+        start = time.monotonic()
+        stop(process)
+        assert time.monotonic() - start < 30
+        resumed = run_snakemake("--rerun-incomplete", raw=raw, results=results)
+        check_ok(resumed)
+        assert outputs(results) == expected, (kind, when)
 
 
 def test_hard_killed_build_resumes_after_unlock(tmp_path):

@@ -29,6 +29,7 @@ __all__ = [
     "output_to",
     "read_json",
     "read_trials",
+    "replaced_atomically",
     "write_csv",
     "write_json_if_changed",
     "write_rows",
@@ -331,3 +332,34 @@ def concatenate_csv(paths, output):
                 n_rows += 1
     write_text(buffer.getvalue(), output)
     return n_rows
+
+
+@contextlib.contextmanager
+def replaced_atomically(path):
+    """A temporary path beside ``path`` that replaces it when the block succeeds.
+
+    A writer that is killed or fails halfway leaves the old file (or none), never a
+    partial one: the new bytes appear under ``path`` in one rename.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination; its folder is created.
+
+    Yields
+    ------
+    str
+        The temporary path to write to.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(handle)
+    try:
+        yield temporary
+        # mkstemp creates the file readable by its owner only; give it the usual mode
+        os.chmod(temporary, 0o666 & ~_UMASK)
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise

@@ -25,6 +25,23 @@ ENVIRONMENT = "../../environment.yml"
 report_item = report
 
 
+def stop_on_sigterm():
+    """Make `kill` (SIGTERM) stop a build the way Ctrl-C does.
+
+    Snakemake's own SIGTERM handler takes a lock that the main thread may already
+    hold (while it selects or finishes jobs), and then the build never returns.  A
+    KeyboardInterrupt raised by the signal takes the Ctrl-C path instead: running
+    jobs are cancelled, their outputs marked incomplete, and the build exits.  Called
+    from `onstart:`, which runs after Snakemake has installed its handler.
+    """
+    import signal
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt(f"signal {signum}")
+
+    signal.signal(signal.SIGTERM, interrupt)
+
+
 def abort(message):
     """Print one line for the user and stop with a non-zero exit, no traceback."""
     sys.stderr.write(f"Error: {message}\n")

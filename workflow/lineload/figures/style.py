@@ -35,6 +35,8 @@ from matplotlib.figure import Figure
 from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.lines import Line2D
 
+from ..io import replaced_atomically
+
 __all__ = [
     "DATA_COLOUR",
     "DEFLECTION_LABEL",
@@ -186,12 +188,15 @@ def save_figure(fig, pdf_path, png_path, dpi):
                 {"figure.autolayout": False, "figure.constrained_layout.use": False}
             ):
                 fig.set_layout_engine(None)
-        fig.savefig(
-            pdf_path,
-            format="pdf",
-            metadata={"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None},
-        )
-        fig.savefig(png_path, format="png", dpi=dpi, metadata={"Software": None})
+        # each file appears under its name only when complete (a killed job leaves none)
+        with replaced_atomically(pdf_path) as temporary:
+            fig.savefig(
+                temporary,
+                format="pdf",
+                metadata={"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None},
+            )
+        with replaced_atomically(png_path) as temporary:
+            fig.savefig(temporary, format="png", dpi=dpi, metadata={"Software": None})
 
 
 # ---------------------------------------------------------------- building figures

@@ -1,0 +1,133 @@
+"""The README's SLURM command on a real single-node SLURM cluster, against a local run.
+
+The cluster (Debian's slurm-wlm and munge, on localhost, sized by `slurmd -C`, with
+its own state folders) is started by tests/cluster/slurm-cluster.sh, which installs
+the packages when run as root.  Where no cluster can be started (not root, no package
+access) or the executor plugin is missing, the tests are skipped with the reason.
+"""
+
+import importlib.util
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+
+from conftest import REPO, write_small_dataset
+
+pytestmark = pytest.mark.e2e
+
+CLUSTER = REPO / "tests" / "cluster" / "slurm-cluster.sh"
+PROFILE = REPO / "profiles" / "slurm" / "config.yaml"
+SUBJECTS = {
+    "MK": ("monkey", [1.0, 2.0], 5.0),
+    "HU": ("human", [1.0], 9.0),
+}
+#: Longest a build may take before it counts as hung (the profile polls every 5 s).
+BUILD_TIMEOUT_S = 900
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """A running single-node cluster for the tests of this module; stopped afterwards.
+
+    Its folder is not under pytest's temporary folder: munged runs as the user munge,
+    which must be able to reach it (pytest's folders are private to their owner).
+    """
+    if importlib.util.find_spec("snakemake_executor_plugin_slurm") is None:
+        pytest.skip(
+            "the SLURM executor plugin is not installed: pip install -r requirements-slurm.txt"
+        )
+    folder = Path(tempfile.mkdtemp(prefix="lineload-slurm-"))
+    folder.chmod(0o755)
+    start = subprocess.run(
+        ["bash", str(CLUSTER), "start", str(folder)], capture_output=True, text=True, timeout=600
+    )
+    if start.returncode == 77:
+        pytest.skip(
+            f"no SLURM cluster can be started here: {start.stderr.strip().splitlines()[-1]}"
+        )
+    assert start.returncode == 0, start.stderr[-3000:]
+    os.environ["SLURM_CONF"] = str(folder / "etc" / "slurm.conf")
+    try:
+        yield folder
+    finally:
+        subprocess.run(
+            ["bash", str(CLUSTER), "stop", str(folder)], capture_output=True, timeout=120
+        )
+        os.environ.pop("SLURM_CONF", None)
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def profile_for(cluster_folder, destination):
+    """The repository's profile with this cluster's partition, the one place the README
+    says to set it; nothing else differs."""
+    settings = yaml.safe_load(PROFILE.read_text(encoding="utf-8"))
+    settings["default-resources"]["slurm_partition"] = "debug"
+    destination.mkdir(parents=True)
+    (destination / "config.yaml").write_text(yaml.safe_dump(settings), encoding="utf-8")
+    return destination
+
+
+def snakemake(*args, raw, results, timeout_s=BUILD_TIMEOUT_S):
+    """Run Snakemake from the repository; on a hang kill its whole process group."""
+    command = [
+        sys.executable, "-m", "snakemake", *args,
+        "--config", f"raw_data={raw}", f"results={results}",
+    ]  # fmt: skip
+    process = subprocess.Popen(
+        command, cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        start_new_session=True,
+    )  # fmt: skip
+    start = time.monotonic()
+    try:
+        output, _ = process.communicate(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        output, _ = process.communicate()
+        raise AssertionError(f"no end after {timeout_s} s:\n{output[-3000:]}") from None
+    assert process.returncode == 0, output[-4000:]
+    return output, time.monotonic() - start
+
+
+def cluster_jobs(output):
+    """How many jobs the executor submitted to SLURM, from its log lines."""
+    return len(re.findall(r"submitted with SLURM jobid", output))
+
+
+def outputs(results):
+    """Every output but logs and timings, the folder's own name written as <results>."""
+    return {
+        path.relative_to(results).as_posix(): path.read_bytes().replace(
+            str(results).encode(), b"<results>"
+        )
+        for path in sorted(results.rglob("*"))
+        if path.is_file() and path.relative_to(results).parts[0] not in ("logs", "benchmarks")
+    }
+
+
+def test_readme_slurm_command_gives_the_local_bytes(cluster, tmp_path):
+    raw = write_small_dataset(tmp_path / "raw", subjects=SUBJECTS)
+    profile = profile_for(cluster, tmp_path / "profile")
+    local = tmp_path / "local"
+    snakemake("--cores", "2", raw=raw, results=local)
+    expected = outputs(local)
+    fits_only = {k: v for k, v in expected.items() if k == "tables/fits.csv"}
+
+    slurm = tmp_path / "slurm"
+    output, seconds = snakemake("--profile", str(profile), "fits", raw=raw, results=slurm)
+    submitted = cluster_jobs(output)
+    assert submitted > 0, output[-3000:]  # the jobs really went through SLURM
+    assert {k: v for k, v in outputs(slurm).items() if k in fits_only} == fits_only
+    print(f"fits on SLURM: {seconds:.1f} s, {submitted} SLURM jobs")
+
+    output, seconds = snakemake("--profile", str(profile), raw=raw, results=slurm)
+    assert outputs(slurm) == expected
+    print(f"default target on SLURM, after fits: {seconds:.1f} s, {cluster_jobs(output)} jobs")
