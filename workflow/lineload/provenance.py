@@ -20,6 +20,8 @@ __all__ = [
     "package_versions",
     "provenance_record",
     "to_json",
+    "verify",
+    "verify_main",
 ]
 
 #: Distributions whose versions are recorded (the pinned dependencies that run the build).
@@ -102,3 +104,72 @@ def provenance_record(raw_dir, raw_files, config, source_dir):
 def to_json(record):
     """Stable JSON text: sorted keys, two-space indent, trailing newline."""
     return json.dumps(record, indent=2, sort_keys=True) + "\n"
+
+
+def verify(record, raw_dir=None):
+    """Re-hash the raw files a provenance record names and say which do not match.
+
+    Parameters
+    ----------
+    record : dict
+        A provenance record (:func:`provenance_record`, as read from the JSON file).
+    raw_dir : str or os.PathLike, optional
+        Where the raw files are now; defaults to the folder the record names.
+
+    Returns
+    -------
+    list of str
+        One line per problem: a file missing, a file whose bytes differ, or a file in
+        the folder's ``subjects.csv``, ``profiles/`` or ``outlines/`` that the record
+        does not list.  Empty when everything matches.
+    """
+    folder = Path(raw_dir if raw_dir is not None else record["raw_data"]["folder"])
+    recorded = record["raw_data"]["sha256"]
+    problems = []
+    for name, digest in sorted(recorded.items()):
+        path = folder / name
+        if not path.is_file():
+            problems.append(f"missing: {path}")
+        elif file_sha256(path) != digest:
+            problems.append(f"differs from the record: {path}")
+    present = [folder / "subjects.csv", folder / "NOTICE.txt"]
+    present += sorted((folder / "profiles").glob("*.csv")) + sorted(
+        (folder / "outlines").glob("*.csv")
+    )
+    for path in present:
+        name = path.relative_to(folder).as_posix()
+        if path.is_file() and name not in recorded:
+            problems.append(f"not in the record: {path}")
+    return problems
+
+
+def verify_main(argv=None):
+    """Command line: ``lineload-verify results/provenance.json [--raw FOLDER]``.
+
+    Prints one line per raw file that does not match the record and exits with 1,
+    or says that all match and exits with 0.
+    """
+    import argparse
+    import sys
+
+    parser = argparse.ArgumentParser(
+        prog="lineload-verify",
+        description="Re-hash the raw files named in a provenance record and list any that differ.",
+    )
+    parser.add_argument("record", help="a provenance.json written by the workflow")
+    parser.add_argument("--raw", help="the raw-data folder (default: the one the record names)")
+    args = parser.parse_args(argv)
+    try:
+        with open(args.record, encoding="utf-8") as handle:
+            record = json.load(handle)
+        problems = verify(record, args.raw)
+    except (OSError, ValueError, KeyError) as error:
+        print(f"Error: {args.record}: not a readable provenance record ({error})", file=sys.stderr)
+        return 2
+    for line in problems:
+        print(line)
+    if problems:
+        print(f"{len(problems)} problem(s): these raw files are not the ones the results came from")
+        return 1
+    print(f"all {len(record['raw_data']['sha256'])} raw files match {args.record}")
+    return 0
