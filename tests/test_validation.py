@@ -28,11 +28,17 @@ import pytest
 from conftest import run_snakemake, write_small_dataset
 from lineload.io import load_schema
 from lineload.validation import (
+    PLAUSIBILITY_DEFAULTS,
     InputError,
+    Problems,
     check_dataset,
+    check_deflection_near_wedge,
+    check_depth_range,
     check_no_duplicate_readings,
     check_subjects,
+    collecting,
     read_table,
+    report_lines,
 )
 
 SCHEMAS = {name: load_schema(name) for name in ("subjects", "profiles", "outlines")}
@@ -247,6 +253,68 @@ def _bad_outline(raw):
     )
 
 
+def _separated_by(separator, subject="MK"):
+    """The whole profile written with another separator, as some spreadsheet exports do."""
+
+    def corrupt(raw):
+        path = raw / "profiles" / f"{subject}.csv"
+        write_lines(path, [t.replace(",", separator) for t in read_lines(path)])
+        name = {";": "semicolons", "\t": "tabs"}[separator]
+        return Expect(f"profiles/{subject}.csv", 1, (), ("comma-separated", name))
+
+    return corrupt
+
+
+def _header_in_other_case(raw):
+    lines = read_lines(_mk(raw))
+    lines[0] = lines[0].replace("depth_mm", "Depth_mm")
+    write_lines(_mk(raw), lines)
+    return Expect("profiles/MK.csv", 1, ("depth_mm",), ("found 'Depth_mm'", "expected 'depth_mm'"))
+
+
+def _file_named(name):
+    def corrupt(raw):
+        _hu(raw).rename(raw / "profiles" / name)
+        n = find_line(_subjects(raw), lambda t: t.startswith("HU,"))
+        return Expect(
+            "subjects.csv",
+            n,
+            ("subject",),
+            (f"expected {raw}/profiles/HU.csv", f"found {raw}/profiles/{name}"),
+        )
+
+    return corrupt
+
+
+def _depths_in_micrometres(raw):
+    path = _mk(raw)
+    lines = read_lines(path)
+    for i in range(1, len(lines)):
+        cells = lines[i].split(",")
+        cells[0] = f"{float(cells[0]) * 1000:g}"
+        lines[i] = ",".join(cells)
+    write_lines(path, lines)
+    return Expect("profiles/MK.csv", 2, ("depth_mm",), ("micrometres", "1000", "10 mm"))
+
+
+def _scaled_readings(factor, *words):
+    """HU's readings multiplied by a factor (1/20: already in tissue mm; -1: upward positive)."""
+
+    def corrupt(raw):
+        path = _hu(raw)
+        lines = read_lines(path)
+        for i in range(1, len(lines)):
+            cells = lines[i].split(",")
+            cells[3] = f"{float(cells[3]) * factor:.4f}"
+            lines[i] = ",".join(cells)
+        write_lines(path, lines)
+        # rows go depth by depth, left side first, distances ascending: the reading
+        # nearest the wedge on the left is the first data line
+        return Expect("profiles/HU.csv", 2, ("deflection_image_mm",), ("nearest", *words))
+
+    return corrupt
+
+
 def _config(*settings, words):
     def corrupt(raw):
         return Expect(None, None, (), words, config=settings, prefix="Error: config")
@@ -276,6 +344,15 @@ CASES = {
     "ragged_row_missing_field": _ragged(extra=False),
     "duplicate_subject_id": _duplicate_subject,
     "bad_outline_state": _bad_outline,
+    "semicolon_separated": _separated_by(";"),
+    "tab_separated": _separated_by("\t", subject="HU"),
+    "header_in_other_case": _header_in_other_case,
+    "file_name_in_capitals": _file_named("HU.CSV"),
+    "file_name_other_case": _file_named("hu.csv"),
+    "file_with_txt_extension": _file_named("HU.txt"),
+    "depth_in_micrometres": _depths_in_micrometres,
+    "readings_already_in_tissue_mm": _scaled_readings(1 / 20, "magnification", "should be 1"),
+    "readings_upward_positive": _scaled_readings(-1, "upward positive"),
     "config_unknown_key": _config("colour=red", words=("colour",)),
     "config_wrong_type": _config("fit_window_mm=abc", words=("fit_window_mm", "number")),
     "config_not_positive": _config("fit_window_mm=0", words=("fit_window_mm", "0")),
@@ -698,3 +775,294 @@ def test_subject_id_starting_with_a_dash_is_refused(raw):
     path = raw / "subjects.csv"
     set_cell(path, 3, "subject", "-x")
     error(read_table, path, SCHEMAS["subjects"])
+
+
+# ------------------------------------------- a new lab's export: every problem in one pass
+
+LAB_DEPTHS = [0.75, 1.25, 1.75]
+
+
+def write_lab_dataset(raw_dir):
+    """Five subjects at 0.75, 1.25 and 1.75 mm, as a lab exported them (valid as written)."""
+    return write_small_dataset(
+        raw_dir,
+        subjects={
+            f"S-0{i}": ("monkey" if i <= 2 else "human", LAB_DEPTHS, 5.0 if i <= 2 else 9.0)
+            for i in range(1, 6)
+        },
+    )
+
+
+def make_messy(raw):
+    """What went wrong in the lab's export, one thing per file; returns the expected errors
+    as (file relative to raw, line, words) in the order the check reports them."""
+    profiles = raw / "profiles"
+    # S-01: a semicolon-separated export
+    path = profiles / "S-01.csv"
+    write_lines(path, [t.replace(",", ";") for t in read_lines(path)])
+    # S-02: a header written in other capitals
+    path = profiles / "S-02.csv"
+    lines = read_lines(path)
+    write_lines(path, [lines[0].replace("depth_mm", "Depth_mm"), *lines[1:]])
+    # S-03: saved as S-03.CSV
+    (profiles / "S-03.csv").rename(profiles / "S-03.CSV")
+    # S-04: depths written in micrometres
+    path = profiles / "S-04.csv"
+    lines = read_lines(path)
+    write_lines(
+        path,
+        [lines[0]]
+        + [f"{float(t.split(',')[0]) * 1000:g}," + t.split(",", 1)[1] for t in lines[1:]],
+    )
+    # S-05: readings already in tissue mm, magnification 20 in the sheet
+    path = profiles / "S-05.csv"
+    lines = read_lines(path)
+    scaled = []
+    for t in lines[1:]:
+        cells = t.split(",")
+        cells[2] = f"{float(cells[2]) / 20:.4f}"
+        cells[3] = f"{float(cells[3]) / 20:.4f}"
+        scaled.append(",".join(cells))
+    write_lines(path, [lines[0], *scaled])
+    # and a profile file that no subject lists
+    write_lines(profiles / "S-06.csv", read_lines(profiles / "S-04.csv")[:3])
+    s03 = find_line(raw / "subjects.csv", lambda t: t.startswith("S-03,"))
+    first_depth_line = {
+        d: find_line(path, lambda t, d=d: t.startswith(f"{d:g},")) for d in LAB_DEPTHS
+    }
+    return [
+        ("subjects.csv", s03, ("expected", "profiles/S-03.csv", "found", "profiles/S-03.CSV")),
+        ("profiles/S-01.csv", 1, ("comma-separated", "semicolons")),
+        ("profiles/S-02.csv", 1, ("column 'depth_mm'", "found 'Depth_mm'", "expected 'depth_mm'")),
+        ("profiles/S-04.csv", 2, ("column 'depth_mm'", "got 750", "micrometres")),
+        (
+            "profiles/S-05.csv",
+            first_depth_line[0.75],
+            (
+                "column 'deflection_image_mm'",
+                "at depth 0.75 mm",
+                "so do depths 1.25, 1.75 mm",
+                "should be 1, not 20",
+            ),
+        ),
+    ]
+
+
+def test_what_is_messy_but_valid_passes_without_a_word(tmp_path):
+    """CRLF, BOM, trailing spaces, 1.250 beside 1.25, extra columns, unsorted, one-sided."""
+    raw = write_lab_dataset(tmp_path / "raw")
+    path = raw / "profiles" / "S-03.csv"
+    lines = read_lines(path)
+    header, body = lines[0] + ",note", [t + ",ok " for t in lines[1:]]
+    body = [t.replace("1.25,", "1.250,", 1) if i % 2 else t for i, t in enumerate(body)]
+    body = [t for t in body if not t.startswith("1.75,right,")]  # one side only at 1.75
+    random.Random(5).shuffle(body)
+    text = "\r\n".join([header] + [t.replace(",", ", ") + "  " for t in body]) + "\r\n"
+    path.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    dataset = check_dataset(str(raw), SCHEMAS)
+    assert dataset["warnings"] == []
+    assert dataset["depths_mm"]["S-03"] == LAB_DEPTHS
+
+
+def test_every_problem_of_a_messy_export_is_reported_at_once(tmp_path):
+    raw = write_lab_dataset(tmp_path / "raw")
+    expected = make_messy(raw)
+    with pytest.raises(InputError) as caught:
+        check_dataset(str(raw), SCHEMAS, "lab")
+    problems = caught.value.problems
+    assert len(problems) == len(expected), problems
+    for message, (file, line, words) in zip(problems, expected, strict=True):
+        assert message.startswith(f"lab/{file}, "), message
+        assert reported_line(message) == line, message
+        for word in words:
+            assert word in message, (word, message)
+    (warning,) = caught.value.warnings
+    assert warning.startswith("lab/profiles/S-06.csv: ") and "no subject 'S-06'" in warning
+
+
+@pytest.mark.e2e
+def test_a_messy_export_is_refused_with_every_problem_in_one_run(tmp_path, snakemake_available):
+    raw = write_lab_dataset(tmp_path / "raw")
+    expected = make_messy(raw)
+    results = tmp_path / "out"
+    proc = run_snakemake(raw=str(raw), results=str(results))
+    output = proc.stdout + proc.stderr
+    assert proc.returncode == 1, output
+    assert not TRACEBACK.search(output), output
+    assert not results.exists()
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert [e.split(",")[0] for e in errors] == [f"Error: {raw}/{f}" for f, _, _ in expected]
+    warnings = [line for line in output.splitlines() if line.startswith("Warning: ")]
+    assert warnings == [
+        f"Warning: {raw}/profiles/S-06.csv: no subject 'S-06' in {raw}/subjects.csv reads "
+        "this profile file; it is ignored"
+    ]
+
+
+def test_report_lines_cap_the_errors_and_say_how_many_more():
+    error = InputError([f"f.csv, line {n}: bad" for n in range(2, 27)], ["w.csv: unread"])
+    lines = report_lines(error, limit=20)
+    assert lines[0] == "Warning: w.csv: unread"
+    assert lines[1:21] == [f"Error: f.csv, line {n}: bad" for n in range(2, 22)]
+    assert lines[21].startswith("... and 5 more errors not shown")
+    assert len(lines) == 22
+    assert report_lines(InputError(["one"])) == ["Error: one"]
+
+
+@pytest.mark.e2e
+def test_a_run_prints_at_most_twenty_errors(tmp_path, snakemake_available):
+    subjects = {f"M{i:02d}": ("monkey", [1.0], 5.0) for i in range(1, 24)}
+    raw = write_small_dataset(tmp_path / "raw", subjects=subjects)
+    for subject in subjects:
+        set_cell(raw / "profiles" / f"{subject}.csv", 3, "side", "middle")
+    proc = run_snakemake(raw=str(raw), results=str(tmp_path / "out"))
+    output = proc.stdout + proc.stderr
+    assert proc.returncode == 1, output
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert len(errors) == 20
+    assert errors[0].startswith(f"Error: {raw}/profiles/M01.csv, line 3, column 'side'")
+    assert "... and 3 more errors not shown" in output
+
+
+def test_every_bad_cell_of_a_file_is_counted_and_each_column_reported(raw):
+    path = raw / "profiles" / "HU.csv"
+    for line in (4, 9, 12):
+        set_cell(path, line, "side", "up")
+    set_cell(path, 7, "distance_image_mm", "x")
+    with pytest.raises(InputError) as caught:
+        read_table(path, SCHEMAS["profiles"])
+    side, distance = sorted(caught.value.problems, key=lambda m: "side" not in m)
+    assert reported_line(side) == 4 and "2 more" in side and "lines 9, 12" in side
+    assert reported_line(distance) == 7 and "'x'" in distance
+    # with a collector, the table comes back (bad numbers as NaN) and nothing is raised
+    found = Problems()
+    table = read_table(path, SCHEMAS["profiles"], problems=found)
+    assert len(found.errors) == 2 and np.isnan(table.loc[7, "distance_image_mm"])
+
+
+@pytest.mark.parametrize(("separator", "name"), [(";", "semicolons"), ("\t", "tabs")])
+def test_another_separator_is_named(raw, separator, name):
+    path = raw / "subjects.csv"
+    write_lines(path, [t.replace(",", separator) for t in read_lines(path)])
+    message = error(read_table, path, SCHEMAS["subjects"])
+    assert reported_line(message) == 1 and name in message and "comma" in message
+
+
+@pytest.mark.parametrize("found", ["Depth_mm", "DEPTH_MM", " depth mm", "depth-mm"])
+def test_a_header_name_that_differs_in_case_or_spaces_is_shown_as_found(raw, found):
+    path = raw / "profiles" / "MK.csv"
+    lines = read_lines(path)
+    write_lines(path, [lines[0].replace("depth_mm", found), *lines[1:]])
+    message = error(read_table, path, SCHEMAS["profiles"])
+    assert f"found {found.strip()!r}, expected 'depth_mm'" in message
+    assert reported_line(message) == 1 and "column 'depth_mm'" in message
+
+
+@pytest.mark.parametrize("name", ["HU.CSV", "hu.csv", "HU.txt", "HU", "HU .csv", "Hu.Csv"])
+def test_a_file_name_that_differs_in_case_or_extension_is_shown(raw, name):
+    (raw / "profiles" / "HU.csv").rename(raw / "profiles" / name)
+    subjects = read_table(raw / "subjects.csv", SCHEMAS["subjects"])
+    message = error(check_subjects, subjects, "s.csv", str(raw / "profiles"), "P")
+    assert f"expected P/HU.csv, found P/{name}" in message
+    # no extra warning about the same file: its error says it all
+    with pytest.raises(InputError) as caught:
+        check_dataset(str(raw), SCHEMAS)
+    assert caught.value.warnings == []
+
+
+def test_files_no_subject_reads_are_named_in_warnings(raw):
+    write_lines(raw / "profiles" / "XX.csv", read_lines(raw / "profiles" / "HU.csv"))
+    (raw / "profiles" / "notes.txt").write_text("where the data came from\n")
+    (raw / "profiles" / ".DS_Store").write_bytes(b"\0")
+    write_outline(raw / "outlines" / "MK.CSV")
+    write_outline(raw / "outlines" / "ZZ.csv")
+    dataset = check_dataset(str(raw), SCHEMAS, "r")
+    assert dataset["warnings"] == [
+        "r/profiles/XX.csv: no subject 'XX' in r/subjects.csv reads this profile file; "
+        "it is ignored",
+        "r/profiles/notes.txt: no subject 'notes' in r/subjects.csv reads this profile file; "
+        "it is ignored",
+        "r/outlines/MK.CSV: named like the outline of subject 'MK' but not exactly "
+        "r/outlines/MK.csv, so it is not read",
+        "r/outlines/ZZ.csv: no subject 'ZZ' in r/subjects.csv reads this outline file; "
+        "it is ignored",
+    ]
+    assert dataset["outlines"] == {}
+
+
+@pytest.mark.parametrize(
+    ("depth", "words"),
+    [
+        ("750", ("got 750", "micrometres", "0.75 mm")),
+        ("20", ("got 20", "x20 enlargement", "1 mm of tissue")),
+        ("0.001", ("got 0.001", "metres", "1 mm")),
+        ("12", ("got 12", "tissue mm")),
+    ],
+)
+def test_depth_outside_the_plausible_range_names_a_likely_unit(raw, depth, words):
+    path = raw / "profiles" / "MK.csv"
+    line = find_line(path, lambda t: t.startswith("2,"), nth=3)
+    set_cell(path, line, "depth_mm", depth)
+    profile = read_table(path, SCHEMAS["profiles"])
+    message = error(check_depth_range, profile, "p.csv", 0.05, 10.0, 20.0)
+    assert message.startswith(f"p.csv, line {line}, column 'depth_mm': expected a depth")
+    for word in words:
+        assert word in message, (word, message)
+
+
+def test_a_narrower_range_of_the_lab_suggests_no_unit(raw):
+    profile = read_table(raw / "profiles" / "MK.csv", SCHEMAS["profiles"])
+    message = error(check_depth_range, profile, "p.csv", 0.05, 1.5, 20.0)
+    assert "got 2" in message and "between 0.05 and 1.5 mm" in message
+    assert "enlargement" not in message and "micrometres" not in message
+
+
+@pytest.mark.parametrize(
+    ("magnification", "scale", "words"),
+    [
+        (20.0, 1 / 20, ("should be 1, not 20",)),  # readings in tissue mm already
+        (1.0, 1.0, ("magnification in subjects.csv (1;", "about 20 would match")),  # enlarged
+        (20.0, -1.0, ("upward positive",)),  # sign
+        (20.0, 1000.0, ("micrometres",)),
+    ],
+)
+def test_deflection_far_from_the_depth_names_a_likely_cause(raw, magnification, scale, words):
+    path = raw / "profiles" / "HU.csv"
+    profile = read_table(path, SCHEMAS["profiles"])
+    profile["deflection_image_mm"] *= scale
+    message = error(check_deflection_near_wedge, profile, "p.csv", magnification, 3.0)
+    assert message.startswith("p.csv, line 2, column 'deflection_image_mm': at depth 1 mm")
+    for word in words:
+        assert word in message, (word, message)
+
+
+def test_deflection_within_the_factor_passes_and_the_factor_is_the_limit(raw):
+    profile = read_table(raw / "profiles" / "HU.csv", SCHEMAS["profiles"])
+    check_deflection_near_wedge(profile, "p.csv", 20.0, 3.0)
+    check_deflection_near_wedge(profile, "p.csv", 20.0 * 2.9, 3.0)  # 1/2.9 of the depth
+    error(check_deflection_near_wedge, profile, "p.csv", 20.0 * 3.1, 3.0)
+
+
+def test_plausibility_defaults_are_the_config_defaults():
+    schema = load_schema("config")["properties"]["input_checks"]["properties"]
+    assert {key: rules["default"] for key, rules in schema.items()} == PLAUSIBILITY_DEFAULTS
+
+
+def test_a_check_that_raises_is_folded_into_the_pass():
+    """New checks may collect (problems=...) or raise; check_dataset gets both."""
+    found = Problems()
+    with found.collect():
+        raise InputError(["a.csv, line 3: first", "a.csv, line 9: second"], ["w"])
+    found.error("b.csv", 2, "x", "third")
+    assert found.errors == [
+        "a.csv, line 3: first",
+        "a.csv, line 9: second",
+        "b.csv, line 2, column 'x': third",
+    ]
+    assert found.warnings == ["w"]
+    with pytest.raises(InputError) as caught:
+        found.raise_if_any()
+    assert caught.value.problems == found.errors
+    with collecting() as own:
+        pass  # nothing found: nothing raised
+    assert own.errors == []

@@ -5,15 +5,33 @@ Each table of the contract (``subjects.csv``, ``profiles/<subject>.csv``,
 rules of that schema (required columns, ``type``, ``enum``, ``pattern``,
 ``minimum``/``exclusiveMinimum``/``maximum``) are applied here to whole
 columns at once, so that thousands of files validate in seconds, and every
-failure is reported as one :class:`InputError` naming the file, the line
-(the header is line 1) and the column, with what was expected and what was
-found.  Rules that span rows (unique ids, duplicate readings, a profile file
-for each subject) are checked here too, since a row schema cannot say them.
+failure is reported as one line naming the file, the line (the header is
+line 1) and the column, with what was expected and what was found.  Rules that
+span rows (unique ids, duplicate readings, a profile file for each subject)
+are checked here too, since a row schema cannot say them, and so are two
+plausibility rules on units (:func:`check_depth_range`,
+:func:`check_deflection_near_wedge`).
+
+All problems of a run in one pass
+---------------------------------
+Every check function takes an optional ``problems`` collector
+(:class:`Problems`) and adds one line per problem to it with
+``problems.error(path, line, column, message)`` (or ``.warning``, for what is
+worth saying but does not stop a run).  Called without one, a check collects
+its own problems and raises them together as one :class:`InputError` at its
+end.  :func:`check_dataset` passes one collector through every check of a
+raw folder, so a lab sees every broken file at once; a new check adds its
+problems the same way (a check that raises an :class:`InputError` instead is
+folded in too, by :meth:`Problems.collect`).  :func:`report_lines` turns the
+collected problems into the lines printed for the user, at most
+:data:`MAX_REPORTED` errors.
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import math
 import os
 import re
 
@@ -21,15 +39,139 @@ import numpy as np
 import pandas as pd
 
 __all__ = [
+    "MAX_REPORTED",
+    "PLAUSIBILITY_DEFAULTS",
     "InputError",
+    "Problems",
+    "check_dataset",
+    "check_deflection_near_wedge",
+    "check_depth_range",
     "check_no_duplicate_readings",
     "check_subjects",
+    "collecting",
     "read_table",
+    "report_lines",
+    "unlisted_files",
 ]
+
+#: Errors printed for one run; beyond them a last line says how many more there are.
+MAX_REPORTED = 20
+
+#: Plausibility limits on units (the ``input_checks`` keys of the config, same defaults):
+#: depths outside [depth_min_mm, depth_max_mm], and a deflection next to the wedge more
+#: than deflection_factor times larger or smaller than the depth, are refused.
+PLAUSIBILITY_DEFAULTS = {"depth_min_mm": 0.05, "depth_max_mm": 10.0, "deflection_factor": 3.0}
+
+#: Separators that spreadsheets write instead of commas, with how messages name them.
+OTHER_SEPARATORS = {";": "semicolons (';')", "\t": "tabs", "|": "vertical bars ('|')"}
 
 
 class InputError(ValueError):
-    """Raw input that breaks the data contract; the message says where and why."""
+    """Raw input that breaks the data contract; the message says where and why.
+
+    Parameters
+    ----------
+    problems : str or list of str
+        One line per problem (``<file>, line N, column 'c': expected ..., got ...``).
+    warnings : list of str, optional
+        Lines worth reporting with the errors that do not stop a run by themselves.
+
+    Attributes
+    ----------
+    problems, warnings : list of str
+    """
+
+    def __init__(self, problems, warnings=()):
+        self.problems = [problems] if isinstance(problems, str) else list(problems)
+        self.warnings = list(warnings)
+        super().__init__("\n".join(self.problems))
+
+
+class Problems:
+    """The problems found in one pass over the inputs, in the order they were found.
+
+    Attributes
+    ----------
+    errors : list of str
+        Broken inputs: any of them stops the run.
+    warnings : list of str
+        Things a user should hear about that do not stop the run (a file no
+        subject lists, for instance).
+    """
+
+    def __init__(self):
+        self.errors = []
+        self.warnings = []
+
+    def error(self, path, line, column, message):
+        """Add an error at a file, line (or None) and column (None, a name or a list)."""
+        self.errors.append(f"{_where(path, line, column)}: {message}")
+
+    def warning(self, path, line, column, message):
+        """Add a warning, placed as :meth:`error` places an error."""
+        self.warnings.append(f"{_where(path, line, column)}: {message}")
+
+    @contextlib.contextmanager
+    def collect(self):
+        """Fold in the problems of a check that raises an :class:`InputError`."""
+        try:
+            yield self
+        except InputError as error:
+            self.errors.extend(error.problems)
+            self.warnings.extend(error.warnings)
+
+    def count(self):
+        """Number of errors so far (compare before and after a check to see if it found any)."""
+        return len(self.errors)
+
+    def raise_if_any(self):
+        """Raise every error found (with the warnings) as one :class:`InputError`."""
+        if self.errors:
+            raise InputError(self.errors, self.warnings)
+
+
+@contextlib.contextmanager
+def collecting(problems=None):
+    """The collector a check adds to: the caller's, or its own that raises at the end.
+
+    Every check function has the same shape::
+
+        def check_something(table, path, problems=None):
+            with collecting(problems) as found:
+                ...
+                found.error(path, line, column, "expected ..., got ...")
+    """
+    if problems is not None:
+        yield problems
+        return
+    own = Problems()
+    yield own
+    own.raise_if_any()
+
+
+def report_lines(error, limit=MAX_REPORTED):
+    """The lines to print for a refused run: warnings, then at most ``limit`` errors.
+
+    Parameters
+    ----------
+    error : InputError
+    limit : int, optional
+
+    Returns
+    -------
+    list of str
+        ``Warning: ...`` lines, ``Error: ...`` lines, and when errors were left
+        out a last line ``... and N more errors (fix these and run again)``.
+    """
+    lines = [f"Warning: {text}" for text in error.warnings]
+    lines += [f"Error: {text}" for text in error.problems[:limit]]
+    hidden = len(error.problems) - limit
+    if hidden > 0:
+        lines.append(
+            f"... and {hidden} more error{'s' if hidden > 1 else ''} not shown "
+            "(fix these and run again)"
+        )
+    return lines
 
 
 def _where(path, line, column):
@@ -39,10 +181,6 @@ def _where(path, line, column):
     if isinstance(column, (list, tuple)):
         return place + ", columns " + ", ".join(f"'{c}'" for c in column)
     return f"{place}, column '{column}'"
-
-
-def _fail(path, line, column, message):
-    raise InputError(f"{_where(path, line, column)}: {message}")
 
 
 def _expected_number(rules):
@@ -67,12 +205,22 @@ def _to_float(text):
         return np.nan
 
 
-def _check_column(path, column, cells, lines, rules):
+def _more(lines, bad, what="cells of this column break the same rule"):
+    """' (and 3 more ...: lines 7, 9, 12)' for the bad cells after the first; '' if none."""
+    others = [lines[i] for i in np.flatnonzero(bad)[1:]]
+    if not others:
+        return ""
+    shown = ", ".join(str(n) for n in others[:3]) + (", ..." if len(others) > 3 else "")
+    return f" (and {len(others)} more {what}: lines {shown})"
+
+
+def _check_column(path, column, cells, lines, rules, found):
     """Apply one column's schema rules; return the typed column.
 
     ``cells`` holds the column's text in file order and ``lines`` each cell's
-    line number; the first cell that breaks any rule is reported.  Plain
-    Python and numpy keep this fast: thousands of files are read at start-up.
+    line number.  The first cell that breaks a rule is reported (with how many
+    more do); a bad number becomes NaN.  Plain Python and numpy keep this fast:
+    thousands of files are read at start-up.
     """
     kind = rules.get("type", "string")
     if isinstance(kind, list):
@@ -97,7 +245,13 @@ def _check_column(path, column, cells, lines, rules):
             expected = _expected_number(rules)
             if kind == "integer":
                 expected = expected.replace("a number", "an integer")
-            _fail(path, lines[i], column, f"expected {expected}, got {_shown(cells[i])}")
+            found.error(
+                path,
+                lines[i],
+                column,
+                f"expected {expected}, got {_shown(cells[i])}" + _more(lines, bad),
+            )
+            values[bad] = np.nan
         return values
     bad = np.zeros(len(cells), dtype=bool)
     expected = []
@@ -113,11 +267,65 @@ def _check_column(path, column, cells, lines, rules):
         expected.append(rules.get("description", f"text matching {rules['pattern']}"))
     if bad.any():
         i = int(np.argmax(bad))
-        _fail(path, lines[i], column, f"expected {', '.join(expected)}, got {_shown(cells[i])}")
+        found.error(
+            path,
+            lines[i],
+            column,
+            f"expected {', '.join(expected)}, got {_shown(cells[i])}" + _more(lines, bad),
+        )
     return np.array(cells, dtype=object)
 
 
-def read_table(path, schema, display_path=None):
+def _loose(name):
+    """A header or file name as a person would read it: no case, spaces, '-' or '_'."""
+    return re.sub(r"[\s_\-]+", "", name).lower()
+
+
+def _other_separator(header_cells):
+    """The separator a one-field header line was split by instead of commas, or None."""
+    if len(header_cells) != 1:
+        return None
+    counts = {sep: header_cells[0].count(sep) for sep in OTHER_SEPARATORS}
+    sep = max(counts, key=counts.get)
+    return sep if counts[sep] else None
+
+
+def _check_header(shown, header, header_line, schema, found):
+    """Required columns present (with near misses shown as found), none named twice."""
+    ok = True
+    required = schema.get("required", [])
+    sep = _other_separator(header)
+    if sep is not None and not set(required) & set(header):
+        found.error(
+            shown,
+            header_line,
+            None,
+            f"expected comma-separated values, found {OTHER_SEPARATORS[sep]} between the "
+            "column names; export the sheet as CSV with commas (and decimal points, not "
+            "decimal commas)",
+        )
+        return False
+    for column in required:
+        if column in header:
+            continue
+        near = [name for name in header if _loose(name) == _loose(column)]
+        if near:
+            message = (
+                f"missing from the header; found {near[0]!r}, expected {column!r} "
+                "(column names are matched exactly: case, spaces and '_' count)"
+            )
+        else:
+            message = "missing from the header; expected columns " + ", ".join(required)
+        found.error(shown, header_line, column, message)
+        ok = False
+    if len(set(header)) != len(header):
+        column = next(c for c in header if header.count(c) > 1)
+        found.error(shown, header_line, column, "appears twice in the header")
+        ok = False
+    return ok
+
+
+def read_table(path, schema, display_path=None, problems=None):
     """Read one contract table and check it against its row schema.
 
     Parameters
@@ -128,24 +336,38 @@ def read_table(path, schema, display_path=None):
         JSON schema of one row: ``properties`` (column rules) and ``required``.
     display_path : str, optional
         How to name the file in messages (defaults to ``path``).
+    problems : Problems, optional
+        Collector to add problems to; without one, they are raised.
 
     Returns
     -------
-    pandas.DataFrame
+    pandas.DataFrame or None
         The table with schema columns typed (numbers as float, text as str) and
         any extra columns kept as text.  Its index is each row's line number in
         the file (the header is line 1 unless blank lines precede it), which
-        later checks use in their messages.
+        later checks use in their messages.  With a collector, a bad number is
+        NaN in the table; None when the file cannot be read as a table at all
+        (missing, empty, not comma-separated, a required column missing,
+        ragged rows).
 
     Raises
     ------
     InputError
-        For a missing, empty or header-only file, a missing column, or the
-        first cell that breaks a column rule.
+        Without a collector: for a missing, empty or header-only file, another
+        separator than commas, a missing column, ragged rows, and the first
+        cell of each column that breaks a column rule; every problem found in
+        the file is in the one error.
     """
     shown = display_path or os.fspath(path)
+    with collecting(problems) as found:
+        table = _read_table(path, schema, shown, found)
+    return table
+
+
+def _read_table(path, schema, shown, found):
     if not os.path.isfile(path):
-        _fail(shown, None, None, "file not found")
+        found.error(shown, None, None, "file not found")
+        return None
     header, header_line, rows, lines = None, None, [], []
     try:
         with open(path, newline="", encoding="utf-8-sig") as handle:
@@ -163,56 +385,57 @@ def read_table(path, schema, display_path=None):
                     rows.append(row)
                     lines.append(start)
     except UnicodeDecodeError as error:
-        _fail(
+        found.error(
             shown,
             None,
             None,
             f"expected UTF-8 text, found a byte that is not ({error.reason} at byte {error.start})",
         )
+        return None
     except csv.Error as error:
-        _fail(shown, reader.line_num, None, f"expected comma-separated values ({error})")
+        found.error(shown, reader.line_num, None, f"expected comma-separated values ({error})")
+        return None
     if header is None:
-        _fail(
+        found.error(
             shown,
             None,
             None,
             "file is empty; expected a header line naming the columns "
             + ", ".join(schema.get("required", [])),
         )
-    for column in schema.get("required", []):
-        if column not in header:
-            _fail(
-                shown,
-                header_line,
-                column,
-                "missing from the header; expected columns " + ", ".join(schema["required"]),
-            )
-    if len(set(header)) != len(header):
-        column = next(c for c in header if header.count(c) > 1)
-        _fail(shown, header_line, column, "appears twice in the header")
+        return None
+    if not _check_header(shown, header, header_line, schema, found):
+        return None
     if not rows:
-        _fail(shown, None, None, "has a header but no data rows; expected at least one data row")
-    for row, line in zip(rows, lines, strict=True):
-        if len(row) != len(header):
-            _fail(
-                shown,
-                line,
-                None,
-                f"expected {len(header)} comma-separated fields as in the header, got {len(row)}",
-            )
+        found.error(
+            shown, None, None, "has a header but no data rows; expected at least one data row"
+        )
+        return None
+    ragged = np.array([len(row) != len(header) for row in rows])
+    if ragged.any():
+        i = int(np.argmax(ragged))
+        found.error(
+            shown,
+            lines[i],
+            None,
+            f"expected {len(header)} comma-separated fields as in the header, got {len(rows[i])}"
+            + _more(lines, ragged, "rows with another number of fields"),
+        )
+        return None
     properties = schema.get("properties", {})
     columns = {}
     for name, cells in zip(header, zip(*rows, strict=True), strict=True):
         cells = [cell.strip() for cell in cells]
         if name in properties:
-            columns[name] = _check_column(shown, name, cells, lines, properties[name])
+            columns[name] = _check_column(shown, name, cells, lines, properties[name], found)
         else:
             columns[name] = np.array(cells, dtype=object)
-    table = pd.DataFrame(columns, index=pd.Index(lines, name="line"))
-    return table
+    return pd.DataFrame(columns, index=pd.Index(lines, name="line"))
 
 
-def check_no_duplicate_readings(profile, path, keys=("depth_mm", "side", "distance_image_mm")):
+def check_no_duplicate_readings(
+    profile, path, keys=("depth_mm", "side", "distance_image_mm"), problems=None
+):
     """Refuse a reading given twice (same depth, side and distance).
 
     Parameters
@@ -223,35 +446,66 @@ def check_no_duplicate_readings(profile, path, keys=("depth_mm", "side", "distan
         File name used in the message.
     keys : tuple of str
         Columns that identify a reading.
+    problems : Problems, optional
+        Collector to add the problem to; without one, it is raised.
 
     Raises
     ------
     InputError
-        Naming both lines and the columns that coincide.
+        Without a collector: naming both lines of the first duplicate and the
+        columns that coincide.
     """
-    duplicated = profile.duplicated(subset=list(keys), keep="first").to_numpy()
-    if duplicated.any():
-        i = int(np.argmax(duplicated))
-        row = profile.iloc[i]
-        same = (profile[list(keys)] == row[list(keys)]).all(axis=1).to_numpy()
-        first = int(np.argmax(same))
-        reading = ", ".join(
-            f"{k}={row[k]:g}" if isinstance(row[k], float) else f"{k}={row[k]}" for k in keys
-        )
-        _fail(
-            path,
-            profile.index[i],
-            list(keys),
-            f"duplicate reading ({reading}) already given on line {profile.index[first]}; "
-            "expected one reading per depth, side and distance",
-        )
+    with collecting(problems) as found:
+        duplicated = profile.duplicated(subset=list(keys), keep="first").to_numpy()
+        if duplicated.any():
+            i = int(np.argmax(duplicated))
+            row = profile.iloc[i]
+            same = (profile[list(keys)] == row[list(keys)]).all(axis=1).to_numpy()
+            first = int(np.argmax(same))
+            reading = ", ".join(
+                f"{k}={row[k]:g}" if isinstance(row[k], float) else f"{k}={row[k]}" for k in keys
+            )
+            found.error(
+                path,
+                profile.index[i],
+                list(keys),
+                f"duplicate reading ({reading}) already given on line {profile.index[first]}; "
+                "expected one reading per depth, side and distance"
+                + _more(list(profile.index), duplicated, "repeated readings"),
+            )
 
 
-def check_subjects(subjects, path, profile_dir, profile_dir_shown=None):
+def _files_in(folder):
+    """Names of the regular, non-hidden files directly in a folder (none if missing)."""
+    try:
+        return sorted(
+            entry.name
+            for entry in os.scandir(folder)
+            if entry.is_file() and not entry.name.startswith(".")
+        )
+    except (FileNotFoundError, NotADirectoryError):
+        return []
+
+
+def _near_names(subject, names):
+    """Files named like ``<subject>.csv`` up to case, spaces or the extension."""
+    stem = _loose(subject)
+    return [
+        name
+        for name in names
+        if name != f"{subject}.csv"
+        and _loose(os.path.splitext(name)[0]) == stem
+        and os.path.splitext(name)[1].lower() in (".csv", ".txt", ".tsv", "")
+    ]
+
+
+def check_subjects(subjects, path, profile_dir, profile_dir_shown=None, problems=None):
     """Rules on the subject sheet that span rows or files.
 
     Subject ids must be unique, and each listed subject must have its profile
-    file ``<profile_dir>/<subject>.csv``.
+    file ``<profile_dir>/<subject>.csv``.  When it has none but a file is named
+    like it up to case, spaces or extension (``S-01.CSV``, ``s-01.csv``,
+    ``S-01.txt``), the message shows that file beside the expected name.
 
     Parameters
     ----------
@@ -263,36 +517,258 @@ def check_subjects(subjects, path, profile_dir, profile_dir_shown=None):
         Folder of the profile files.
     profile_dir_shown : str, optional
         How to name that folder in messages.
+    problems : Problems, optional
+        Collector to add problems to; without one, they are raised.
 
     Raises
     ------
     InputError
+        Without a collector.
     """
     shown_dir = profile_dir_shown or profile_dir
-    ids = subjects["subject"]
-    duplicated = ids.duplicated().to_numpy()
-    if duplicated.any():
-        i = int(np.argmax(duplicated))
-        first = int(np.argmax((ids == ids.iloc[i]).to_numpy()))
-        _fail(
-            path,
-            ids.index[i],
-            "subject",
-            f"subject {ids.iloc[i]!r} is already listed on line {ids.index[first]}; "
-            "expected unique ids",
-        )
-    for line, subject in ids.items():
-        if not os.path.isfile(os.path.join(profile_dir, f"{subject}.csv")):
-            _fail(
+    names = _files_in(profile_dir)
+    with collecting(problems) as found:
+        ids = subjects["subject"]
+        duplicated = ids.duplicated().to_numpy()
+        for i in np.flatnonzero(duplicated):
+            first = int(np.argmax((ids == ids.iloc[i]).to_numpy()))
+            found.error(
                 path,
-                line,
+                ids.index[i],
                 "subject",
-                f"no profile file for subject {subject!r}; expected {shown_dir}/{subject}.csv",
+                f"subject {ids.iloc[i]!r} is already listed on line {ids.index[first]}; "
+                "expected unique ids",
+            )
+        for line, subject in ids[~duplicated].items():
+            if os.path.isfile(os.path.join(profile_dir, f"{subject}.csv")):
+                continue
+            message = f"no profile file for subject {subject!r}; expected {shown_dir}/{subject}.csv"
+            near = _near_names(subject, names)
+            if near:
+                message += (
+                    f", found {shown_dir}/{near[0]} (file names are matched exactly: "
+                    "rename it, with the extension .csv in lower case)"
+                )
+            found.error(path, line, "subject", message)
+
+
+def unlisted_files(folder, folder_shown, subjects, sheet_shown, what, problems):
+    """Warn about files of a folder that no listed subject reads.
+
+    A file named like a listed subject's file up to case, spaces or extension
+    is named as such (it would otherwise be mistaken for that subject's data).
+
+    Parameters
+    ----------
+    folder : str
+        ``profiles/`` or ``outlines/`` of the raw folder.
+    folder_shown : str
+        How to name the folder in messages.
+    subjects : iterable of str
+        The ids listed in the subject sheet.
+    sheet_shown : str
+        How to name the subject sheet in messages.
+    what : str
+        ``profile`` or ``outline``.
+    problems : Problems
+        Collector the warnings are added to.
+    """
+    subjects = [str(s) for s in subjects]
+    expected = {f"{s}.csv" for s in subjects}
+    names = _files_in(folder)
+    for name in names:
+        if name in expected:
+            continue
+        owner = next((s for s in subjects if name in _near_names(s, [name])), None)
+        if owner is not None:
+            if what == "profile" and f"{owner}.csv" not in names:
+                continue  # already an error: the subject's own file is missing
+            message = (
+                f"named like the {what} of subject {owner!r} but not exactly "
+                f"{folder_shown}/{owner}.csv, so it is not read"
+            )
+        else:
+            stem = os.path.splitext(name)[0]
+            message = f"no subject {stem!r} in {sheet_shown} reads this {what} file; it is ignored"
+        problems.warning(f"{folder_shown}/{name}", None, None, message)
+
+
+# ---------------------------------------------------------------- plausibility of units
+
+
+def _unit_hint(value_mm, low_mm, high_mm, magnification=None):
+    """A likely cause for a depth outside [low, high] mm.
+
+    A unit is suggested only for a value outside the default range too (a depth
+    just beyond a lab's own narrower limits is no unit mistake), and only when
+    converting it lands inside the range.
+    """
+    default_low = PLAUSIBILITY_DEFAULTS["depth_min_mm"]
+    default_high = PLAUSIBILITY_DEFAULTS["depth_max_mm"]
+
+    def inside(v):
+        return low_mm <= v <= high_mm
+
+    if value_mm > max(high_mm, default_high):
+        if inside(value_mm / 1000):
+            return f"it looks like micrometres ({value_mm:g} µm = {value_mm / 1000:g} mm)"
+        if magnification and inside(value_mm / magnification):
+            return (
+                f"it looks like a length on the x{magnification:g} enlargement "
+                f"({value_mm / magnification:g} mm of tissue); depth_mm is in tissue mm"
+            )
+    if value_mm < min(low_mm, default_low) and inside(value_mm * 1000):
+        return f"it looks like metres ({value_mm:g} m = {value_mm * 1000:g} mm)"
+    return "depth_mm is the depth of the wedge in tissue mm"
+
+
+def check_depth_range(table, path, low_mm, high_mm, magnification=None, problems=None):
+    """Refuse depths outside a plausible range (in mm), naming a likely unit mistake.
+
+    A fingertip is indented by tenths of a millimetre to a few millimetres; a
+    depth of 750 is almost surely 750 µm written where millimetres belong.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        A profile or outline table from :func:`read_table` (``depth_mm`` typed).
+    path : str
+        File name used in the message.
+    low_mm, high_mm : float
+        The plausible range (config ``input_checks``: ``depth_min_mm``,
+        ``depth_max_mm``).
+    magnification : float, optional
+        The subject's enlargement, to recognise a depth read on the photograph.
+    problems : Problems, optional
+        Collector to add the problem to; without one, it is raised.
+
+    Raises
+    ------
+    InputError
+        Without a collector: the first depth outside the range (and how many
+        more lines are), with a likely cause.
+    """
+    with collecting(problems) as found:
+        depth_mm = table["depth_mm"].to_numpy(float)
+        with np.errstate(invalid="ignore"):
+            bad = (depth_mm < low_mm) | (depth_mm > high_mm)
+        if bad.any():
+            lines = list(table.index)
+            i = int(np.argmax(bad))
+            found.error(
+                path,
+                lines[i],
+                "depth_mm",
+                f"expected a depth between {low_mm:g} and {high_mm:g} mm "
+                f"(config input_checks: depth_min_mm, depth_max_mm), got {depth_mm[i]:g}; "
+                + _unit_hint(float(depth_mm[i]), low_mm, high_mm, magnification)
+                + _more(lines, bad, "lines with a depth outside that range"),
             )
 
 
-def check_dataset(raw_dir, schemas, raw_dir_shown=None):
+def _ratio_hint(ratio, magnification):
+    """A likely cause for a deflection next to the wedge ``ratio`` times the depth."""
+    if ratio <= 0:
+        if ratio < 0:
+            return (
+                "the deflections look upward positive; deflection_image_mm is downward "
+                "positive (the skin under the wedge goes down by about the depth)"
+            )
+        return "the readings show no indentation next to the wedge"
+
+    def near(value, target):
+        return abs(math.log(value / target)) < math.log(1.5)
+
+    if near(ratio, 1000):
+        return "the deflections look like micrometres; give them in mm on the enlargement"
+    if near(ratio, 1 / 1000):
+        return "the deflections look like metres; give them in mm on the enlargement"
+    if magnification != 1 and near(ratio, 1 / magnification):
+        return (
+            "the readings look like tissue mm already: then the subject's magnification "
+            f"in subjects.csv should be 1, not {magnification:g}"
+        )
+    fitting = magnification * ratio
+    return (
+        f"check the subject's magnification in subjects.csv ({magnification:g}; "
+        f"about {fitting:.2g} would match) and the unit of the readings"
+    )
+
+
+def check_deflection_near_wedge(profile, path, magnification, factor, problems=None):
+    """Refuse a profile whose deflection next to the wedge is far from the stated depth.
+
+    The skin under the wedge goes down with it, so the readings nearest the
+    wedge, converted to tissue mm (image mm / magnification), show a deflection
+    close to the depth.  For each depth, the reading nearest the wedge on each
+    side is converted and the sides averaged; a mean more than ``factor`` times
+    larger or smaller than the depth points to a wrong unit, magnification or
+    sign.
+
+    Parameters
+    ----------
+    profile : pandas.DataFrame
+        A profile without contract problems, from :func:`read_table`.
+    path : str
+        File name used in the message.
+    magnification : float
+        The subject's enlargement (> 0).
+    factor : float
+        Tolerance (> 1; config ``input_checks: deflection_factor``).
+    problems : Problems, optional
+        Collector to add problems to; without one, they are raised.
+
+    Raises
+    ------
+    InputError
+        Without a collector: one line for the file, at the nearest reading of
+        the first depth that fails (naming the other depths that fail too).
+    """
+    with collecting(problems) as found:
+        depth_mm = profile["depth_mm"].to_numpy(float)
+        distance = profile["distance_image_mm"].to_numpy(float)
+        deflection = profile["deflection_image_mm"].to_numpy(float)
+        side = profile["side"].to_numpy(object)
+        lines = np.asarray(profile.index)
+        failed = []  # (depth, rows of the nearest readings, mean deflection in mm)
+        for depth in np.unique(depth_mm):
+            nearest = []
+            for which in ("left", "right"):
+                rows = np.flatnonzero((depth_mm == depth) & (side == which))
+                if rows.size:
+                    nearest.append(rows[np.argmin(distance[rows])])
+            nearest.sort(key=lambda k: lines[k])
+            mean_mm = float(np.mean(deflection[nearest])) / magnification
+            if not 1 / factor <= mean_mm / depth <= factor:
+                failed.append((float(depth), nearest, mean_mm))
+        if not failed:
+            return
+        depth, nearest, mean_mm = failed[0]
+        ratio = mean_mm / depth
+        sides = "mean of left and right" if len(nearest) == 2 else f"{side[nearest[0]]} only"
+        at_mm = float(np.mean(distance[nearest])) / magnification
+        also = ""
+        if len(failed) > 1:
+            also = f" (so do depths {', '.join(f'{d:g}' for d, _, _ in failed[1:])} mm)"
+        found.error(
+            path,
+            lines[nearest[0]],
+            "deflection_image_mm",
+            f"at depth {depth:g} mm the readings nearest the wedge ({at_mm:.3g} mm from it, "
+            f"{sides}) show {mean_mm:.4g} mm of deflection after dividing by the "
+            f"magnification {magnification:g}, {ratio:.3g} times the depth{also}; expected "
+            f"within a factor of {factor:g} of the depth (config input_checks: "
+            "deflection_factor); " + _ratio_hint(ratio, magnification),
+        )
+
+
+# ---------------------------------------------------------------- a whole raw folder
+
+
+def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
     """Validate a whole raw-data folder before anything is computed.
+
+    Every file is checked, and every problem found is reported together.
 
     Parameters
     ----------
@@ -302,36 +778,93 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None):
         Row schemas keyed ``subjects``, ``profiles`` and ``outlines``.
     raw_dir_shown : str, optional
         How to name the folder in messages (defaults to ``raw_dir``).
+    plausibility : dict, optional
+        ``depth_min_mm``, ``depth_max_mm`` and ``deflection_factor``
+        (:data:`PLAUSIBILITY_DEFAULTS` for any not given).
 
     Returns
     -------
     dict
         ``subjects`` (the typed subject sheet), ``depths_mm`` (subject -> sorted
-        list of depths) and ``outlines`` (subject -> sorted list of depths with
-        an outline file, for listed subjects that have one).
+        list of depths), ``outlines`` (subject -> sorted list of depths with
+        an outline file, for listed subjects that have one) and ``warnings``
+        (lines about files that are not read).
 
     Raises
     ------
     InputError
-        At the first rule broken, naming file, line and column.
+        Holding every problem found (``problems``, one line each, naming file,
+        line and column) and the warnings.
     """
     shown = raw_dir_shown or raw_dir
+    limits = {**PLAUSIBILITY_DEFAULTS, **(plausibility or {})}
+    found = Problems()
 
     def here(*parts):
         return os.path.join(raw_dir, *parts), "/".join([shown.rstrip("/"), *parts])
 
-    path, path_shown = here("subjects.csv")
-    subjects = read_table(path, schemas["subjects"], path_shown)
+    sheet_path, sheet_shown = here("subjects.csv")
+    subjects = read_table(sheet_path, schemas["subjects"], sheet_shown, found)
+    if subjects is None:
+        found.raise_if_any()
     profile_dir, profile_dir_shown = here("profiles")
-    check_subjects(subjects, path_shown, profile_dir, profile_dir_shown)
+    with found.collect():
+        check_subjects(subjects, sheet_shown, profile_dir, profile_dir_shown, found)
+    id_pattern = re.compile(schemas["subjects"]["properties"]["subject"]["pattern"])
+    magnifications = dict(zip(subjects["subject"], subjects["magnification"], strict=True))
+    listed = [
+        s
+        for s in dict.fromkeys(subjects["subject"])
+        if id_pattern.search(s) and os.path.isfile(os.path.join(profile_dir, f"{s}.csv"))
+    ]
     depths_mm, outlines = {}, {}
-    for subject in subjects["subject"]:
+    for subject in listed:
+        magnification = float(magnifications[subject])
+        if not magnification > 0:  # refused on the sheet already
+            magnification = None
         path, path_shown = here("profiles", f"{subject}.csv")
-        profile = read_table(path, schemas["profiles"], path_shown)
-        check_no_duplicate_readings(profile, path_shown)
-        depths_mm[subject] = sorted(float(d) for d in set(profile["depth_mm"]))
+        before = found.count()
+        profile = read_table(path, schemas["profiles"], path_shown, found)
+        if profile is None:
+            continue
+        with found.collect():
+            check_no_duplicate_readings(profile, path_shown, problems=found)
+            check_depth_range(
+                profile,
+                path_shown,
+                limits["depth_min_mm"],
+                limits["depth_max_mm"],
+                magnification,
+                found,
+            )
+        depths_mm[subject] = sorted(float(d) for d in set(profile["depth_mm"]) if d == d)
+        if found.count() == before and magnification:  # only a profile that is otherwise fine
+            with found.collect():
+                check_deflection_near_wedge(
+                    profile, path_shown, magnification, limits["deflection_factor"], found
+                )
         path, path_shown = here("outlines", f"{subject}.csv")
         if os.path.isfile(path):
-            outline = read_table(path, schemas["outlines"], path_shown)
-            outlines[subject] = sorted(float(d) for d in set(outline["depth_mm"]))
-    return {"subjects": subjects, "depths_mm": depths_mm, "outlines": outlines}
+            outline = read_table(path, schemas["outlines"], path_shown, found)
+            if outline is not None:
+                with found.collect():
+                    check_depth_range(
+                        outline,
+                        path_shown,
+                        limits["depth_min_mm"],
+                        limits["depth_max_mm"],
+                        magnification,
+                        found,
+                    )
+                outlines[subject] = sorted(float(d) for d in set(outline["depth_mm"]) if d == d)
+    sheet_ids = [str(s) for s in subjects["subject"]]
+    for folder in ("profiles", "outlines"):
+        folder_path, folder_shown = here(folder)
+        unlisted_files(folder_path, folder_shown, sheet_ids, sheet_shown, folder.rstrip("s"), found)
+    found.raise_if_any()
+    return {
+        "subjects": subjects,
+        "depths_mm": depths_mm,
+        "outlines": outlines,
+        "warnings": found.warnings,
+    }

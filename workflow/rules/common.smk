@@ -48,6 +48,20 @@ def abort(message):
     raise SystemExit(1)
 
 
+def abort_inputs(error):
+    """Print every problem of the raw folder (one line each, up to a limit) and stop."""
+    from lineload.validation import report_lines
+
+    sys.stderr.write("".join(f"{line}\n" for line in report_lines(error)))
+    raise SystemExit(1)
+
+
+def warn(lines):
+    """Print warnings about the inputs once per run (not again in each job)."""
+    if workflow.is_main_process:
+        sys.stderr.write("".join(f"Warning: {line}\n" for line in lines))
+
+
 def schema_message(error, what):
     """One line from a snakemake.utils.validate failure (a jsonschema error inside)."""
     inner = error.__context__
@@ -82,10 +96,11 @@ def check_inputs():
         dataset = check_dataset(
             raw,
             {name: load_schema(name) for name in ("subjects", "profiles", "outlines")},
+            plausibility=config["input_checks"],
         )
         validate(dataset["subjects"], "../schemas/subjects.schema.yaml")
     except InputError as error:
-        abort(str(error))
+        abort_inputs(error)
     except WorkflowError as error:
         abort(schema_message(error, f"{raw}/subjects.csv"))
     sheet = dataset["subjects"]
@@ -108,6 +123,7 @@ def check_inputs():
         "subjects": subjects,
         "depths_mm": dataset["depths_mm"],
         "outlines": dataset["outlines"],
+        "warnings": dataset["warnings"],
     }
 
 
@@ -137,6 +153,7 @@ if DATASET is None:
         checkcache.store(CHECK_CACHE, _check_key, DATASET)
 else:
     config.update(DATASET["config"])
+warn(DATASET["warnings"])
 
 RAW = config["raw_data"]
 RES = config["results"]
