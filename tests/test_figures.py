@@ -251,6 +251,20 @@ def test_figure2_uses_a_log_distance_axis_and_both_models():
     assert any("Boussinesq" in label for label in labels)
 
 
+def test_figure2_says_when_its_depth_is_not_the_papers():
+    averaged, fits, subjects = make_dataset({"A": ("monkey", [0.75, 1.25]), "B": ("human", [1.25])})
+    note = "Shown at 1.25 mm, the measured depth nearest the paper's 1 mm (chosen from the data)."
+    fig = data.figure_examples(averaged, fits, subjects, ["A", "B"], 1.25, WINDOW_MM, note)
+    (text,) = [t for t in fig.texts if t.get_gid() == "note"]
+    assert " ".join(text.get_text().split()) == note
+    assert [ax.get_title(loc="left") for ax in fig.axes] == [
+        "Finger A (monkey), 1.25 mm depth",
+        "Finger B (human), 1.25 mm depth",
+    ]
+    plain = data.figure_examples(averaged, fits, subjects, ["A", "B"], 1.25, WINDOW_MM)
+    assert not [t for t in plain.texts if t.get_gid() == "note"]
+
+
 SCHEMATICS = [
     schematics.figure_channel_schematic,
     schematics.figure_material_point,
@@ -443,6 +457,7 @@ def every_figure(notice):
         "fit_window_mm": WINDOW_MM,
         "example_subjects": ["M1", "H1"],
         "example_depth_mm": 1.0,
+        "example_note": "",
         "outline_subjects": ["M1", "H1"],
         "outline_depth_mm": 1.0,
         "schematic_depth_ratio": 0.15,

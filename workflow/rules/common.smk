@@ -10,6 +10,7 @@ from snakemake.utils import min_version, validate
 
 from lineload import checkcache, codedeps
 from lineload.figures import registry
+from lineload.figures.choices import ChoiceError, example_choice, outline_choice
 from lineload.io import load_schema, write_json_if_changed
 
 min_version("9.0")
@@ -246,55 +247,43 @@ def code(script, modules=()):
 
 
 # ---------------------------------------------------------------- figures
-def first_of_each_species(candidates):
-    """The first subject of each species among candidates, in subject-sheet order."""
-    chosen = {}
-    for subject in SUBJECT_IDS:
-        if subject in candidates:
-            chosen.setdefault(SUBJECTS[subject]["species"], subject)
-    return list(chosen.values())
-
-
-def chosen_subjects(key, candidates, need):
-    """Subjects named in config['figures'][key], checked, or the default choice."""
-    requested = config["figures"][key]
-    for subject in requested:
-        if subject not in candidates:
-            abort(f"config, key 'figures/{key}': subject {subject!r} {need}")
-    return list(requested) or first_of_each_species(candidates)
-
-
-OUTLINE_SUBJECTS = chosen_subjects(
-    "outline_subjects", DATASET["outlines"], f"has no outline file in {RAW}/outlines/"
-)
-OUTLINE_DEPTH_MM = config["figures"]["outline_depth_mm"]
-if OUTLINE_SUBJECTS:
-    common_depths = set.intersection(
-        *(set(DATASET["outlines"][s]) for s in OUTLINE_SUBJECTS)
-    )
-    if OUTLINE_DEPTH_MM is None and common_depths:
-        OUTLINE_DEPTH_MM = min(common_depths)
-    if OUTLINE_DEPTH_MM not in common_depths:
-        abort(
-            "config, key 'figures/outline_depth_mm': expected a depth outlined for "
-            f"{', '.join(OUTLINE_SUBJECTS)} ({', '.join(f'{d:g}' for d in sorted(common_depths))}),"
-            f" got {OUTLINE_DEPTH_MM}"
+def figure_choices():
+    """Figures 1 and 2: subjects and depth as configured, else chosen from the data
+    (lineload/figures/choices.py); a choice the data cannot satisfy stops the run."""
+    species_of = {s: SUBJECTS[s]["species"] for s in SUBJECT_IDS}
+    chosen = config["figures"]
+    try:
+        outline = outline_choice(
+            species_of,
+            DATASET["outlines"],
+            chosen["outline_subjects"],
+            chosen["outline_depth_mm"],
         )
-EXAMPLE_DEPTH_MM = config["figures"]["example_depth_mm"]
-EXAMPLE_SUBJECTS = chosen_subjects(
-    "example_subjects",
-    [s for s in SUBJECT_IDS if EXAMPLE_DEPTH_MM in DATASET["depths_mm"][s]],
-    f"is not in {RAW}/subjects.csv or has no profile at the figure depth",
-)
+        example = example_choice(
+            species_of,
+            DATASET["depths_mm"],
+            chosen["example_subjects"],
+            chosen["example_depth_mm"],
+        )
+    except ChoiceError as error:
+        abort(str(error))
+    return outline, example
+
+
+OUTLINE, EXAMPLE = figure_choices()
+OUTLINE_SUBJECTS = OUTLINE.subjects
+# What was chosen and why, written to the log of the job that draws the figure.
+FIGURE_CHOICES = {"outlines": [OUTLINE.log], "fits": [EXAMPLE.log]}
 
 # The values a figure function may take as settings (lineload.figures.registry.ARGUMENTS).
 FIGURE_SETTINGS = {
     "notice": NOTICE,
     "fit_window_mm": config["fit_window_mm"],
-    "example_subjects": EXAMPLE_SUBJECTS,
-    "example_depth_mm": EXAMPLE_DEPTH_MM,
-    "outline_subjects": OUTLINE_SUBJECTS,
-    "outline_depth_mm": OUTLINE_DEPTH_MM,
+    "example_subjects": EXAMPLE.subjects,
+    "example_depth_mm": EXAMPLE.depth_mm,
+    "example_note": EXAMPLE.note,
+    "outline_subjects": OUTLINE.subjects,
+    "outline_depth_mm": OUTLINE.depth_mm,
     "schematic_depth_ratio": config["figures"]["schematic_depth_ratio"],
     "noise_mm": config["claims"]["noise_mm"],
 }
@@ -335,6 +324,7 @@ def figure_inputs(group):
             dpi=config["figures"]["png_dpi"],
             subjects=subjects if "subjects" in arguments else [],
             settings=settings,
+            choices=FIGURE_CHOICES.get(group, []),
         ),
         "code": code(
             "draw_figures.py",

@@ -1,7 +1,8 @@
 """Rules figure_*: draw one group of figures from the registry, each as PDF and PNG.
 
-The job's spec names the group, the PNG resolution, the subject list and the
-settings its figures take; the tables they read are the job's named inputs.
+The job's spec names the group, the PNG resolution, the subject list, the
+settings its figures take and, in words, the subjects and depths chosen for
+them (printed to the log); the tables they read are the job's named inputs.
 Which function draws each figure, and with which arguments, is in
 lineload.figures.registry.
 """
@@ -16,8 +17,10 @@ from lineload.figures.style import save_figure
 from lineload.io import output_to, read_json, read_results_csv
 
 
-def draw_figures(inputs, outputs, group, dpi, subjects, settings):
-    """Draw and save every figure of ``group``."""
+def draw_figures(inputs, outputs, group, dpi, subjects, settings, choices=()):
+    """Draw and save every figure of ``group``; log the choices made for them."""
+    for line in choices:  # which subjects and depth a figure shows, and why
+        print(line)
     values = dict(settings)
     values["subjects"] = pd.DataFrame(subjects, columns=["subject", "species", "label"])
     for name in registry.file_arguments(group):

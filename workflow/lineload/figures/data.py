@@ -28,6 +28,7 @@ from .style import (
     SINGLE_COLUMN_MM,
     WINDOW_STYLE,
     add_footer,
+    add_note,
     depth_colours,
     grid_shape,
     label_outer_axes,
@@ -239,7 +240,14 @@ def figure_outlines(outlines, subjects, outline_subjects, outline_depth_mm, noti
 
 @styled
 def figure_examples(
-    averaged, fits, subjects, example_subjects, example_depth_mm, fit_window_mm, notice=""
+    averaged,
+    fits,
+    subjects,
+    example_subjects,
+    example_depth_mm,
+    fit_window_mm,
+    example_note="",
+    notice="",
 ):
     """Figure 2: one depth on a log distance axis, data against both fitted models.
 
@@ -255,10 +263,13 @@ def figure_examples(
         ``subject``, ``species`` and optionally ``label``.
     example_subjects : list of str
         One panel per subject, left to right.
-    example_depth_mm : float
-        The indentation depth shown.
+    example_depth_mm : float or None
+        The indentation depth shown (None: the dataset has no profiles).
     fit_window_mm : float
         Outer edge of the fitted region (mm), marked on every panel.
+    example_note : str, optional
+        How the depth was chosen, when it is not the paper's; printed above
+        the legend (gid ``note``).  Empty for none.
     notice : str
         Footer text; empty for none.
 
@@ -267,9 +278,8 @@ def figure_examples(
     matplotlib.figure.Figure
     """
     if not example_subjects:
-        return message_figure(
-            f"No subject in this dataset has a profile at {example_depth_mm:g} mm depth.", notice
-        )
+        where = "" if example_depth_mm is None else f" at {example_depth_mm:g} mm depth"
+        return message_figure(f"No subject in this dataset has a profile{where}.", notice)
     table = subject_table(subjects)
     n = len(example_subjects)
     width_mm = SINGLE_COLUMN_MM if n == 1 else DOUBLE_COLUMN_MM
@@ -331,6 +341,7 @@ def figure_examples(
         Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE),
     ]
     fig.legend(handles=handles, loc="outside upper center", ncols=4 if n > 1 else 2)
+    add_note(fig, example_note)
     add_footer(fig, notice)
     return fig
 

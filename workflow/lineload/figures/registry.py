@@ -83,7 +83,14 @@ ARGUMENTS = {
     "notice": Argument("setting", "footer text on every figure; empty for none"),
     "fit_window_mm": Argument("setting", "outer edge of the fitted region (mm)"),
     "example_subjects": Argument("setting", "the subjects of Figure 2, one panel each, in order"),
-    "example_depth_mm": Argument("setting", "the indentation depth shown in Figure 2 (mm)"),
+    "example_depth_mm": Argument(
+        "setting", "the indentation depth shown in Figure 2 (mm); None without profiles"
+    ),
+    "example_note": Argument(
+        "setting",
+        "a sentence printed under Figure 2 when its depth is not the paper's 1 mm "
+        "(lineload.figures.choices); empty otherwise",
+    ),
     "outline_subjects": Argument("setting", "the subjects of Figure 1, one panel each, in order"),
     "outline_depth_mm": Argument(
         "setting", "the indentation depth of the Figure 1 outlines (mm); None without outlines"
@@ -159,6 +166,7 @@ FIGURES = (
             "subjects",
             "example_subjects",
             "example_depth_mm",
+            "example_note",
             "fit_window_mm",
             "notice",
         ),

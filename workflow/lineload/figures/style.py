@@ -52,6 +52,7 @@ __all__ = [
     "STYLE",
     "WINDOW_STYLE",
     "add_footer",
+    "add_note",
     "depth_colours",
     "figure_style",
     "grid_shape",
@@ -73,6 +74,8 @@ SINGLE_COLUMN_MM = 85.0
 DOUBLE_COLUMN_MM = 175.0
 #: Size of the data-notice footer (points).
 FOOTER_FONT_PT = 6.5
+#: Size of a note above a figure (points).
+NOTE_FONT_PT = 7.0
 
 SPECIES_PLURAL = {"monkey": "monkeys", "human": "humans"}
 
@@ -239,6 +242,29 @@ def add_footer(fig, notice):
     engine = fig.get_layout_engine()
     if engine is not None:
         engine.set(rect=(0.0, bottom, 1.0, 1.0 - bottom))
+
+
+def add_note(fig, note):
+    """Print a sentence about the figure above everything else (gid ``note``).
+
+    Used where a figure departs from the paper in a way its panels do not say
+    (Figure 2 at another depth than the paper's).  The layout engine keeps the
+    panels and legend clear of it.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    note : str
+        The sentence; empty for none (then nothing is added).
+    """
+    if not note:
+        return
+    width_pt = fig.get_figwidth() * 72.0
+    per_line = max(20, int(0.92 * width_pt / (0.58 * NOTE_FONT_PT)))
+    text = fig.suptitle(
+        "\n".join(textwrap.wrap(note, per_line)), fontsize=NOTE_FONT_PT, color="0.25"
+    )
+    text.set_gid("note")
 
 
 def message_figure(message, notice, width_mm=SINGLE_COLUMN_MM, height_mm=45.0):
