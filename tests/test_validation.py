@@ -353,6 +353,13 @@ CASES = {
     "depth_in_micrometres": _depths_in_micrometres,
     "readings_already_in_tissue_mm": _scaled_readings(1 / 20, "magnification", "should be 1"),
     "readings_upward_positive": _scaled_readings(-1, "upward positive"),
+    "depth_beyond_a_configured_limit": lambda raw: Expect(
+        "profiles/MK.csv",
+        find_line(_mk(raw), lambda t: t.startswith("2,")),
+        ("depth_mm",),
+        ("between 0.05 and 1.5 mm", "got 2"),
+        config=("input_checks__depth_max_mm=1.5",),
+    ),
     "config_unknown_key": _config("colour=red", words=("colour",)),
     "config_wrong_type": _config("fit_window_mm=abc", words=("fit_window_mm", "number")),
     "config_not_positive": _config("fit_window_mm=0", words=("fit_window_mm", "0")),

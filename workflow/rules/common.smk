@@ -8,7 +8,7 @@ from pathlib import Path
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import min_version, validate
 
-from lineload import checkcache, codedeps
+from lineload import checkcache, codedeps, settings
 from lineload.figures import registry
 from lineload.figures.choices import ChoiceError, example_choice, outline_choice
 from lineload.io import load_schema, write_json_if_changed
@@ -63,6 +63,16 @@ def warn(lines):
         sys.stderr.write("".join(f"Warning: {line}\n" for line in lines))
 
 
+def data_folder(path):
+    """The raw-data folder: as given; or, when a relative path is not found from the
+    working folder (a run with -s or --directory elsewhere), the same path inside this
+    workflow's own repository, if there is one."""
+    own = Path(workflow.basedir).parent / path
+    if Path(path).is_absolute() or Path(path).exists() or not own.is_dir():
+        return path
+    return str(own)
+
+
 def schema_message(error, what):
     """One line from a snakemake.utils.validate failure (a jsonschema error inside)."""
     inner = error.__context__
@@ -92,7 +102,7 @@ def check_inputs():
         validate(config, "../schemas/config.schema.yaml")
     except WorkflowError as error:
         abort(schema_message(error, "config"))
-    raw = config["raw_data"]
+    config["raw_data"] = raw = data_folder(config["raw_data"])
     try:
         dataset = check_dataset(
             raw,
@@ -139,9 +149,13 @@ CHECK_CODE = [
     *codedeps.script_dependencies(codedeps.PACKAGE_DIR / "validation.py"),
     *sorted(str(p) for p in Path(workflow.basedir, "schemas").glob("*.schema.yaml")),
 ]
+# --config values typed as in a config file; `a__b=value` sets a nested key (settings.py)
+settings.apply_command_line(config, workflow.config_settings.config_args)
 _raw_given = config.get("raw_data")
 if _raw_given is None:  # not set: the schema's default
     _raw_given = load_schema("config")["properties"]["raw_data"]["default"]
+if isinstance(_raw_given, str):
+    _raw_given = data_folder(_raw_given)
 _check_key = (
     checkcache.fingerprint(config, _raw_given, CHECK_CODE)
     if isinstance(_raw_given, str)
