@@ -255,14 +255,14 @@ def test_figure2_says_when_its_depth_is_not_the_papers():
     averaged, fits, subjects = make_dataset({"A": ("monkey", [0.75, 1.25]), "B": ("human", [1.25])})
     note = "Shown at 1.25 mm, the measured depth nearest the paper's 1 mm (chosen from the data)."
     fig = data.figure_examples(averaged, fits, subjects, ["A", "B"], 1.25, WINDOW_MM, note)
-    (text,) = [t for t in fig.texts if t.get_gid() == "note"]
+    (text,) = [t for t in fig.findobj() if t.get_gid() == "note"]
     assert " ".join(text.get_text().split()) == note
     assert [ax.get_title(loc="left") for ax in fig.axes] == [
         "Finger A (monkey), 1.25 mm depth",
         "Finger B (human), 1.25 mm depth",
     ]
     plain = data.figure_examples(averaged, fits, subjects, ["A", "B"], 1.25, WINDOW_MM)
-    assert not [t for t in plain.texts if t.get_gid() == "note"]
+    assert not [t for t in plain.findobj() if t.get_gid() == "note"]
 
 
 SCHEMATICS = [
@@ -499,6 +499,160 @@ def test_every_figure_fits_its_journal_width_and_keeps_legends_and_labels_on_the
             t.get_fontsize() for legend in fig.legends for t in legend.get_texts()
         }
         assert min(sizes) >= 7, name
+
+
+# ------------------------------------------------ layouts from 1 to 8 depths, 1 to 12 subjects
+
+#: The depths of a dataset with n depths: paper-like steps, never 1 mm itself unless n allows.
+LAYOUT_DEPTHS = {
+    1: [1.25],
+    3: [0.75, 1.25, 1.75],
+    4: [0.5, 1.0, 1.5, 2.0],
+    6: [0.5, 0.75, 1.0, 1.25, 1.5, 1.75],
+    8: [0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0],
+}
+
+
+def layout_values(n_per_species, n_depths, notice=NOTICE):
+    """One value per registry argument for a dataset of n subjects per species at n depths.
+
+    Every subject has every depth; labels are as long as a lab might write them.  The
+    refits behind the sensitivity and coordinates supplements use one subject per
+    species (their layout depends on the depths, not on how many subjects there are).
+    """
+    depths = LAYOUT_DEPTHS[n_depths]
+    spec = {
+        f"{species[0].upper()}{i:02d}": (species, depths)
+        for species in ("monkey", "human")
+        for i in range(1, n_per_species + 1)
+    }
+    averaged, fits, subjects = make_dataset(spec)
+    subjects["label"] = [
+        f"{s['species'].capitalize()} {s['subject'][1:]}" for _, s in subjects.iterrows()
+    ]
+    trials = [
+        (subject, species, depth, (10.0 if species == "monkey" else 14.0) + depth)
+        for subject, species in (("M01", "monkey"), ("H01", "human"))
+        for depth in depths
+    ]
+    sensitivity, checks = sensitivity_inputs(trials)
+    with_intervals = checks.assign(
+        waterbed_L_ci_low_mm=checks["waterbed_L_mm"] - 0.5,
+        waterbed_L_ci_high_mm=checks["waterbed_L_mm"] + 0.5,
+        shifted_L_ci_low_mm=checks["shifted_L_mm"] - 0.5,
+        shifted_L_ci_high_mm=checks["shifted_L_mm"] + 0.5,
+        arc_L_ci_low_mm=checks["arc_L_mm"] - 0.5,
+        arc_L_ci_high_mm=checks["arc_L_mm"] + 0.5,
+    )
+    outlines = pd.concat(
+        [
+            circle_outline("M01", depths[0], 8.0, 6.0),
+            circle_outline("H01", depths[0], 45.0, 11.0),
+        ]
+    )
+    example_depth = depths[len(depths) // 2]
+    return {
+        "averaged": averaged,
+        "fits": fits,
+        "outlines": outlines,
+        "sensitivity": sensitivity,
+        "checks": checks,
+        "subjects": subjects,
+        "notice": notice,
+        "fit_window_mm": WINDOW_MM,
+        "example_subjects": ["M01", "H01"],
+        "example_depth_mm": example_depth,
+        "example_note": (
+            f"Shown at {example_depth:g} mm, the measured depth nearest the paper's 1 mm "
+            "(figures: example_depth_mm sets another)."
+        ),
+        "outline_subjects": ["M01", "H01"],
+        "outline_depth_mm": depths[0],
+        "schematic_depth_ratio": 0.15,
+        "noise_mm": 0.01,
+    }, with_intervals
+
+
+def drawn_texts(fig):
+    """Draw the figure; every text a reader sees (titles, labels, tick labels of ticks
+    inside the view, legend entries and titles, notes, footers) and its box in pixels."""
+    from matplotlib.text import Text
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    tick_labels, shown = set(), []
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                tick_labels.update({id(tick.label1), id(tick.label2)})
+            if not (ax.axison and axis.get_visible()):
+                continue
+            for tick in axis._update_ticks():
+                shown += [t for t in (tick.label1, tick.label2) if t.get_visible()]
+    shown += [t for t in fig.findobj(Text) if id(t) not in tick_labels and t.get_visible()]
+    shown = [t for t in shown if t.get_text().strip()]
+    return [(t.get_text(), t.get_window_extent(renderer)) for t in shown]
+
+
+def text_problems(fig, tolerance_px=0.5):
+    """Texts that leave the page, and pairs of texts whose boxes overlap (as sentences)."""
+    texts = drawn_texts(fig)
+    page = fig.bbox
+    problems = []
+    for text, box in texts:
+        if (
+            box.x0 < page.x0 - tolerance_px
+            or box.y0 < page.y0 - tolerance_px
+            or box.x1 > page.x1 + tolerance_px
+            or box.y1 > page.y1 + tolerance_px
+        ):
+            problems.append(f"off the page: {text!r}")
+    for i, (text_a, a) in enumerate(texts):
+        for text_b, b in texts[i + 1 :]:
+            width = min(a.x1, b.x1) - max(a.x0, b.x0)
+            height = min(a.y1, b.y1) - max(a.y0, b.y0)
+            if width > tolerance_px and height > tolerance_px:
+                problems.append(f"overlap: {text_a!r} / {text_b!r}")
+    return problems
+
+
+#: Subjects per species and depths of the datasets whose figures must lay out cleanly.
+LAYOUT_EXTREMES = [(1, 1), (1, 8), (12, 1), (12, 8)]
+#: Figures drawn from the model alone: the same for every dataset, checked once.
+SCHEMATIC_NAMES = ("figure3", "figure4", "figure5")
+#: Figures whose layout depends on how many subjects there are (the others are checked
+#: on the one-subject datasets only: their panels follow the depths).
+PER_SUBJECT_NAMES = ("figure2", "figure6", "figure7", "supplement_residuals")
+
+
+@pytest.mark.parametrize(("n_subjects", "n_depths"), LAYOUT_EXTREMES)
+def test_every_figure_keeps_its_text_on_the_page_and_apart(n_subjects, n_depths):
+    """1 and 12 subjects per species, 1 and 8 depths: legends wrap, panels scale, no text
+    leaves the page or runs into another, and every figure fits a journal page."""
+    values, fits = layout_values(n_subjects, n_depths)
+    figures = {}
+    for figure in registry.FIGURES:
+        if figure.name in SCHEMATIC_NAMES and (n_subjects, n_depths) != LAYOUT_EXTREMES[0]:
+            continue
+        if n_subjects > 1 and figure.name not in PER_SUBJECT_NAMES:
+            continue
+        given = {**values, "fits": fits} if figure.name == "supplement_coordinates" else values
+        figures[figure.name] = draw_registered(figure, given)
+    figure2 = registry.figure_named("figure2")
+    figures["figure2, one subject"] = draw_registered(
+        figure2, {**values, "example_subjects": ["M01"]}
+    )
+    if n_subjects == 12:
+        many = [f"{kind}{i:02d}" for kind in "MH" for i in (1, 2, 3)] + ["M04"]
+        figures["figure2, seven subjects"] = draw_registered(
+            figure2, {**values, "example_subjects": many}
+        )
+    for name, fig in figures.items():
+        width_mm, height_mm = fig.get_figwidth() * 25.4, fig.get_figheight() * 25.4
+        assert min(abs(width_mm - w) for w in (85.0, 175.0)) < 1e-6, name
+        assert height_mm <= 240.0, (name, height_mm)  # a journal page, captions aside
+        assert text_problems(fig) == [], name
 
 
 SENSITIVITY_TRIALS = [

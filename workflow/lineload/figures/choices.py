@@ -196,7 +196,7 @@ def _chosen_note(depth_mm, paper_mm):
         return ""
     return (
         f"Shown at {depth_mm:g} mm, the measured depth nearest the paper's {paper_mm:g} mm "
-        "(chosen from the data; figures: example_depth_mm sets another)."
+        "(figures: example_depth_mm sets another)."
     )
 
 

@@ -13,6 +13,7 @@ and 7; ``footer`` for the data notice.
 
 from __future__ import annotations
 
+import matplotlib
 import numpy as np
 from matplotlib import patches
 from matplotlib.lines import Line2D
@@ -23,15 +24,19 @@ from .style import (
     DEFLECTION_LABEL,
     DISTANCE_LABEL,
     DOUBLE_COLUMN_MM,
+    LEGEND_ROW_MM,
+    MM_PER_INCH,
     MODEL_COLOURS,
+    NOTE_FONT_PT,
     REST_COLOUR,
     SINGLE_COLUMN_MM,
     WINDOW_STYLE,
     add_footer,
-    add_note,
     depth_colours,
+    grid_legend,
     grid_shape,
     label_outer_axes,
+    legend_columns,
     log_distance_axis,
     message_figure,
     new_figure,
@@ -39,7 +44,7 @@ from .style import (
     panel_title,
     styled,
     subject_table,
-    two_row_legend,
+    wrapped_note,
 )
 
 __all__ = [
@@ -268,8 +273,8 @@ def figure_examples(
     fit_window_mm : float
         Outer edge of the fitted region (mm), marked on every panel.
     example_note : str, optional
-        How the depth was chosen, when it is not the paper's; printed above
-        the legend (gid ``note``).  Empty for none.
+        How the depth was chosen, when it is not the paper's; printed as the
+        title of the legend (gid ``note``).  Empty for none.
     notice : str
         Footer text; empty for none.
 
@@ -283,8 +288,13 @@ def figure_examples(
     table = subject_table(subjects)
     n = len(example_subjects)
     width_mm = SINGLE_COLUMN_MM if n == 1 else DOUBLE_COLUMN_MM
-    fig = new_figure(width_mm, 72.0)
-    axes = fig.subplots(1, n, squeeze=False, sharey=True)[0]
+    # side by side up to two subjects (as in the paper), then rows of three
+    n_rows, n_columns = (1, n) if n <= 2 else grid_shape(n, 3)
+    fig = new_figure(width_mm, 72.0 + 56.0 * (n_rows - 1))
+    grid = fig.subplots(n_rows, n_columns, squeeze=False, sharey=True)
+    for ax in grid.flat[n:]:
+        fig.delaxes(ax)
+    axes = grid.flat[:n]
     y_values = []
     for ax, subject in zip(axes, example_subjects, strict=True):
         distance_mm, deflection_mm = trial_points(averaged, subject, example_depth_mm)
@@ -320,8 +330,11 @@ def figure_examples(
         species = table.loc[subject, "species"] if subject in table.index else ""
         label = table.loc[subject, "label"] if subject in table.index else subject
         ax.set_title(f"{panel_title(label, species)}, {example_depth_mm:g} mm depth", loc="left")
-        ax.set_xlabel("distance from the wedge x (mm, log scale)")
-    axes[0].set_ylabel(DEFLECTION_LABEL)
+        ax.set_xlabel(
+            "distance from the wedge x (mm, log scale)" if n <= 2 else "distance x (mm, log scale)"
+        )
+    for ax in grid[:, 0]:
+        ax.set_ylabel(DEFLECTION_LABEL)
     values = np.concatenate([np.ravel(v) for v in y_values]) if y_values else np.array([])
     values = np.clip(values[np.isfinite(values)], -0.6 * example_depth_mm, 1.3 * example_depth_mm)
     y_lo, y_hi = padded_limits(np.append(values, 0.0))
@@ -340,8 +353,14 @@ def figure_examples(
         Line2D([], [], color=MODEL_COLOURS["boussinesq"], label="modified Boussinesq fit"),
         Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE),
     ]
-    fig.legend(handles=handles, loc="outside upper center", ncols=4 if n > 1 else 2)
-    add_note(fig, example_note)
+    legend = fig.legend(
+        handles=handles,
+        loc="outside upper center",
+        ncols=legend_columns(fig, handles, 4 if n > 1 else 2),
+    )
+    if example_note:  # above the key, where the layout keeps the panels clear of it
+        legend.set_title(wrapped_note(fig, example_note), prop={"size": NOTE_FONT_PT})
+        legend.get_title().set(gid="note", multialignment="center")
     add_footer(fig, notice)
     return fig
 
@@ -387,9 +406,12 @@ def figure_species_fits(averaged, fits, subjects, species, fit_window_mm, notice
     rows = averaged[averaged["subject"].isin(subject_ids)]
     colours = depth_colours(rows["depth_mm"].astype(float))
     n = len(subject_ids)
-    n_rows, n_columns = grid_shape(n)
+    # up to 4 subjects in two columns; more in three (or four), panels lower, so that
+    # a dozen subjects still fit a page
+    n_rows, n_columns = grid_shape(n, 2 if n <= 4 else 3 if n <= 12 else 4)
+    panel_mm = {2: 56.0, 3: 44.0}.get(n_columns, 36.0) if n > 1 else 56.0
     width_mm = SINGLE_COLUMN_MM if n == 1 else DOUBLE_COLUMN_MM
-    fig = new_figure(width_mm, 22.0 + 56.0 * n_rows)
+    fig = new_figure(width_mm, 22.0 + panel_mm * n_rows)
     axes = fig.subplots(n_rows, n_columns, squeeze=False, sharex=True, sharey=True)
     present = np.zeros(axes.shape, dtype=bool)
     present.flat[:n] = True
@@ -429,7 +451,11 @@ def figure_species_fits(averaged, fits, subjects, species, fit_window_mm, notice
     axes[0, 0].set_xlim(0.0, x_hi)
     y_lo, y_hi = padded_limits(np.concatenate(y_values), 0.04)
     axes[0, 0].set_ylim(y_hi, y_lo)
-    label_outer_axes(axes, present, DISTANCE_LABEL, DEFLECTION_LABEL)
+    if n_rows <= 2:
+        label_outer_axes(axes, present, DISTANCE_LABEL, DEFLECTION_LABEL)
+    else:  # one label for the whole left edge: a row is lower than the label is long
+        label_outer_axes(axes, present, DISTANCE_LABEL, "")
+        fig.supylabel(DEFLECTION_LABEL, fontsize=matplotlib.rcParams["axes.labelsize"])
     depth_handles = [
         Line2D(
             [],
@@ -456,10 +482,11 @@ def figure_species_fits(averaged, fits, subjects, species, fit_window_mm, notice
         Line2D([], [], color="0.3", label="waterbed fit, eq. 19"),
         Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE),
     ]
-    if width_mm > SINGLE_COLUMN_MM:
-        handles, n_columns = two_row_legend(depth_handles, key_handles)
-    else:  # too narrow for one row of each: two columns, filled top to bottom
-        handles, n_columns = depth_handles + key_handles, 2
+    # depths on the first row(s), the key below, wrapped to the figure's width
+    handles, n_columns = grid_legend(fig, [depth_handles, key_handles])
+    legend_rows = -(-len(handles) // n_columns)
+    if legend_rows > 2:  # a taller figure for a legend that wrapped, not lower panels
+        fig.set_figheight(fig.get_figheight() + (legend_rows - 2) * LEGEND_ROW_MM / MM_PER_INCH)
     fig.legend(handles=handles, loc="outside upper center", ncols=n_columns)
     add_footer(fig, notice)
     return fig

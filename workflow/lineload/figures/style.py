@@ -43,20 +43,24 @@ __all__ = [
     "DISTANCE_LABEL",
     "DOUBLE_COLUMN_MM",
     "FOOTER_FONT_PT",
+    "LEGEND_ROW_MM",
+    "MM_PER_INCH",
     "MODEL_COLOURS",
     "MODEL_LINESTYLES",
     "MODEL_NAMES",
+    "NOTE_FONT_PT",
     "REST_COLOUR",
     "SINGLE_COLUMN_MM",
     "SPECIES_PLURAL",
     "STYLE",
     "WINDOW_STYLE",
     "add_footer",
-    "add_note",
     "depth_colours",
     "figure_style",
+    "grid_legend",
     "grid_shape",
     "label_outer_axes",
+    "legend_columns",
     "log_distance_axis",
     "message_figure",
     "new_figure",
@@ -65,7 +69,7 @@ __all__ = [
     "save_figure",
     "styled",
     "subject_table",
-    "two_row_legend",
+    "wrapped_note",
 ]
 
 MM_PER_INCH = 25.4
@@ -76,6 +80,8 @@ DOUBLE_COLUMN_MM = 175.0
 FOOTER_FONT_PT = 6.5
 #: Size of a note above a figure (points).
 NOTE_FONT_PT = 7.0
+#: Height of one row of a 7-point legend (mm), for figures that grow with their legend.
+LEGEND_ROW_MM = 3.6
 
 SPECIES_PLURAL = {"monkey": "monkeys", "human": "humans"}
 
@@ -244,27 +250,14 @@ def add_footer(fig, notice):
         engine.set(rect=(0.0, bottom, 1.0, 1.0 - bottom))
 
 
-def add_note(fig, note):
-    """Print a sentence about the figure above everything else (gid ``note``).
-
-    Used where a figure departs from the paper in a way its panels do not say
-    (Figure 2 at another depth than the paper's).  The layout engine keeps the
-    panels and legend clear of it.
-
-    Parameters
-    ----------
-    fig : matplotlib.figure.Figure
-    note : str
-        The sentence; empty for none (then nothing is added).
-    """
+def wrapped_note(fig, note, fontsize=None):
+    """A sentence wrapped to the width of the figure, for a legend title (or '')."""
     if not note:
-        return
+        return ""
+    fontsize = fontsize or NOTE_FONT_PT
     width_pt = fig.get_figwidth() * 72.0
-    per_line = max(20, int(0.92 * width_pt / (0.58 * NOTE_FONT_PT)))
-    text = fig.suptitle(
-        "\n".join(textwrap.wrap(note, per_line)), fontsize=NOTE_FONT_PT, color="0.25"
-    )
-    text.set_gid("note")
+    per_line = max(20, int(0.92 * width_pt / (0.58 * fontsize)))
+    return "\n".join(textwrap.wrap(note, per_line))
 
 
 def message_figure(message, notice, width_mm=SINGLE_COLUMN_MM, height_mm=45.0):
@@ -366,18 +359,84 @@ def depth_colours(depths_mm):
 # ---------------------------------------------------------------- axes and legends
 
 
-def two_row_legend(first_row, second_row):
-    """Handles and column count for a legend with one row per list.
+def _legend_entry_pt(handle, fontsize):
+    """Width (points) of one legend entry: handle, padding and label."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import TextToPath
 
-    Legends fill column by column, so the rows are interleaved, with invisible
-    blank entries where one row is shorter.
+    label = handle.get_label()
+    width, _, _ = TextToPath().get_text_width_height_descent(
+        label, FontProperties(size=fontsize), ismath="$" in label
+    )
+    rc = matplotlib.rcParams
+    return (rc["legend.handlelength"] + rc["legend.handletextpad"]) * fontsize + float(width)
+
+
+def _legend_fits(fig, columns_pt, fontsize):
+    """Whether legend columns of these widths (points) fit the figure's width."""
+    rc = matplotlib.rcParams
+    spacing = (len(columns_pt) - 1) * rc["legend.columnspacing"] * fontsize
+    border = 2 * rc["legend.borderpad"] * fontsize
+    return sum(columns_pt) + spacing + border <= 0.98 * fig.get_figwidth() * 72.0
+
+
+def _legend_font_pt():
+    from matplotlib.font_manager import FontProperties
+
+    return FontProperties(size=matplotlib.rcParams["legend.fontsize"]).get_size()
+
+
+def legend_columns(fig, handles, max_columns):
+    """The most columns, up to max_columns, in which a legend of these handles fits the
+    figure's width (entries filled column by column, as matplotlib does)."""
+    fontsize = _legend_font_pt()
+    widths = [_legend_entry_pt(h, fontsize) for h in handles]
+    n_columns = max(1, min(max_columns, len(widths)))
+    while n_columns > 1:
+        per_column = math.ceil(len(widths) / n_columns)
+        columns = [max(widths[i : i + per_column]) for i in range(0, len(widths), per_column)]
+        if _legend_fits(fig, columns, fontsize):
+            break
+        n_columns -= 1
+    return n_columns
+
+
+def grid_legend(fig, blocks, max_columns=None):
+    """Handles and column count for a figure legend that fits the figure's width.
+
+    Each block (a list of handles) starts a new row and wraps onto as many rows
+    as it needs; the column count is the largest (up to ``max_columns``) whose
+    rows fit the width, measured from the labels' font metrics.  Legends fill
+    column by column, so rows are interleaved, with invisible blank entries
+    where a row is short.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    blocks : list of list of matplotlib.artist.Artist
+        Legend handles with labels, one list per group of entries.
+    max_columns : int, optional
+        At most this many columns (default: the longest block).
+
+    Returns
+    -------
+    handles : list
+    n_columns : int
     """
-    n_columns = max(len(first_row), len(second_row))
+
+    fontsize = _legend_font_pt()
+    blocks = [list(block) for block in blocks if block]
+    widths = [[_legend_entry_pt(h, fontsize) for h in block] for block in blocks]
+    n_columns = min(max_columns or 99, max(len(block) for block in blocks))
+    while n_columns > 1:
+        rows = [w[i : i + n_columns] for w in widths for i in range(0, len(w), n_columns)]
+        columns = [max(row[j] for row in rows if j < len(row)) for j in range(n_columns)]
+        if _legend_fits(fig, columns, fontsize):
+            break
+        n_columns -= 1
+    rows = [b[i : i + n_columns] for b in blocks for i in range(0, len(b), n_columns)]
     blank = Line2D([], [], linestyle="none", label=" ")
-    handles = []
-    for i in range(n_columns):
-        handles.append(first_row[i] if i < len(first_row) else blank)
-        handles.append(second_row[i] if i < len(second_row) else blank)
+    handles = [row[j] if j < len(row) else blank for j in range(n_columns) for row in rows]
     return handles, n_columns
 
 

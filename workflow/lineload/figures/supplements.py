@@ -14,6 +14,8 @@ arc); ``L:<model>``, ``aicc:<model>``, ``shift`` and ``reach`` (sensitivity);
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from matplotlib.lines import Line2D
 
@@ -32,12 +34,14 @@ from .style import (
     WINDOW_STYLE,
     add_footer,
     label_outer_axes,
+    legend_columns,
     log_distance_axis,
     message_figure,
     new_figure,
     padded_limits,
     styled,
     subject_table,
+    wrapped_note,
 )
 
 __all__ = [
@@ -50,8 +54,17 @@ __all__ = [
 #: Colour of each model of the sensitivity refits (:data:`lineload.sensitivity.MODELS`,
 #: drawn in that order and named as the sensitivity tables name them).
 REFIT_COLOURS = {**MODEL_COLOURS, "waterbed_free_depth": "#56B4E9"}
+#: Depths side by side in the residual and parabola-against-arc supplements; more wrap.
+DEPTHS_PER_ROW = 4
 #: Marker of each species where trials are drawn as points.
 SPECIES_MARKERS = {"monkey": "o", "human": "s"}
+
+
+def depths_per_row(n_depths):
+    """Panels side by side for n depths: all of them up to DEPTHS_PER_ROW, else rows as
+    even as they can be (5 -> 3 + 2, 6 -> 3 + 3, 8 -> 4 + 4)."""
+    n_rows = math.ceil(n_depths / DEPTHS_PER_ROW)
+    return math.ceil(n_depths / n_rows)
 
 
 # ---------------------------------------------------------------- residuals
@@ -89,15 +102,21 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
     depths = sorted({float(d) for d in averaged["depth_mm"]}) if not averaged.empty else []
     if not species_rows or not depths:
         return message_figure("No profiles in this dataset: no residuals to show.", notice)
-    n_rows, n_columns = len(species_rows), len(depths)
+    # at most DEPTHS_PER_ROW panels side by side; more depths wrap onto further rows
+    per_row = depths_per_row(len(depths))
+    depth_rows = [depths[i : i + per_row] for i in range(0, len(depths), per_row)]
+    n_rows, n_columns = len(species_rows) * len(depth_rows), per_row
     width_mm = DOUBLE_COLUMN_MM if n_columns > 1 else SINGLE_COLUMN_MM
     fig = new_figure(width_mm, 26.0 + 48.0 * n_rows)
     axes = fig.subplots(n_rows, n_columns, squeeze=False, sharex=True, sharey=True)
+    present = np.zeros(axes.shape, dtype=bool)
     all_x, all_r = [fit_window_mm], [0.0]
     for i, species in enumerate(species_rows):
         members = [s for s in table["subject"] if table.loc[s, "species"] == species]
-        for j, depth_mm in enumerate(depths):
-            ax = axes[i, j]
+        for k, depth_mm in enumerate(depths):
+            cell = (i * len(depth_rows) + k // per_row, k % per_row)
+            ax = axes[cell]
+            present[cell] = True
             ax.axhline(0.0, color="0.6", linewidth=0.6, zorder=0)
             ax.axvline(fit_window_mm, gid="fit-window", **WINDOW_STYLE)
             drawn = False
@@ -141,9 +160,10 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
                 f"{SPECIES_PLURAL[species].capitalize()}, {depth_mm:g} mm depth", loc="left"
             )
             log_distance_axis(ax)
+    for ax in axes[~present]:
+        fig.delaxes(ax)
     axes[0, 0].set_xlim(min(all_x) / 1.25, fit_window_mm * 1.25)
     axes[0, 0].set_ylim(*padded_limits(all_r))
-    present = np.ones(axes.shape, dtype=bool)
     label_outer_axes(axes, present, "distance x (mm, log scale)", "data − model (mm)")
     handles = [
         Line2D(
@@ -161,8 +181,10 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
     fig.legend(
         handles=handles,
         loc="outside upper center",
-        ncols=3,
-        title="one line per subject and model; positive: skin deeper than the model",
+        ncols=legend_columns(fig, handles, 3),
+        title=wrapped_note(
+            fig, "one line per subject and model; positive: skin deeper than the model", 7
+        ),
         title_fontsize=7,
     )
     add_footer(fig, notice)
@@ -201,13 +223,25 @@ def figure_arc_vs_parabola(fits, notice=""):
     depths = sorted({float(d) for d in usable["depth_mm"]})
     if not depths:
         return message_figure("No finite waterbed fits in this dataset.", notice)
-    n = len(depths)
-    width_mm = DOUBLE_COLUMN_MM if n > 1 else SINGLE_COLUMN_MM
-    fig = new_figure(width_mm, 112.0)
-    axes = fig.subplots(2, n, squeeze=False, sharex=True, sharey="row", height_ratios=[1.3, 1.0])
+    # a pair of rows (shapes, differences) per row of depths
+    n_columns = depths_per_row(len(depths))
+    n_pairs = math.ceil(len(depths) / n_columns)
+    width_mm = DOUBLE_COLUMN_MM if n_columns > 1 else SINGLE_COLUMN_MM
+    fig = new_figure(width_mm, 112.0 if n_pairs == 1 else 20.0 + 92.0 * n_pairs)
+    grid = fig.subplots(
+        2 * n_pairs,
+        n_columns,
+        squeeze=False,
+        sharex=True,
+        sharey="row",
+        height_ratios=[1.3, 1.0] * n_pairs,
+    )
+    present = np.zeros(grid.shape, dtype=bool)
     profiles, differences = [0.0], [0.0]
     x_hi = 0.0
-    for j, depth_mm in enumerate(depths):
+    for k, depth_mm in enumerate(depths):
+        pair, j = divmod(k, n_columns)
+        present[2 * pair : 2 * pair + 2, j] = True
         L_values = np.sort(
             usable.loc[np.isclose(usable["depth_mm"].astype(float), depth_mm), "waterbed_L_mm"]
             .astype(float)
@@ -219,7 +253,7 @@ def figure_arc_vs_parabola(fits, notice=""):
         parabola = models.waterbed_deflection_mm(distance_mm, depth_mm, L_median)
         shifted = models.shifted_deflection_mm(distance_mm, depth_mm, L_median)
         arc = models.arc_deflection_mm(distance_mm, depth_mm, L_median)
-        top, bottom = axes[0, j], axes[1, j]
+        top, bottom = grid[2 * pair, j], grid[2 * pair + 1, j]
         top.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
         top.plot(
             distance_mm, parabola, color=MODEL_COLOURS["waterbed"], linestyle="--", gid="parabola"
@@ -258,7 +292,8 @@ def figure_arc_vs_parabola(fits, notice=""):
         top.text(
             0.96,
             0.04,
-            f"L = {L_median:.1f} mm ({L_values.size} fits)\n$W_0/L$ = {depth_mm / L_median:.3f}",
+            f"L = {L_median:.1f} mm ({L_values.size} fit{'s' if L_values.size > 1 else ''})\n"
+            f"$W_0/L$ = {depth_mm / L_median:.3f}",
             transform=top.transAxes,
             ha="right",
             va="bottom",
@@ -274,15 +309,20 @@ def figure_arc_vs_parabola(fits, notice=""):
             va="top",
             in_layout=False,
         )
-    axes[0, 0].set_xlim(0.0, x_hi * 1.02)
-    lo, hi = padded_limits(profiles, 0.04)
-    axes[0, 0].set_ylim(hi, lo)
+    for ax in grid[~present]:
+        fig.delaxes(ax)
+    grid[0, 0].set_xlim(0.0, x_hi * 1.02)
+    profile_lo, profile_hi = padded_limits(profiles, 0.04)
     lo, hi = padded_limits(differences, 0.1)
-    axes[1, 0].set_ylim(lo, hi + 1.2 * (hi - lo))
-    axes[0, 0].set_ylabel("deflection w (mm)")
-    axes[1, 0].set_ylabel("minus eq. 19 (mm)")
-    for ax in axes[1]:
-        ax.set_xlabel("distance x (mm)")
+    for pair in range(n_pairs):
+        grid[2 * pair, 0].set_ylim(profile_hi, profile_lo)
+        grid[2 * pair + 1, 0].set_ylim(lo, hi + 1.2 * (hi - lo))
+        grid[2 * pair, 0].set_ylabel("deflection w (mm)")
+        grid[2 * pair + 1, 0].set_ylabel("minus eq. 19 (mm)")
+    for j in range(n_columns):
+        lowest = grid[np.flatnonzero(present[:, j])[-1], j]
+        lowest.set_xlabel("distance x (mm)")
+        lowest.tick_params(labelbottom=True)
     handles = [
         Line2D(
             [],
@@ -319,8 +359,10 @@ def figure_arc_vs_parabola(fits, notice=""):
     fig.legend(
         handles=handles,
         loc="outside upper center",
-        ncols=2,
-        title="shapes drawn with $W_0$ = depth and the median fitted waterbed L",
+        ncols=legend_columns(fig, handles, 2),
+        title=wrapped_note(
+            fig, "shapes drawn with $W_0$ = depth and the median fitted waterbed L", 7
+        ),
         title_fontsize=7,
     )
     add_footer(fig, notice)
@@ -418,11 +460,14 @@ def figure_sensitivity(sensitivity, checks, notice=""):
             gid="reach",
         )
     ax_shift.axhline(100 * shift_limit, color="0.5", linestyle=":", linewidth=0.8)
-    ax_shift.text(
-        depths[0] - 0.2,
-        100 * shift_limit,
+    # below its line: above it, the label would run into the panel title when the
+    # bound is near the top of the axis
+    ax_shift.annotate(
         f"paper's bound {100 * shift_limit:g} %",
-        va="bottom",
+        xy=(depths[0] - 0.2, 100 * shift_limit),
+        xytext=(0, -2),
+        textcoords="offset points",
+        va="top",
         fontsize=7,
         color="0.4",
     )
