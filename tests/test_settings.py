@@ -3,11 +3,12 @@ file, and the workflow run from any folder with -s or --directory."""
 
 import json
 import os
+import re
 import subprocess
 import sys
+import textwrap
 
 import pytest
-import yaml
 
 from conftest import REPO, run_snakemake, write_small_dataset
 from lineload.settings import apply_command_line, typed_value
@@ -105,32 +106,48 @@ def test_the_workflow_runs_from_another_folder_with_s(tmp_path, snakemake_availa
     assert provenance["raw_dir"] == str(REPO / "data" / "raw")
 
 
+def readme_lab_config():
+    """The lab config file shown in data/README.md's "Start here" steps."""
+    text = (REPO / "data" / "README.md").read_text()
+    block = re.search(
+        r"```yaml\n(.+?)\n *```", text[text.index("Write a small config file") :], re.S
+    )
+    return textwrap.dedent(block.group(1))  # the block is indented under a list item
+
+
 @pytest.mark.e2e
-def test_a_lab_config_file_from_another_folder(tmp_path, snakemake_available):
-    """The data/README.md example: a small --configfile next to the lab's raw folder."""
-    lab = tmp_path / "lab"
-    write_small_dataset(lab / "raw")
-    (lab / "lab.yaml").write_text(
-        yaml.safe_dump(
-            {"raw_data": "raw", "results": "results", "figures": {"example_depth_mm": 2.0}}
+@pytest.mark.parametrize("how", ["-s from the lab folder", "--directory from the repository"])
+def test_the_readme_lab_config_runs(tmp_path, how, snakemake_available):
+    """data/README.md's steps: a small --configfile next to the lab's raw folder."""
+    lab = tmp_path / "mylab"
+    write_small_dataset(
+        lab / "raw",
+        subjects={
+            "S-01": ("monkey", [0.75, 1.25, 1.75], 5.0),
+            "S-02": ("human", [0.75, 1.25, 1.75], 9.0),
+        },
+    )
+    (lab / "lab.yaml").write_text(readme_lab_config())
+    if how.startswith("-s"):
+        process = snakemake_in(
+            lab, "fits", "-s", str(REPO / "workflow" / "Snakefile"), "--configfile", "lab.yaml"
         )
-    )
-    work = tmp_path / "work"
-    work.mkdir()
-    process = snakemake_in(
-        work,
-        "fits",
-        "-s",
-        str(REPO / "workflow" / "Snakefile"),
-        "--directory",
-        str(lab),
-        "--configfile",
-        str(lab / "lab.yaml"),
-    )
+    else:
+        process = snakemake_in(
+            tmp_path,
+            "fits",
+            "--directory",
+            "mylab",
+            "--configfile",
+            "mylab/lab.yaml",
+            "-s",
+            str(REPO / "workflow" / "Snakefile"),
+        )
     assert process.returncode == 0, process.stderr[-3000:]
     assert (lab / "results" / "tables" / "fits.csv").is_file()
-    assert not (work / "results").exists()
     spec = json.loads((lab / "results" / "specs" / "provenance" / "all.json").read_text())
     assert spec["raw_dir"] == "raw"
-    assert spec["config"]["figures"]["example_depth_mm"] == 2.0
-    assert spec["config"]["figures"]["png_dpi"] == 300  # the rest from the workflow's config
+    config = spec["config"]
+    assert config["figures"]["example_subjects"] == ["S-01", "S-02"]
+    assert config["input_checks"]["depth_max_mm"] == 3.0
+    assert config["figures"]["png_dpi"] == 300  # the rest from the workflow's config

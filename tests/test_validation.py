@@ -1,13 +1,15 @@
-"""Broken raw data (or config) is refused before any job runs, with one clear line.
+"""Broken raw data (or config) is refused before any job runs, one clear line per problem.
 
 Two layers:
 
 * end to end: a real ``snakemake --cores 2`` on the small dataset of conftest
   with exactly one thing broken must exit non-zero, print exactly one
   ``Error: ...`` line naming file, line and column and what was expected, show
-  no traceback and leave no results folder behind;
+  no traceback and leave no results folder behind; a lab's export with
+  several things broken gets every problem in one run, and files no subject
+  reads get ``Warning:`` lines;
 * unit: ``lineload.validation`` called directly (fast), for typing, line
-  numbers and the rules that span rows or files.
+  numbers, the rules that span rows or files, and the plausibility of units.
 
 Line numbers in the expectations are computed from where the test puts the
 bad cell (the header is line 1), never copied from the program's output.

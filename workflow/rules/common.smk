@@ -1,6 +1,6 @@
 # Config and raw inputs, validated before any job is planned; what each job is given.
-# A broken input stops the run here with one message naming file, line and column:
-# no job starts, so nothing partial is written.
+# Broken inputs stop the run here, every problem on its own line naming file, line and
+# column (lineload/validation.py): no job starts, so nothing partial is written.
 import os
 import sys
 from pathlib import Path
