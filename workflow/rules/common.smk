@@ -42,6 +42,19 @@ def stop_on_sigterm():
     signal.signal(signal.SIGTERM, interrupt)
 
 
+def where_to_look():
+    """After a build: print where the reader's documents are."""
+    lines = ["", "Where to look:"]
+    for what, path in (
+        ("the article", result("article", "reproduction.pdf")),
+        ("the claims table", result("tables", "claims.md")),
+    ):
+        if Path(path).is_file():
+            lines.append(f"  {what}: {path}")
+    lines.append(f"  the HTML report: snakemake --report {result('report.html')}")
+    print("\n".join(lines), file=sys.stderr)
+
+
 def abort(message):
     """Print one line for the user and stop with a non-zero exit, no traceback."""
     sys.stderr.write(f"Error: {message}\n")
@@ -178,6 +191,8 @@ def read_notice():
 
 
 NOTICE = read_notice()
+# The footer in force, from the config or NOTICE.txt: the report's front page says it.
+config["data_notice"] = NOTICE
 
 
 # ---------------------------------------------------------------- what each job is given
@@ -294,14 +309,12 @@ FIGURE_TABLES = {
 
 
 def figure_files(group):
-    """PDF and PNG of every figure of a group; the PNG goes into the report."""
+    """PDF and PNG of every figure of a group (the report shows them through report_pages)."""
     files = []
     for figure in registry.figures_in_group(group):
-        caption, labels = f"../report/{figure.name}.rst", {"figure": figure.title}
-        png = result("figures", f"{figure.name}.png")
         files += [
             result("figures", f"{figure.name}.pdf"),
-            report_item(png, caption=caption, category=figure.category, labels=labels),
+            result("figures", f"{figure.name}.png"),
         ]
     return files
 
@@ -326,6 +339,138 @@ def figure_inputs(group):
     }
     inputs.update({a: FIGURE_TABLES[a] for a in arguments if a in FIGURE_TABLES})
     return inputs
+
+
+def article_inputs():
+    """Named inputs of the article job: its spec, its source, the tables and every figure."""
+    return {
+        "spec": spec(
+            "article",
+            settings={
+                "fit_window_mm": config["fit_window_mm"],
+                "claims": config["claims"],
+                "sensitivity": config["sensitivity"],
+                "figures": {
+                    key: FIGURE_SETTINGS[key]
+                    for key in (
+                        "example_subjects",
+                        "example_depth_mm",
+                        "outline_subjects",
+                        "outline_depth_mm",
+                    )
+                },
+            },
+            subjects=SUBJECTS,
+            depths_mm=DATASET["depths_mm"],
+            notice=NOTICE,
+            source_dir=str(Path(workflow.basedir).parent),
+        ),
+        "source": os.path.relpath(
+            Path(workflow.basedir, "article", "reproduction.typ")
+        ),
+        "fits": result("tables", "fits.csv"),
+        "claims": result("tables", "claims.csv"),
+        "checks": result("tables", "trial_checks.csv"),
+        "figures": [f for f in FIGURE_FILES if f.endswith(".pdf")],
+        "code": code("write_article.py"),
+    }
+
+
+# ---------------------------------------------------------------- the report's pages
+# Snakemake's report shows HTML on the page (a CSV only as a download) and keeps captions
+# behind an icon: each table and figure gets a page with its caption written out.
+REPORT_TABLES = {
+    "claims": (
+        "The paper's claims, recomputed",
+        result("tables", "claims.csv"),
+        "Claims",
+    ),
+    "fits": ("Fits per subject and depth", result("tables", "fits.csv"), "Fits"),
+    "summary": (
+        "Summary per species and depth",
+        result("tables", "summary.csv"),
+        "Fits",
+    ),
+    "trial_checks": (
+        "What the paper's approximations cost, per trial",
+        result("tables", "trial_checks.csv"),
+        "Supplement",
+    ),
+    "sensitivity": (
+        "Refits under other analysis choices",
+        result("tables", "sensitivity.csv"),
+        "Supplement",
+    ),
+}
+
+
+def report_page_inputs():
+    """Named inputs of the report_pages job."""
+    captions = Path(workflow.basedir, "report")
+    names = [*REPORT_TABLES, *(f.name for f in registry.FIGURES), "data", "software"]
+    return {
+        "spec": spec(
+            "report_pages",
+            tables={
+                name: [title, path] for name, (title, path, _) in REPORT_TABLES.items()
+            },
+            config=config,
+            notice=NOTICE,
+            subjects=SUBJECTS,
+            depths_mm=DATASET["depths_mm"],
+            source_dir=str(Path(workflow.basedir).parent),
+        ),
+        "tables": [path for _, path, _ in REPORT_TABLES.values()],
+        "figures": [f for f in FIGURE_FILES if f.endswith(".png")],
+        "captions": [os.path.relpath(captions / f"{name}.rst") for name in names],
+        "code": code("write_report_pages.py"),
+    }
+
+
+def report_pages():
+    """Every page of the report, each registered with its caption and category."""
+    pages = []
+    for name, (title, _, category) in REPORT_TABLES.items():
+        pages.append(
+            report_item(
+                result("report", f"{name}.html"),
+                caption=f"../report/{name}.rst",
+                category=category,
+                subcategory="Tables",
+                labels={"table": title},
+            )
+        )
+    supplements = [f for f in registry.FIGURES if f.category == "Supplement"]
+    for figure in registry.FIGURES:
+        # "Figure 2" or "Supplement 1" first, so the report lists them in the paper's order
+        number = (
+            f"Supplement {supplements.index(figure) + 1}"
+            if figure in supplements
+            else figure.name.replace("figure", "Figure ")
+        )
+        pages.append(
+            report_item(
+                result("report", f"{figure.name}.html"),
+                caption=f"../report/{figure.name}.rst",
+                category=figure.category,
+                subcategory="Figures",
+                labels={"figure": number, "shows": figure.title},
+            )
+        )
+    for name, title, category in (
+        ("data", "the subjects and depths", "Data"),
+        ("software", "versions and source", "Provenance"),
+    ):
+        pages.append(
+            report_item(
+                result("report", f"{name}.html"),
+                caption=f"../report/{name}.rst",
+                category=category,
+                subcategory="Pages",
+                labels={"page": title},
+            )
+        )
+    return pages
 
 
 # Every figure file the default target builds (PDF and PNG of each).

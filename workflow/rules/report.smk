@@ -23,6 +23,8 @@ rule provenance:
             rules.fit_tables.output,
             rules.claims_table.output,
             FIGURE_FILES,
+            rules.article.output,
+            report_pages(),
         ],
         code=code("write_provenance.py"),
     output:
@@ -40,3 +42,19 @@ rule provenance:
         ENVIRONMENT
     script:
         "../scripts/write_provenance.py"
+
+
+rule report_pages:
+    """The report's pages: each table and figure shown with its caption; data; software."""
+    input:
+        **report_page_inputs(),
+    output:
+        report_pages(),
+    log:
+        result("logs", "report_pages.log"),
+    benchmark:
+        result("benchmarks", "report_pages.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/write_report_pages.py"
