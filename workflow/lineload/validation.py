@@ -22,8 +22,10 @@ import pandas as pd
 
 __all__ = [
     "InputError",
+    "check_forces",
     "check_no_duplicate_readings",
     "check_subjects",
+    "read_forces",
     "read_table",
 ]
 
@@ -334,4 +336,103 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None):
         if os.path.isfile(path):
             outline = read_table(path, schemas["outlines"], path_shown)
             outlines[subject] = sorted(float(d) for d in set(outline["depth_mm"]))
+    check_forces(raw_dir, schemas.get("forces") or _forces_schema(), subjects, depths_mm, shown)
     return {"subjects": subjects, "depths_mm": depths_mm, "outlines": outlines}
+
+
+# ------------------------------------------------------------------ forces (optional)
+
+
+def check_forces(raw_dir, schema, subjects, depths_mm, raw_dir_shown=None):
+    """Check the optional ``forces.csv``: typed cells, known trials, one force per trial.
+
+    Parameters
+    ----------
+    raw_dir : str
+        The raw-data folder.
+    schema : dict
+        Row schema of ``forces.csv`` (``workflow/schemas/forces.schema.yaml``).
+    subjects : pandas.DataFrame
+        The checked subject sheet (:func:`read_table`).
+    depths_mm : dict
+        Subject -> depths of its profile file (mm).
+    raw_dir_shown : str, optional
+        How to name the folder in messages.
+
+    Returns
+    -------
+    pandas.DataFrame or None
+        The typed forces (index: line numbers), or None without the file.
+
+    Raises
+    ------
+    InputError
+        Naming the line and column of the first problem: a cell that breaks the
+        schema (a force of zero or less, text), a subject not in the subject
+        sheet, a depth with no profile for that subject, or a second force for
+        the same subject and depth.
+    """
+    path = os.path.join(raw_dir, "forces.csv")
+    if not os.path.isfile(path):
+        return None
+    shown = "/".join([(raw_dir_shown or raw_dir).rstrip("/"), "forces.csv"])
+    forces = read_table(path, schema, shown)
+    known = set(subjects["subject"])
+    seen = {}
+    for line, subject, depth_mm in zip(
+        forces.index, forces["subject"], forces["depth_mm"], strict=True
+    ):
+        if subject not in known:
+            _fail(
+                shown,
+                line,
+                "subject",
+                f"subject {subject!r} is not in subjects.csv; expected a listed subject",
+            )
+        profile_depths = depths_mm.get(subject, [])
+        if not any(abs(depth_mm - d) <= 1e-9 * max(1.0, d) for d in profile_depths):
+            listed = ", ".join(f"{d:g}" for d in profile_depths)
+            _fail(
+                shown,
+                line,
+                "depth_mm",
+                f"no profile of subject {subject!r} at {depth_mm:g} mm; expected a depth of "
+                f"profiles/{subject}.csv ({listed})",
+            )
+        key = (subject, round(float(depth_mm), 9))
+        if key in seen:
+            _fail(
+                shown,
+                line,
+                ["subject", "depth_mm"],
+                f"a second force for {subject!r} at {depth_mm:g} mm (the first is on line "
+                f"{seen[key]}); expected one force per subject and depth",
+            )
+        seen[key] = line
+    return forces
+
+
+def read_forces(path):
+    """Read a checked ``forces.csv`` as ``subject``, ``depth_mm``, ``force_N``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file that passed :func:`check_forces`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The three columns (any others dropped), in file order, default index.
+    """
+    from .io import load_schema
+
+    table = read_table(path, load_schema("forces"))
+    return table[["subject", "depth_mm", "force_N"]].reset_index(drop=True)
+
+
+def _forces_schema():
+    """The row schema of ``forces.csv`` (for callers that pass no ``forces`` schema)."""
+    from .io import load_schema
+
+    return load_schema("forces")

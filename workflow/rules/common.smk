@@ -81,8 +81,9 @@ def check_inputs():
 
     Returns what the rules need from the data as plain values (JSON-ready, so a
     passed check can be remembered): the validated config, each subject's
-    species, magnification and display label in subject-sheet order, the depths
-    of each subject's profiles and of its outlines.
+    species, magnification and display label in subject-sheet order, its
+    contact length (None without one), the depths of each subject's profiles
+    and of its outlines.
     """
     from lineload.validation import InputError, check_dataset
 
@@ -94,7 +95,10 @@ def check_inputs():
     try:
         dataset = check_dataset(
             raw,
-            {name: load_schema(name) for name in ("subjects", "profiles", "outlines")},
+            {
+                name: load_schema(name)
+                for name in ("subjects", "profiles", "outlines", "forces")
+            },
         )
         validate(dataset["subjects"], "../schemas/subjects.schema.yaml")
     except InputError as error:
@@ -116,9 +120,19 @@ def check_inputs():
             sheet["subject"], sheet["species"], sheet["magnification"], labels
         )
     }
+    # Optional column: length of wedge edge in contact (mm), None without it.
+    contact = (
+        sheet["contact_length_mm"]
+        if "contact_length_mm" in sheet.columns
+        else [None] * len(sheet)
+    )
     return {
         "config": dict(config),
         "subjects": subjects,
+        "contact_length_mm": {
+            str(s): None if c is None else float(c)
+            for s, c in zip(sheet["subject"], contact)
+        },
         "depths_mm": dataset["depths_mm"],
         "outlines": dataset["outlines"],
     }
@@ -153,6 +167,8 @@ else:
 
 RAW = config["raw_data"]
 RES = config["results"]
+# The optional force readings (data contract: data/README.md); [] without them.
+FORCES = [f"{RAW}/forces.csv"] if Path(RAW, "forces.csv").is_file() else []
 
 # Subject id -> {"species", "magnification", "label"}, in subject-sheet order.
 SUBJECTS = DATASET["subjects"]
@@ -305,6 +321,8 @@ FIGURE_TABLES = {
     ),
     "sensitivity": [result("tables", "sensitivity.csv")],
     "checks": [result("tables", "trial_checks.csv")],
+    "mechanics": [result("tables", "mechanics.csv")],
+    "mechanics_trials": [result("tables", "mechanics_trials.csv")],
 }
 
 
@@ -479,8 +497,8 @@ FIGURE_FILES = [f for group in registry.GROUPS for f in figure_files(group)]
 
 # ---------------------------------------------------------------- provenance
 def raw_files():
-    """Every raw input the build read: subject sheet, profiles, outlines, notice."""
-    files = [f"{RAW}/subjects.csv"]
+    """Every raw input the build read: subject sheet, forces, profiles, outlines, notice."""
+    files = [f"{RAW}/subjects.csv", *FORCES]
     files += [f"{RAW}/profiles/{s}.csv" for s in SUBJECT_IDS]
     files += [f"{RAW}/outlines/{s}.csv" for s in DATASET["outlines"]]
     if Path(RAW, "NOTICE.txt").is_file():

@@ -21,6 +21,7 @@ rule provenance:
             rules.fits_table.output,
             rules.sensitivity_tables.output,
             rules.fit_tables.output,
+            rules.mechanics.output,
             rules.claims_table.output,
             FIGURE_FILES,
             rules.article.output,

@@ -30,11 +30,20 @@ rule fit_tables:
 
 
 rule claims_table:
-    """Recompute the paper's claims from the fits and averaged profiles, with verdicts."""
+    """Recompute the paper's claims from the fits, averaged profiles and forces, with verdicts."""
     input:
-        spec=spec("claims_table", settings=config["claims"], notice=NOTICE),
+        spec=spec(
+            "claims_table",
+            settings={
+                **config["claims"],
+                "force_sd_N": config["mechanics"]["force_sd_N"],
+            },
+            notice=NOTICE,
+        ),
         fits=result("tables", "fits.csv"),
         averaged=expand(result("data", "averaged", "{batch}.csv"), batch=BATCH_IDS),
+        # C11 checks the measured forces too when there are any
+        forces=FORCES,
         code=code("make_claims.py"),
     output:
         csv=report_item(
