@@ -7,7 +7,6 @@ import sys
 import time
 
 import pytest
-import yaml
 
 from conftest import REPO, run_snakemake, write_small_dataset
 
@@ -25,12 +24,6 @@ def check_ok(process):
     return process
 
 
-def slurm_profile_option(key):
-    """The SLURM profile's group settings, so the test exercises the same bundling."""
-    profile = yaml.safe_load((REPO / "profiles" / "slurm" / "config.yaml").read_text())
-    return profile[key]
-
-
 def test_fits_through_a_cluster_executor_equal_a_local_run(tmp_path):
     raw = write_small_dataset(tmp_path / "raw", subjects=SUBJECTS)
     local, cluster = tmp_path / "local", tmp_path / "cluster"
@@ -42,8 +35,6 @@ def test_fits_through_a_cluster_executor_equal_a_local_run(tmp_path):
             "--cluster-generic-submit-cmd", str(REPO / "tests" / "cluster" / "submit.sh"),
             "--jobs", "4",
             "--latency-wait", "10",
-            "--groups", *slurm_profile_option("groups"),
-            "--group-components", *slurm_profile_option("group-components"),
             raw=raw,
             results=cluster,
         )

@@ -229,5 +229,37 @@ def article_facts(
         },
     }
     if mechanics is not None and len(mechanics):
-        facts["mechanics"] = {"n_subjects": len(mechanics)}
+        facts["mechanics"] = _mechanics_facts(mechanics)
     return facts
+
+
+def _with_error(value, error, decimals):
+    """``"0.083 ± 0.002"``; the value alone without an error; ``"–"`` if missing."""
+    if value is None or not math.isfinite(float(value)):
+        return "–"
+    text = format_fixed(value, decimals)
+    if error is not None and math.isfinite(float(error)):
+        text += f" ± {format_fixed(error, decimals)}"
+    return text
+
+
+def _mechanics_facts(mechanics):
+    """The membrane per subject, as the article's table shows it."""
+    rows = [
+        {
+            "subject": str(row["subject"]),
+            "species": str(row["species"]),
+            "n_depths": str(int(row["n_depths"])),
+            "pretension": _with_error(row["pretension_N_per_mm"], row["pretension_se_N_per_mm"], 3),
+            "stiffness": _with_error(row["stiffness_N_per_mm"], row["stiffness_se_N_per_mm"], 2),
+            "prestrain": _with_error(row["prestrain"], row["prestrain_se"], 2),
+        }
+        for _, row in mechanics.iterrows()
+    ]
+    with_lengths = int(np.isfinite(mechanics["pretension_N_per_mm"].to_numpy(float)).sum())
+    return {
+        "n_subjects": len(rows),
+        "n_words": number_words(len(rows)),
+        "with_contact_lengths": with_lengths,
+        "rows": rows,
+    }

@@ -389,6 +389,7 @@ def article_inputs():
         "fits": result("tables", "fits.csv"),
         "claims": result("tables", "claims.csv"),
         "checks": result("tables", "trial_checks.csv"),
+        "mechanics": result("tables", "mechanics.csv"),
         "figures": [f for f in FIGURE_FILES if f.endswith(".pdf")],
         "code": code("write_article.py"),
     }
@@ -418,6 +419,16 @@ REPORT_TABLES = {
         "Refits under other analysis choices",
         result("tables", "sensitivity.csv"),
         "Supplement",
+    ),
+    "mechanics": (
+        "The membrane per subject: pre-tension, stiffness, pre-strain",
+        result("tables", "mechanics.csv"),
+        "Mechanics",
+    ),
+    "mechanics_trials": (
+        "The membrane per trial: strain, load angle, force",
+        result("tables", "mechanics_trials.csv"),
+        "Mechanics",
     ),
 }
 

@@ -18,12 +18,14 @@ rule mechanics:
             result("tables", "mechanics.csv"),
             caption="../report/mechanics.rst",
             category="Mechanics",
+            subcategory="CSV files",
             labels={"table": "membrane per subject"},
         ),
         trials=report_item(
             result("tables", "mechanics_trials.csv"),
             caption="../report/mechanics_trials.rst",
             category="Mechanics",
+            subcategory="CSV files",
             labels={"table": "membrane per trial"},
         ),
     log:

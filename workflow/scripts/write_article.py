@@ -53,6 +53,7 @@ def write_article(inputs, outputs, settings, subjects, depths_mm, notice, source
         settings,
         notice,
         software,
+        read_results_csv(inputs.mechanics),
     )
     write_text(json_text(facts), outputs.facts)
     with replaced_atomically(outputs.source) as temporary:
