@@ -66,10 +66,12 @@ __all__ = [
     "fit_trials",
     "fit_waterbed",
     "fit_waterbed_free_depth",
+    "fit_windowed",
     "goodness_of_fit",
     "in_fit_window",
     "minimise_in_L",
     "profile_interval",
+    "window_points",
 ]
 
 #: 95 % quantile of the chi-square distribution with one degree of freedom
@@ -1284,6 +1286,36 @@ def window_points(distance_mm, deflection_mm, window_mm):
     return x_mm[keep], y_mm[keep], np.bincount(trial[keep], minlength=counts.size)
 
 
+def fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, models=tuple(MODELS)):
+    """Fit models to many trials at once, each on its points inside a fit window.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : sequence of array_like
+        The averaged profile of each trial (mm), one 1-D array per trial.
+    depth_mm : float or array_like
+        Indentation depth of each trial (mm), W0 of the fixed-depth waterbed fits.
+    window_mm : float or array_like
+        Points with ``0 < distance <= window_mm`` and a finite deflection are fitted.
+    models : iterable of str, optional
+        Keys of :data:`MODELS`.
+
+    Returns
+    -------
+    dict
+        ``n_points`` and ``max_distance_mm`` (arrays by trial, NaN for a trial
+        without points) and each model's :class:`BatchFits` by its name.
+    """
+    x_mm, y_mm, counts = window_points(distance_mm, deflection_mm, window_mm)
+    depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), counts.shape)
+    fits = _fit_flat(x_mm, y_mm, counts, depth_mm, tuple(models))
+    max_distance_mm = np.full(counts.size, np.nan)
+    some = counts > 0
+    if some.any():
+        max_distance_mm[some] = np.maximum.reduceat(x_mm, (np.cumsum(counts) - counts)[some])
+    return {"n_points": counts, "max_distance_mm": max_distance_mm, **fits}
+
+
 def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm):
     """Fit every model of the fit table to many trials, each on its windowed points.
 
@@ -1301,20 +1333,13 @@ def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm):
     list of dict
         One row per trial, as :func:`fit_trial` gives it.
     """
-    x_mm, y_mm, counts = window_points(distance_mm, deflection_mm, window_mm)
-    depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), counts.shape)
-    window_mm = np.broadcast_to(np.asarray(window_mm, dtype=float), counts.shape)
-    fits = _fit_flat(x_mm, y_mm, counts, depth_mm, TABLE_MODELS)
-    max_distance_mm = np.full(counts.size, np.nan)
-    some = counts > 0
-    if some.any():
-        offsets = np.cumsum(counts) - counts
-        max_distance_mm[some] = np.maximum.reduceat(x_mm, offsets[some])
+    fits = fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, TABLE_MODELS)
+    count = fits["n_points"].size
     columns = {
-        "depth_mm": depth_mm.tolist(),
-        "fit_window_mm": window_mm.tolist(),
-        "n_points": counts.tolist(),
-        "max_distance_mm": max_distance_mm.tolist(),
+        "depth_mm": np.broadcast_to(np.asarray(depth_mm, dtype=float), count).tolist(),
+        "fit_window_mm": np.broadcast_to(np.asarray(window_mm, dtype=float), count).tolist(),
+        "n_points": fits["n_points"].tolist(),
+        "max_distance_mm": fits["max_distance_mm"].tolist(),
     }
     for model in TABLE_MODELS:
         fit = fits[model]
