@@ -6,12 +6,22 @@ per job); the outputs hold every subject of the batch, in subject-sheet order.
 
 import argparse
 
-import pandas as pd
+import numpy as np
 
 import _bootstrap  # noqa: F401  (puts the lineload package on the path)
-from lineload.averaging import AVERAGED_COLUMNS, CONVERTED_COLUMNS, average_sides, to_tissue_mm
-from lineload.io import load_schema, write_csv
-from lineload.validation import check_no_duplicate_readings, read_table
+from lineload.averaging import (
+    AVERAGED_COLUMNS,
+    CONVERTED_COLUMNS,
+    average_columns,
+    tissue_columns,
+)
+from lineload.io import load_schema, write_columns
+from lineload.validation import check_no_duplicate_readings, read_columns
+
+
+def joined(parts, names):
+    """The subjects' columns (dicts of arrays), one after the other."""
+    return {name: np.concatenate([part[name] for part in parts]) for name in names}
 
 
 def main():
@@ -31,19 +41,21 @@ def main():
     schema = load_schema("profiles")
     converted, averaged = [], []
     for subject, magnification, path in args.subject:
-        profile = read_table(path, schema)
+        # columns of numpy arrays: one DataFrame per output, not several per subject
+        profile = read_columns(path, schema)
         check_no_duplicate_readings(profile, path)
-        readings = to_tissue_mm(profile, subject, float(magnification))
-        means = average_sides(readings)
+        readings = tissue_columns(profile[0], subject, float(magnification))
+        means = average_columns(readings)
         converted.append(readings)
         averaged.append(means)
         print(
-            f"{subject}: {len(readings)} readings -> {len(means)} averaged points "
-            f"({int((means['n_sides'] == 1).sum())} one-sided) at "
-            f"{means['depth_mm'].nunique()} depths"
+            f"{subject}: {len(readings['depth_mm'])} readings -> {len(means['depth_mm'])} "
+            f"averaged points ({int((means['n_sides'] == 1).sum())} one-sided) at "
+            f"{len(set(means['depth_mm']))} depths"
         )
-    write_csv(pd.concat(converted, ignore_index=True), args.converted, CONVERTED_COLUMNS)
-    write_csv(pd.concat(averaged, ignore_index=True), args.averaged, AVERAGED_COLUMNS)
+    # the same bytes as write_csv of a DataFrame, without pandas
+    write_columns(joined(converted, CONVERTED_COLUMNS), args.converted, CONVERTED_COLUMNS)
+    write_columns(joined(averaged, AVERAGED_COLUMNS), args.averaged, AVERAGED_COLUMNS)
 
 
 if __name__ == "__main__":
