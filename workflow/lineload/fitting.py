@@ -453,7 +453,10 @@ def _illinois(g, a, b, fa, fb, rtol=1e-10):
         if active.size == 0:
             break
         a_, b_, fa_, fb_ = a[active], b[active], fa[active], fb[active]
-        c_ = (a_ * fb_ - b_ * fa_) / (fb_ - fa_)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            # an infinite objective outside (an arc folded past the load) gives NaN,
+            # as the one-trial search always has
+            c_ = (a_ * fb_ - b_ * fa_) / (fb_ - fa_)
         fc = g(c_, active)
         right = fc > 0
         previous = last[active]
