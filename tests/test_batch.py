@@ -337,25 +337,32 @@ def test_prepared_tables_are_byte_identical_to_the_per_depth_code(scale_raw, tmp
     # the converted and averaged tables of a batch, as prepare_profiles.py writes them
     subjects = read_table(scale_raw / "subjects.csv", SUBJECT_SCHEMA)
     batch = list(zip(subjects["subject"], subjects["magnification"], strict=True))[:25]
-    converted, averaged, expected_converted, expected_averaged = [], [], [], []
+    converted, expected_converted, expected_averaged = [], [], []
     for subject, magnification in batch:
         path = scale_raw / "profiles" / f"{subject}.csv"
         readings = averaging.tissue_columns(
             read_columns(path, PROFILE_SCHEMA)[0], subject, magnification
         )
         converted.append(readings)
-        averaged.append(averaging.average_columns(readings))
         old = reference_averaging.to_tissue_mm(
             read_table(path, PROFILE_SCHEMA), subject, magnification
         )
         expected_converted.append(old)
         expected_averaged.append(reference_averaging.average_sides(old))
-    for parts, expected, names in (
-        (converted, expected_converted, averaging.CONVERTED_COLUMNS),
-        (averaged, expected_averaged, averaging.AVERAGED_COLUMNS),
-    ):
-        columns = {name: np.concatenate([part[name] for part in parts]) for name in names}
-        frame = pd.concat(expected, ignore_index=True)
-        assert csv_bytes(tmp_path, io.write_columns, columns, names) == csv_bytes(
-            tmp_path, io.write_csv, frame, names
-        )
+    # the whole batch averaged in one pass, and subject by subject: the same
+    averaged = averaging.average_subjects(converted)
+    one_by_one = [averaging.average_columns(readings) for readings in converted]
+    for name in averaging.AVERAGED_COLUMNS:
+        joined = np.concatenate([part[name] for part in one_by_one])
+        assert np.array_equal(averaged[name], joined, equal_nan=joined.dtype.kind == "f")
+    names = averaging.CONVERTED_COLUMNS
+    columns = {name: np.concatenate([part[name] for part in converted]) for name in names}
+    frame = pd.concat(expected_converted, ignore_index=True)
+    assert csv_bytes(tmp_path, io.write_columns, columns, names) == csv_bytes(
+        tmp_path, io.write_csv, frame, names
+    )
+    names = averaging.AVERAGED_COLUMNS
+    frame = pd.concat(expected_averaged, ignore_index=True)
+    assert csv_bytes(tmp_path, io.write_columns, averaged, names) == csv_bytes(
+        tmp_path, io.write_csv, frame, names
+    )

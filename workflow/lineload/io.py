@@ -168,14 +168,23 @@ def write_rows(rows, columns, path):
 
 def _column_cells(values):
     """The cells of one column as :func:`write_csv` writes a column of that dtype."""
+    import numpy as np  # here: the table-joining job imports no numpy
+
     kind = getattr(values, "dtype", None)
     kind = kind.kind if kind is not None else "O"
+    if kind == "f" and values.size > 16 and not np.any(np.signbit(values) & (values == 0)):
+        # a column of few distinct numbers (depths, distances) is formatted once per
+        # number (-0.0, which unique would merge with 0.0, is written "-0": not here)
+        distinct, index = np.unique(values, return_inverse=True)
+        if 2 * distinct.size < values.size:
+            text = np.array(_column_cells(distinct), dtype=object)
+            return text[index.reshape(-1)].tolist()
     values = values.tolist()
     if kind == "f":
         return ["" if value != value else FLOAT_FORMAT % value for value in values]
     if kind in "iub":
         return [str(value) for value in values]
-    return [format_cell(value) for value in values]
+    return [value if type(value) is str else format_cell(value) for value in values]
 
 
 def write_columns(columns, path, names=None):

@@ -12,7 +12,7 @@ import _bootstrap  # noqa: F401  (puts the lineload package on the path)
 from lineload.averaging import (
     AVERAGED_COLUMNS,
     CONVERTED_COLUMNS,
-    average_columns,
+    average_subjects,
     tissue_columns,
 )
 from lineload.io import load_schema, write_columns
@@ -39,23 +39,31 @@ def main():
     args = parser.parse_args()
 
     schema = load_schema("profiles")
-    converted, averaged = [], []
+    converted = []
     for subject, magnification, path in args.subject:
-        # columns of numpy arrays: one DataFrame per output, not several per subject
+        # columns of numpy arrays: one pass over the batch, no DataFrame per subject
         profile = read_columns(path, schema)
         check_no_duplicate_readings(profile, path)
-        readings = tissue_columns(profile[0], subject, float(magnification))
-        means = average_columns(readings)
-        converted.append(readings)
-        averaged.append(means)
+        converted.append(tissue_columns(profile[0], subject, float(magnification)))
+    averaged = average_subjects(converted)
+    # each subject's rows follow the previous subject's (every subject has some)
+    subjects = averaged["subject"]
+    starts = np.flatnonzero(np.r_[True, subjects[1:] != subjects[:-1]])
+    points = np.diff(np.r_[starts, subjects.size])
+    one_sided = np.add.reduceat(averaged["n_sides"] == 1, starts)
+    new_depth = np.r_[True, averaged["depth_mm"][1:] != averaged["depth_mm"][:-1]]
+    new_depth[starts] = True
+    depths = np.add.reduceat(new_depth, starts)
+    for readings, start, n, one, d in zip(
+        converted, starts, points, one_sided, depths, strict=True
+    ):
         print(
-            f"{subject}: {len(readings['depth_mm'])} readings -> {len(means['depth_mm'])} "
-            f"averaged points ({int((means['n_sides'] == 1).sum())} one-sided) at "
-            f"{len(set(means['depth_mm']))} depths"
+            f"{subjects[start]}: {len(readings['depth_mm'])} readings -> {n} averaged points "
+            f"({int(one)} one-sided) at {int(d)} depths"
         )
     # the same bytes as write_csv of a DataFrame, without pandas
     write_columns(joined(converted, CONVERTED_COLUMNS), args.converted, CONVERTED_COLUMNS)
-    write_columns(joined(averaged, AVERAGED_COLUMNS), args.averaged, AVERAGED_COLUMNS)
+    write_columns(averaged, args.averaged, AVERAGED_COLUMNS)
 
 
 if __name__ == "__main__":
