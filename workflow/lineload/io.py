@@ -13,6 +13,7 @@ import io
 import math
 import numbers
 import os
+import re
 import tempfile
 from pathlib import Path
 
@@ -131,6 +132,11 @@ def format_cell(value):
     -------
     str
     """
+    kind = type(value)
+    if kind is float:  # the common cases first
+        return "" if value != value else FLOAT_FORMAT % value
+    if kind is str:
+        return value
     if value is None:
         return ""
     if isinstance(value, bool) or getattr(getattr(value, "dtype", None), "kind", "") == "b":
@@ -164,6 +170,10 @@ def write_rows(rows, columns, path):
     for row in rows:
         writer.writerow([format_cell(row.get(column)) for column in columns])
     write_text(buffer.getvalue(), path)
+
+
+#: Characters that make the csv module quote a cell (delimiter, quote, line ends).
+_QUOTED = re.compile(r'[,"\r\n]')
 
 
 def _column_cells(values):
@@ -204,10 +214,22 @@ def write_columns(columns, path, names=None):
         Column order (the header); defaults to the mapping's.
     """
     names = list(columns) if names is None else list(names)
+    cells = [_column_cells(columns[name]) for name in names]
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(names)
-    writer.writerows(zip(*(_column_cells(columns[name]) for name in names), strict=True))
+    text_cells = [
+        column
+        for name, column in zip(names, cells, strict=True)
+        if getattr(getattr(columns[name], "dtype", None), "kind", "O") not in "fiub"
+    ]
+    if len(names) > 1 and not any(_QUOTED.search("\x00".join(column)) for column in text_cells):
+        # no cell the csv module would quote (numbers never are, nor is an empty cell
+        # in a row of several): plain joins give its bytes
+        rows = map(",".join, zip(*cells, strict=True))
+        buffer.write("".join(f"{row}\n" for row in rows))
+    else:
+        writer.writerows(zip(*cells, strict=True))
     write_text(buffer.getvalue(), path)
 
 
