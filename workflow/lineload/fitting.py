@@ -25,16 +25,21 @@ fitted:
 Batches
 -------
 Every algorithm here runs on many trials at once (:func:`fit_trials`,
-:func:`fit_batch`); the single-trial functions (:func:`fit_waterbed`,
-:func:`fit_trial`, :func:`minimise_in_L`, ...) are the same code with a batch
-of one.  The trials' points are padded to a common length with a mask, and
-each step (the exact quartic of the parabola, the grid and zoom in L, the
-profile-likelihood interval, the linear regression) is done for all trials
-together, in lockstep where trials need different numbers of steps.  A trial's
-numbers do not depend on which other trials share its batch: padded sums run
-over a multiple of 8 entries (numpy's pairwise summation then rounds the same
-for any amount of padding, up to 128 points), and every iterative solver stops
-element by element.
+:func:`fit_windowed`, :func:`fit_batch`); the single-trial functions
+(:func:`fit_waterbed`, :func:`fit_trial`, :func:`minimise_in_L`, ...) are the
+same code with a batch of one.  The trials' points are padded to a common
+length, and each step (the exact quartic of the parabola, the grid and zoom in
+L, the profile-likelihood interval, the linear regression) is done for all
+trials together, in lockstep where trials need different numbers of steps.  A
+trial's numbers do not depend on its batch, and are those of the earlier
+one-trial code to the last bit (the Boussinesq regression, now in closed form,
+to about 1e-14): a sum over a trial's points is rounded as ``numpy.sum`` of
+those points alone, and the iterative model solves stop per trial exactly as a
+one-trial call stopped them (see ``independent_axes`` in
+:mod:`lineload.models`).  Only the grid, whose best point is all that is used,
+is evaluated more cheaply: to rounding noise, with an exact recheck where its
+two best values nearly tie, and for the shifted parabola only where a lower
+bound from eq. 19 does not prove a point worse.
 """
 
 from __future__ import annotations

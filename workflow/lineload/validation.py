@@ -127,6 +127,10 @@ def _check_column(path, column, cells, lines, rules):
 _NOT_PLAIN = re.compile(r'["\r\x00]')
 
 
+#: A line with no cell that is not empty (a blank row).
+_BLANK_LINE = re.compile(r"^,*$", re.MULTILINE)
+
+
 def _plain_rows(path):
     """The non-blank rows of a plain CSV file, each with its line number, or None.
 
@@ -148,6 +152,9 @@ def _plain_rows(path):
         lines.pop()  # the end of the last line, not a row
     # without whitespace other than the line ends no cell needs stripping
     strip = any(character.isspace() for character in set(text) - {"\n"})
+    if not strip and not _BLANK_LINE.search("\n".join(lines)):
+        # no blank row to leave out: every line is a row
+        return [line.split(",") for line in lines], list(range(1, len(lines) + 1)), False
     rows, numbers = [], []
     for number, line in enumerate(lines, start=1):
         if strip:
@@ -242,7 +249,7 @@ def read_columns(path, schema, display_path=None):
     if not rows:
         _fail(shown, None, None, "has a header but no data rows; expected at least one data row")
     width = len(header)
-    if any(len(row) != width for row in rows):
+    if set(map(len, rows)) != {width}:
         for row, line in zip(rows, lines, strict=True):
             if len(row) != width:
                 _fail(
