@@ -18,13 +18,13 @@ import os
 import re
 
 import numpy as np
-import pandas as pd
 
 __all__ = [
     "InputError",
     "check_forces",
     "check_no_duplicate_readings",
     "check_subjects",
+    "read_columns",
     "read_forces",
     "read_table",
 ]
@@ -103,20 +103,172 @@ def _check_column(path, column, cells, lines, rules):
         return values
     bad = np.zeros(len(cells), dtype=bool)
     expected = []
+    distinct = set(cells)  # a column repeats few values: each is tested once
     if "enum" in rules:
         allowed = set(rules["enum"])
-        bad |= np.fromiter((cell not in allowed for cell in cells), dtype=bool, count=len(cells))
+        if not distinct <= allowed:
+            bad |= np.fromiter(
+                (cell not in allowed for cell in cells), dtype=bool, count=len(cells)
+            )
         expected.append(" or ".join(repr(v) for v in rules["enum"]))
     if "pattern" in rules:
         pattern = re.compile(rules["pattern"])
-        bad |= np.fromiter(
-            (pattern.search(cell) is None for cell in cells), dtype=bool, count=len(cells)
-        )
+        if any(pattern.search(cell) is None for cell in distinct):
+            bad |= np.fromiter(
+                (pattern.search(cell) is None for cell in cells), dtype=bool, count=len(cells)
+            )
         expected.append(rules.get("description", f"text matching {rules['pattern']}"))
     if bad.any():
         i = int(np.argmax(bad))
         _fail(path, lines[i], column, f"expected {', '.join(expected)}, got {_shown(cells[i])}")
     return np.array(cells, dtype=object)
+
+
+#: Characters that stop the plain reading of a CSV file (quoted cells, other line ends,
+#: NUL bytes): such files go through the csv module.
+_NOT_PLAIN = re.compile(r'["\r\x00]')
+
+
+#: A line with no cell that is not empty (a blank row).
+_BLANK_LINE = re.compile(r"^,*$", re.MULTILINE)
+
+
+def _plain_rows(path):
+    """The non-blank rows of a plain CSV file, each with its line number, or None.
+
+    A file is plain when it is UTF-8 without quotes, carriage returns or NUL
+    bytes: then every line is one row and its cells are split at the commas,
+    which is what the csv module makes of it, only faster.  Anything else
+    returns None and is read by :func:`_csv_rows`.
+    """
+    with open(path, "rb") as handle:
+        data = handle.read()
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return None
+    if _NOT_PLAIN.search(text):
+        return None
+    lines = text.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()  # the end of the last line, not a row
+    # without whitespace other than the line ends no cell needs stripping
+    strip = any(character.isspace() for character in set(text) - {"\n"})
+    if not strip and not _BLANK_LINE.search("\n".join(lines)):
+        # no blank row to leave out: every line is a row
+        return [line.split(",") for line in lines], list(range(1, len(lines) + 1)), False
+    rows, numbers = [], []
+    for number, line in enumerate(lines, start=1):
+        if strip:
+            if not line.replace(",", "").strip():
+                continue  # a blank row (every cell empty or spaces)
+        elif not line.replace(",", ""):
+            continue
+        rows.append(line.split(","))
+        numbers.append(number)
+    return rows, numbers, strip
+
+
+def _csv_rows(path, shown):
+    """The non-blank rows of a CSV file by the csv module, each with the line it starts on."""
+    rows, numbers = [], []
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as handle:
+            reader = csv.reader(handle)
+            while True:
+                start = reader.line_num + 1  # a row may span lines: report where it starts
+                row = next(reader, None)
+                if row is None:
+                    break
+                if not any(cell.strip() for cell in row):
+                    continue
+                rows.append(row)
+                numbers.append(start)
+    except UnicodeDecodeError as error:
+        _fail(
+            shown,
+            None,
+            None,
+            f"expected UTF-8 text, found a byte that is not ({error.reason} at byte {error.start})",
+        )
+    except csv.Error as error:
+        _fail(shown, reader.line_num, None, f"expected comma-separated values ({error})")
+    return rows, numbers, True
+
+
+def read_columns(path, schema, display_path=None):
+    """Read one contract table and check it against its row schema, as columns.
+
+    :func:`read_table` without the DataFrame: the same checks and messages.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        CSV file to read.
+    schema : dict
+        JSON schema of one row: ``properties`` (column rules) and ``required``.
+    display_path : str, optional
+        How to name the file in messages (defaults to ``path``).
+
+    Returns
+    -------
+    tuple
+        ``(columns, lines)``: a dict of column name to numpy array (schema
+        columns typed, numbers as float, text as objects; in header order) and
+        each row's line number in the file.
+
+    Raises
+    ------
+    InputError
+        As :func:`read_table`.
+    """
+    shown = display_path or os.fspath(path)
+    if not os.path.isfile(path):
+        _fail(shown, None, None, "file not found")
+    found = _plain_rows(path)
+    rows, lines, strip = found if found is not None else _csv_rows(path, shown)
+    if not rows:
+        _fail(
+            shown,
+            None,
+            None,
+            "file is empty; expected a header line naming the columns "
+            + ", ".join(schema.get("required", [])),
+        )
+    header, header_line = [cell.strip() for cell in rows[0]], lines[0]
+    rows, lines = rows[1:], lines[1:]
+    for column in schema.get("required", []):
+        if column not in header:
+            _fail(
+                shown,
+                header_line,
+                column,
+                "missing from the header; expected columns " + ", ".join(schema["required"]),
+            )
+    if len(set(header)) != len(header):
+        column = next(c for c in header if header.count(c) > 1)
+        _fail(shown, header_line, column, "appears twice in the header")
+    if not rows:
+        _fail(shown, None, None, "has a header but no data rows; expected at least one data row")
+    width = len(header)
+    if set(map(len, rows)) != {width}:
+        for row, line in zip(rows, lines, strict=True):
+            if len(row) != width:
+                _fail(
+                    shown,
+                    line,
+                    None,
+                    f"expected {width} comma-separated fields as in the header, got {len(row)}",
+                )
+    properties = schema.get("properties", {})
+    columns = {}
+    for name, cells in zip(header, zip(*rows, strict=True), strict=True):
+        cells = [cell.strip() for cell in cells] if strip else list(cells)
+        if name in properties:
+            columns[name] = _check_column(shown, name, cells, lines, properties[name])
+        else:
+            columns[name] = np.array(cells, dtype=object)
+    return columns, np.array(lines, dtype=np.int64)
 
 
 def read_table(path, schema, display_path=None):
@@ -145,73 +297,39 @@ def read_table(path, schema, display_path=None):
         For a missing, empty or header-only file, a missing column, or the
         first cell that breaks a column rule.
     """
-    shown = display_path or os.fspath(path)
-    if not os.path.isfile(path):
-        _fail(shown, None, None, "file not found")
-    header, header_line, rows, lines = None, None, [], []
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as handle:
-            reader = csv.reader(handle)
-            while True:
-                start = reader.line_num + 1  # a row may span lines: report where it starts
-                row = next(reader, None)
-                if row is None:
-                    break
-                if not any(cell.strip() for cell in row):
-                    continue
-                if header is None:
-                    header, header_line = [cell.strip() for cell in row], start
-                else:
-                    rows.append(row)
-                    lines.append(start)
-    except UnicodeDecodeError as error:
-        _fail(
-            shown,
-            None,
-            None,
-            f"expected UTF-8 text, found a byte that is not ({error.reason} at byte {error.start})",
-        )
-    except csv.Error as error:
-        _fail(shown, reader.line_num, None, f"expected comma-separated values ({error})")
-    if header is None:
-        _fail(
-            shown,
-            None,
-            None,
-            "file is empty; expected a header line naming the columns "
-            + ", ".join(schema.get("required", [])),
-        )
-    for column in schema.get("required", []):
-        if column not in header:
-            _fail(
-                shown,
-                header_line,
-                column,
-                "missing from the header; expected columns " + ", ".join(schema["required"]),
-            )
-    if len(set(header)) != len(header):
-        column = next(c for c in header if header.count(c) > 1)
-        _fail(shown, header_line, column, "appears twice in the header")
-    if not rows:
-        _fail(shown, None, None, "has a header but no data rows; expected at least one data row")
-    for row, line in zip(rows, lines, strict=True):
-        if len(row) != len(header):
-            _fail(
-                shown,
-                line,
-                None,
-                f"expected {len(header)} comma-separated fields as in the header, got {len(row)}",
-            )
-    properties = schema.get("properties", {})
-    columns = {}
-    for name, cells in zip(header, zip(*rows, strict=True), strict=True):
-        cells = [cell.strip() for cell in cells]
-        if name in properties:
-            columns[name] = _check_column(shown, name, cells, lines, properties[name])
-        else:
-            columns[name] = np.array(cells, dtype=object)
-    table = pd.DataFrame(columns, index=pd.Index(lines, name="line"))
-    return table
+    import pandas as pd  # here only: the batch jobs read columns (read_columns) without it
+
+    columns, lines = read_columns(path, schema, display_path)
+    return pd.DataFrame(columns, index=pd.Index(lines, name="line"))
+
+
+def _may_repeat(columns, keys):
+    """Whether two rows could agree in every key column (numpy, no pandas).
+
+    Rows are sorted on the keys and neighbours compared, NaN counting as equal
+    to NaN and -0.0 to 0.0 as pandas counts them; a column numpy cannot sort
+    answers True, leaving the decision to pandas.
+    """
+    arrays = []
+    for key in keys:
+        values = np.asarray(columns[key])
+        if values.dtype.kind != "f":
+            try:
+                values = np.unique(values, return_inverse=True)[1].reshape(-1)
+            except TypeError:
+                return True
+        arrays.append(values)
+    if arrays[0].size < 2:
+        return False
+    order = np.lexsort(arrays[::-1])
+    same = np.ones(order.size - 1, dtype=bool)
+    for values in arrays:
+        ordered = values[order]
+        equal = ordered[1:] == ordered[:-1]
+        if ordered.dtype.kind == "f":
+            equal |= np.isnan(ordered[1:]) & np.isnan(ordered[:-1])
+        same &= equal
+    return bool(same.any())
 
 
 def check_no_duplicate_readings(profile, path, keys=("depth_mm", "side", "distance_image_mm")):
@@ -219,8 +337,9 @@ def check_no_duplicate_readings(profile, path, keys=("depth_mm", "side", "distan
 
     Parameters
     ----------
-    profile : pandas.DataFrame
-        Output of :func:`read_table` for one profile file (rows in file order).
+    profile : pandas.DataFrame or tuple
+        Output of :func:`read_table` for one profile file (rows in file order),
+        or the ``(columns, lines)`` of :func:`read_columns`.
     path : str
         File name used in the message.
     keys : tuple of str
@@ -231,6 +350,13 @@ def check_no_duplicate_readings(profile, path, keys=("depth_mm", "side", "distan
     InputError
         Naming both lines and the columns that coincide.
     """
+    columns = profile[0] if isinstance(profile, tuple) else profile
+    if not _may_repeat(columns, keys):
+        return
+    import pandas as pd  # only to name a duplicate, as it always has
+
+    if isinstance(profile, tuple):
+        profile = pd.DataFrame(profile[0], index=pd.Index(profile[1], name="line"))
     duplicated = profile.duplicated(subset=list(keys), keep="first").to_numpy()
     if duplicated.any():
         i = int(np.argmax(duplicated))
@@ -329,12 +455,12 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None):
     depths_mm, outlines = {}, {}
     for subject in subjects["subject"]:
         path, path_shown = here("profiles", f"{subject}.csv")
-        profile = read_table(path, schemas["profiles"], path_shown)
+        profile = read_columns(path, schemas["profiles"], path_shown)
         check_no_duplicate_readings(profile, path_shown)
-        depths_mm[subject] = sorted(float(d) for d in set(profile["depth_mm"]))
+        depths_mm[subject] = sorted(float(d) for d in set(profile[0]["depth_mm"]))
         path, path_shown = here("outlines", f"{subject}.csv")
         if os.path.isfile(path):
-            outline = read_table(path, schemas["outlines"], path_shown)
+            outline, _ = read_columns(path, schemas["outlines"], path_shown)
             outlines[subject] = sorted(float(d) for d in set(outline["depth_mm"]))
     check_forces(raw_dir, schemas.get("forces") or _forces_schema(), subjects, depths_mm, shown)
     return {"subjects": subjects, "depths_mm": depths_mm, "outlines": outlines}
