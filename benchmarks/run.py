@@ -155,6 +155,7 @@ def main():
             )
 
         figure_seconds = job_seconds("figure_*.tsv")
+        article_seconds = job_seconds("article.tsv")
         all_job_seconds = job_seconds("**/*.tsv")
 
         noop, _ = median_of(max(args.repeats, 5), lambda: run(snakemake(raw=raw, results=results)))
@@ -192,6 +193,14 @@ def main():
                 "",
                 f"a clean build on 2 cores takes at least {version:.2f} + "
                 f"{figure_seconds:.2f} / 2 = {version + figure_seconds / 2:.1f} s",
+            )
+        )
+        rows.append(
+            (
+                "article job of the last clean build (Typst)",
+                article_seconds,
+                "",
+                "facts from the tables, then the PDF",
             )
         )
         rows.append(

@@ -8,6 +8,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-docs}
 mkdir -p "$out"
-snakemake claims_table fit_tables figure_outlines figure_schematics figure_fits \
+PYTHONHASHSEED=0 snakemake claims_table fit_tables figure_outlines figure_schematics figure_fits \
     figure_supplements --rulegraph >"$out/rulegraph.dot"
 graphviz-pure -Tpng -o "$out/rulegraph.png" "$out/rulegraph.dot" 2>/dev/null

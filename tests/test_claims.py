@@ -1,4 +1,4 @@
-"""Claims C1-C10: each rule gives 'holds' on data built to satisfy the claim and
+"""Claims C1-C11: each rule gives 'holds' on data built to satisfy the claim and
 'does not hold' on data built to violate it, and says when it cannot judge."""
 
 import math
@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 from conftest import reading_grid_mm, run_snakemake, write_small_dataset
-from lineload import models
+from lineload import mechanics, models
 from lineload.averaging import AVERAGED_COLUMNS
 from lineload.claims import (
     CLAIM_COLUMNS,
@@ -18,6 +18,7 @@ from lineload.claims import (
     ClaimSettings,
     chord_curvature,
     claim_c7,
+    claim_c11,
     claims_markdown,
     compute_claims,
     deformed_extent_mm,
@@ -114,7 +115,7 @@ def alternating_mm(size, amplitude_mm):
 # ------------------------------------------------------------------- the whole table
 
 
-def test_claims_table_has_c1_to_c10_with_allowed_verdicts():
+def test_claims_table_has_c1_to_c11_with_allowed_verdicts():
     fits, averaged = fitted_dataset(
         [
             ("MK", "monkey", 0.5, power_profile_mm(0.5, 4.0)),
@@ -126,14 +127,14 @@ def test_claims_table_has_c1_to_c10_with_allowed_verdicts():
     )
     result = compute_claims(fits, averaged, SETTINGS)
     assert list(result.columns) == CLAIM_COLUMNS
-    assert list(result["claim"]) == [f"C{i}" for i in range(1, 11)]
+    assert list(result["claim"]) == [f"C{i}" for i in range(1, 12)]
     assert set(result["verdict"]) <= set(VERDICTS)
     assert result[CLAIM_COLUMNS].map(lambda cell: isinstance(cell, str) and cell != "").all().all()
     # the same inputs give the same text
     assert compute_claims(fits, averaged, SETTINGS).equals(result)
     md = claims_markdown(result, notice="Synthetic, for testing")
     body = [ln for ln in md.splitlines() if ln.startswith("| C") and not ln.startswith("| Claim")]
-    assert [ln.split(" | ")[0] for ln in body] == [f"| C{i}" for i in range(1, 11)]
+    assert [ln.split(" | ")[0] for ln in body] == [f"| C{i}" for i in range(1, 12)]
     assert md.rstrip().endswith("Note: Synthetic, for testing")
     assert "Note" not in claims_markdown(result, notice="")
 
@@ -424,6 +425,101 @@ def test_c10_cannot_judge_a_profile_whose_curvature_the_noise_hides():
     assert row["verdict"] == UNTESTABLE and "resolved in 0" in row["our_value"]
 
 
+def membrane_fits(L_by_subject, half_width_mm=0.1):
+    """Fit rows whose exact-arc L is given per depth, with a narrow interval around it."""
+    rows = []
+    for subject, (species, L_by_depth) in L_by_subject.items():
+        for depth_mm, L_mm in L_by_depth.items():
+            rows.append(
+                fit_row(
+                    subject,
+                    species,
+                    depth_mm,
+                    arc_L_mm=L_mm,
+                    arc_L_ci_low_mm=L_mm - half_width_mm,
+                    arc_L_ci_high_mm=L_mm + half_width_mm,
+                )
+            )
+    return table(rows)
+
+
+# L about constant with depth, as the paper's fits (10-15 mm): a stress-free membrane needs
+# ~(2 / 0.5)^3 = 64 times the force; L growing nearly threefold keeps the ratio near 2.
+PAPER_LIKE_L = {"MK": ("monkey", {0.5: 10.0, 1.0: 11.0, 2.0: 12.0})}
+GROWING_L = {"MK": ("monkey", {0.5: 5.0, 1.0: 8.0, 2.0: 14.0})}
+
+
+def membrane_forces(fits, prestrain, stiffness=0.2, contact_mm=10.0):
+    u, v = mechanics.force_terms(fits["depth_mm"], fits["arc_L_mm"])
+    force = 2 * contact_mm * stiffness * (prestrain * u + v)
+    return fits[["subject", "depth_mm"]].assign(force_N=force)
+
+
+def test_c11_fails_for_shapes_whose_stress_free_force_grows_too_fast():
+    fits = membrane_fits(PAPER_LIKE_L)
+    row = claim_c11(fits, None, SETTINGS)
+    assert row["verdict"] == FAILS
+    assert "allowed by 0.3-1 N at most 3.33" in row["our_value"]
+    check = mechanics.ratio_check(0.5, (10.0, 9.9, 10.1), 2.0, (12.0, 11.9, 12.1), 10 / 3)
+    assert format_ratio(check["stress_free"]) in row["our_value"]
+    assert f"{check['prestrain']:.2f}" in row["our_value"]  # the pre-strain that reconciles
+
+
+def format_ratio(value):
+    return f"{value:.1f}"
+
+
+def test_c11_holds_for_shapes_that_keep_the_ratio_inside_the_papers_range():
+    fits = membrane_fits(GROWING_L)
+    check = mechanics.ratio_check(0.5, (5.0, 4.9, 5.1), 2.0, (14.0, 13.9, 14.1), 10 / 3)
+    assert check["stress_free_high"] <= 10 / 3  # the dataset satisfies the claim
+    assert claim_c11(fits, None, SETTINGS)["verdict"] == HOLDS
+    # forces of a stress-free membrane agree; forces of a pre-tensioned one do not
+    free = membrane_forces(fits, prestrain=0.0)
+    assert claim_c11(fits, None, SETTINGS, forces=free)["verdict"] == HOLDS
+    tensioned = membrane_forces(fits, prestrain=0.3)
+    row = claim_c11(fits, None, SETTINGS, forces=tensioned)
+    assert row["verdict"] == FAILS
+    assert "reject it in MK" in row["reason"]
+    assert "stress-free rejected in 1 of 1" in row["our_value"]
+
+
+def test_c11_cannot_judge_when_the_intervals_straddle_the_bound():
+    # a ratio near 3.3 with L intervals wide enough to put it on either side
+    fits = membrane_fits({"MK": ("monkey", {0.5: 5.2, 2.0: 14.0})}, half_width_mm=1.0)
+    check = mechanics.ratio_check(0.5, (5.2, 4.2, 6.2), 2.0, (14.0, 13.0, 15.0), 10 / 3)
+    assert check["stress_free_low"] <= 10 / 3 < check["stress_free_high"]
+    assert claim_c11(fits, None, SETTINGS)["verdict"] == UNTESTABLE
+
+
+def test_c11_without_two_depths_and_when_no_pre_strain_can_help():
+    single = membrane_fits({"MK": ("monkey", {1.0: 12.0})})
+    assert claim_c11(single, None, SETTINGS)["verdict"] == UNTESTABLE
+    # L shrinking with depth: even tension alone gives more than 10/3
+    shrinking = membrane_fits({"HU": ("human", {0.5: 14.5, 2.0: 13.5})})
+    row = claim_c11(shrinking, None, SETTINGS)
+    assert row["verdict"] == FAILS
+    assert "HU" in row["reason"] and "no pre-strain at all" in row["reason"]
+    check = mechanics.ratio_check(0.5, (14.5, 14.4, 14.6), 2.0, (13.5, 13.4, 13.6), 10 / 3)
+    assert check["tension_only"] > 10 / 3 and check["prestrain"] == math.inf
+    assert f"HU {format_ratio(check['stress_free'])} / none" in row["our_value"]
+
+
+def test_compute_claims_passes_the_forces_to_c11_only():
+    fits = membrane_fits(GROWING_L)
+    averaged = pd.concat([profile("MK", d, power_profile_mm(d, 5.0)) for d in (0.5, 1.0, 2.0)])
+    forces = membrane_forces(fits, prestrain=0.3)
+    with_forces = compute_claims(fits, averaged, SETTINGS, forces=forces).set_index("claim")
+    without = compute_claims(fits, averaged, SETTINGS).set_index("claim")
+    assert with_forces.loc["C11", "verdict"] == FAILS and without.loc["C11", "verdict"] == HOLDS
+    assert with_forces.drop(index="C11").equals(without.drop(index="C11"))
+    assert "0.005 N" in with_forces.loc["C11", "rule"]
+    settings = ClaimSettings(force_sd_N=0.02)
+    assert (
+        "0.02 N" in compute_claims(fits, averaged, settings).set_index("claim").loc["C11", "rule"]
+    )
+
+
 # ------------------------------------------------------------------- through snakemake
 
 
@@ -441,7 +537,7 @@ def test_table_rules_end_to_end(tmp_path):
     for log in ("fit_tables.log", "claims_table.log"):
         assert (out / "logs" / log).is_file()
     claims = pd.read_csv(out / "tables" / "claims.csv")
-    assert list(claims["claim"]) == [f"C{i}" for i in range(1, 11)]
+    assert list(claims["claim"]) == [f"C{i}" for i in range(1, 12)]
     assert set(claims["verdict"]) <= set(VERDICTS)
     summary = pd.read_csv(out / "tables" / "summary.csv")
     assert list(zip(summary["species"], summary["n_trials"], strict=True)) == [

@@ -50,5 +50,6 @@ def test_two_clean_builds_are_byte_identical(tmp_path):
     differing = [name for name in first if first[name] != second[name]]
     assert differing == []
     assert "data/outlines/MK.csv" in first
+    assert first["article/reproduction.pdf"].startswith(b"%PDF")  # the article too
     # the notice reached the outputs that carry one
     assert b"Test data for the determinism check." in first["tables/claims.md"]

@@ -444,6 +444,7 @@ def every_figure(notice):
     """Every registered figure, drawn as a job draws it: from one value per argument name."""
     averaged, fits, subjects = make_dataset(PAPER_LIKE)
     sensitivity, checks = sensitivity_inputs()
+    mechanics, mechanics_trials = mechanics_inputs(fits, subjects)
     values = {
         "averaged": averaged,
         "fits": fits,
@@ -452,6 +453,8 @@ def every_figure(notice):
         ),
         "sensitivity": sensitivity,
         "checks": checks,
+        "mechanics": mechanics,
+        "mechanics_trials": mechanics_trials,
         "subjects": subjects,
         "notice": notice,
         "fit_window_mm": WINDOW_MM,
@@ -551,6 +554,7 @@ def layout_values(n_per_species, n_depths, notice=NOTICE):
         ]
     )
     example_depth = depths[len(depths) // 2]
+    mechanics, mechanics_trials = mechanics_inputs(fits, subjects)
     return {
         "averaged": averaged,
         "fits": fits,
@@ -570,6 +574,8 @@ def layout_values(n_per_species, n_depths, notice=NOTICE):
         "outline_depth_mm": depths[0],
         "schematic_depth_ratio": 0.15,
         "noise_mm": 0.01,
+        "mechanics": mechanics,
+        "mechanics_trials": mechanics_trials,
     }, with_intervals
 
 
@@ -623,7 +629,13 @@ LAYOUT_EXTREMES = [(1, 1), (1, 8), (12, 1), (12, 8)]
 SCHEMATIC_NAMES = ("figure3", "figure4", "figure5")
 #: Figures whose layout depends on how many subjects there are (the others are checked
 #: on the one-subject datasets only: their panels follow the depths).
-PER_SUBJECT_NAMES = ("figure2", "figure6", "figure7", "supplement_residuals")
+PER_SUBJECT_NAMES = (
+    "figure2",
+    "figure6",
+    "figure7",
+    "supplement_residuals",
+    "supplement_mechanics",
+)
 
 
 @pytest.mark.parametrize(("n_subjects", "n_depths"), LAYOUT_EXTREMES)
@@ -762,12 +774,13 @@ def test_registry_lists_each_figure_once_in_its_group():
             "supplement_arc_vs_parabola",
             "supplement_sensitivity",
             "supplement_coordinates",
+            "supplement_mechanics",
         ],
     }
     # the paper's figures in its order, then the supplements
     assert names[:7] == [f"figure{i}" for i in range(1, 8)]
     categories = [figure.category for figure in registry.FIGURES]
-    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 4
+    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 5
     for figure in registry.FIGURES:
         assert figure.module in ("data", "schematics", "supplements"), figure.name
         assert figure.title and "\n" not in figure.title, figure.name
@@ -784,7 +797,14 @@ def test_each_group_reads_the_tables_its_figures_take():
     assert registry.file_arguments("outlines") == ("outlines",)
     assert registry.file_arguments("schematics") == ()
     assert registry.file_arguments("fits") == ("averaged", "fits")
-    assert registry.file_arguments("supplements") == ("averaged", "fits", "sensitivity", "checks")
+    assert registry.file_arguments("supplements") == (
+        "averaged",
+        "fits",
+        "sensitivity",
+        "checks",
+        "mechanics",
+        "mechanics_trials",
+    )
     assert registry.arguments_of_group("schematics") == ("notice", "schematic_depth_ratio")
     assert registry.arguments_of_group("fits", "dataset") == ("subjects",)
 
@@ -803,3 +823,73 @@ def test_the_registry_imports_nothing_heavy():
         check=True,
     )
     assert process.stdout.strip() == "[]"
+
+
+# ---------------------------------------------------------------- forces on the wedge
+
+
+def mechanics_inputs(fits, subjects, with_forces=True, prestrain=0.3):
+    """Mechanics tables as the rule writes them, from forces of a pre-tensioned membrane."""
+    from lineload import mechanics
+
+    fits = fits.assign(
+        arc_L_ci_low_mm=fits["arc_L_mm"] - 0.3, arc_L_ci_high_mm=fits["arc_L_mm"] + 0.3
+    )
+    forces = None
+    if with_forces:
+        u, v = mechanics.force_terms(fits["depth_mm"], fits["arc_L_mm"])
+        forces = pd.DataFrame(
+            {
+                "subject": fits["subject"],
+                "depth_mm": fits["depth_mm"],
+                "force_N": 2 * 10.0 * 0.2 * (prestrain * u + v),  # l = 10 mm, E = 0.2 N/mm
+            }
+        )
+    lengths = dict.fromkeys(subjects["subject"], 10.0)
+    return mechanics.mechanics_tables(fits, forces, lengths, 0.005)
+
+
+def test_mechanics_figure_draws_readings_both_models_and_the_fit_per_subject():
+    _, fits, subjects = make_dataset(PAPER_LIKE)
+    table, trials = mechanics_inputs(fits, subjects)
+    fig = supplements.figure_mechanics(trials, table, subjects)
+    panels = {t: ax for t, ax in panels_by_title(fig).items() if t}
+    assert len(panels) == len(PAPER_LIKE)
+    for subject, (species, depths) in PAPER_LIKE.items():
+        ax = panels[f"Finger {subject} ({species})"]
+        lines = {line.get_gid(): line for line in ax.get_lines() if line.get_gid()}
+        assert set(lines) == {
+            f"{kind}:{subject}" for kind in ("force", "stress_free", "tension_only", "fitted")
+        }
+        readings = lines[f"force:{subject}"]
+        assert list(readings.get_xdata()) == depths
+        rows = trials[trials["subject"] == subject]
+        assert list(readings.get_ydata()) == pytest.approx(rows["force_N"].to_list())
+        # both model curves start at the reading of the smallest depth
+        for kind in ("stress_free", "tension_only"):
+            assert lines[f"{kind}:{subject}"].get_ydata()[0] == pytest.approx(
+                rows["force_N"].iloc[0]
+            )
+        # the stress-free membrane grows much faster than the readings of a pre-tensioned one
+        assert lines[f"stress_free:{subject}"].get_ydata()[-1] > 2 * rows["force_N"].iloc[-1]
+        assert list(lines[f"fitted:{subject}"].get_ydata()) == pytest.approx(
+            rows["force_N"].to_list(), rel=1e-6
+        )
+        assert [p.get_gid() for p in ax.patches] == ["paper-range"]
+    assert ax.get_xscale() == ax.get_yscale() == "log"
+
+
+def test_mechanics_figure_without_forces_shows_ratios_against_the_papers_bound():
+    _, fits, subjects = make_dataset(PAPER_LIKE)
+    table, trials = mechanics_inputs(fits, subjects, with_forces=False)
+    assert table.empty
+    fig = supplements.figure_mechanics(trials, table, subjects)
+    ax = panels_by_title(fig)["Finger M1 (monkey)"]
+    lines = {line.get_gid(): line for line in ax.get_lines() if line.get_gid()}
+    assert set(lines) == {"stress_free:M1", "tension_only:M1"}
+    assert lines["stress_free:M1"].get_ydata()[0] == pytest.approx(1.0)
+    band = ax.patches[0]  # the ratios the paper's 0.3-1 N allows
+    assert (band.get_y(), band.get_y() + band.get_height()) == pytest.approx((1.0, 1.0 / 0.3))
+    # one depth only: nothing to compare, the figure says so
+    single = trials[trials["depth_mm"] == 1.0]
+    assert len(supplements.figure_mechanics(single, table, subjects).axes) == 1

@@ -64,3 +64,22 @@ def test_committed_rule_graph_matches_the_workflow(tmp_path):
     assert current == committed, "redraw it: bash docs/rulegraph.sh"
     assert len(current[1]) >= len(current[0]) - 2  # a connected graph, not a list of rules
     assert (tmp_path / "rulegraph.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_github_workflow_is_valid():
+    # check-jsonschema validates against GitHub's own workflow schema, shipped with it
+    workflows = sorted((REPO / ".github" / "workflows").glob("*.yml"))
+    assert workflows
+    command = [str(BIN / "check-jsonschema"), "--builtin-schema", "vendor.github-workflows"]
+    process = run(*command, *(str(w) for w in workflows))
+    assert process.returncode == 0, process.stdout + process.stderr
+
+
+def test_github_workflow_check_can_fail(tmp_path):
+    # the same check on a workflow with a misspelt key fails (the check is not a no-op)
+    broken = tmp_path / "broken.yml"
+    text = (REPO / ".github" / "workflows" / "ci.yml").read_text()
+    broken.write_text(text.replace("runs-on:", "runs_on:"))
+    command = [str(BIN / "check-jsonschema"), "--builtin-schema", "vendor.github-workflows"]
+    process = run(*command, str(broken))
+    assert process.returncode != 0 and "runs-on" in process.stdout + process.stderr

@@ -80,6 +80,15 @@ def test_files_use_fixed_format_and_unix_newlines():
         assert "nan" not in text.lower() and "-0.0," not in text and not text.count("e-"), name
 
 
+def test_scale_datasets_have_no_forces_and_shipped_ones_do():
+    scale = synthetic.build_dataset(n_monkeys=2, n_humans=1)
+    assert "forces.csv" not in scale
+    assert "contact_length_mm" not in scale["subjects.csv"].splitlines()[0]
+    shipped = synthetic.build_dataset()
+    assert shipped["forces.csv"].splitlines()[0] == "subject,depth_mm,force_N"
+    assert shipped["subjects.csv"].splitlines()[0].endswith(",contact_length_mm")
+
+
 def test_subject_stream_does_not_depend_on_dataset_size():
     small = synthetic.build_dataset(n_monkeys=2, n_humans=1)
     large = synthetic.build_dataset(n_monkeys=6, n_humans=4)
@@ -376,6 +385,18 @@ def test_shipped_data_pass_the_contract(subjects):
         validation.check_no_duplicate_readings(profile, str(path))
     for path in sorted((RAW / "outlines").glob("*.csv")):
         validation.read_table(path, io.load_schema("outlines"))
+    depths = {
+        s: sorted(
+            set(
+                validation.read_table(RAW / "profiles" / f"{s}.csv", io.load_schema("profiles"))[
+                    "depth_mm"
+                ]
+            )
+        )
+        for s in sheet["subject"]
+    }
+    forces = validation.check_forces(str(RAW), io.load_schema("forces"), sheet, depths)
+    assert len(forces) == sum(len(d) for d in depths.values())  # a force for every trial
 
 
 def test_readme_documents_the_generator():
@@ -383,6 +404,8 @@ def test_readme_documents_the_generator():
     shipped = synthetic.shipped_subjects()
     assert synthetic.subject_markdown(shipped) in text
     assert synthetic.parameter_markdown(shipped) in text
+    assert synthetic.membrane_markdown(shipped) in text
+    assert synthetic.force_markdown(shipped) in text
     assert "make_synthetic_data.py --out data/raw" in text
     assert str(synthetic.DEFAULT_SEED) in text
     assert "snakemake --cores 2 --config raw_data=" in text

@@ -1,8 +1,9 @@
 """The paper's quantitative claims, recomputed from the fits and the averaged profiles.
 
-Each claim C1-C10 of the paper (text in :data:`CLAIM_TEXT`) has one function that
-computes numbers from the fit table and the left/right mean profiles, then applies
-a rule stated in words (with its thresholds) to reach a verdict.  No verdict is
+Each claim C1-C11 of the paper (text in :data:`CLAIM_TEXT`) has one function that
+computes numbers from the fit table and the left/right mean profiles (C11 also
+from the force readings, when there are any), then applies a rule stated in
+words (with its thresholds) to reach a verdict.  No verdict is
 written in advance.  The verdicts (:data:`VERDICTS`) separate evidence from
 algebra:
 
@@ -28,6 +29,9 @@ fits : pandas.DataFrame
 averaged : pandas.DataFrame
     The averaged profiles of every subject, stacked (columns of
     :data:`lineload.averaging.AVERAGED_COLUMNS`).
+forces : pandas.DataFrame or None
+    The optional force readings (``subject``, ``depth_mm``, ``force_N``); only
+    C11 takes them.
 """
 
 from __future__ import annotations
@@ -40,7 +44,7 @@ import pandas as pd
 from scipy.optimize import brentq
 from scipy.stats import norm
 
-from . import paper
+from . import mechanics, paper
 from .fitting import in_fit_window
 from .models import (
     arc_deflection_mm,
@@ -56,6 +60,7 @@ __all__ = [
     "CLAIM_FUNCTIONS",
     "CLAIM_IDS",
     "EVIDENCE_VERDICTS",
+    "FORCE_CLAIMS",
     "VERDICTS",
     "ClaimSettings",
     "chord_curvature",
@@ -160,6 +165,16 @@ CLAIM_TEXT = {
         "Discussion, third (last) paragraph (eqs 4-5); Fig. 1 caption",
         "approximately circular on either side of the load (no number given)",
     ),
+    "C11": (
+        "(Implicit) The forces measured on the wedge fit the proposed membrane, which carries "
+        "no tension at rest (N = E eps): through F = 2 N sin(theta0), the fitted shapes fix "
+        "how fast the force must grow with depth.",
+        "Methods, 'Experimental procedure' (force range); eqs 3 and 7",
+        f"{paper.FORCE_RANGE_N[0]:g}-{paper.FORCE_RANGE_N[1]:g} N over depths of "
+        f"{min(paper.DEPTHS_MM):g}-{max(paper.DEPTHS_MM):g} mm: at most "
+        f"{paper.FORCE_RANGE_N[1] / paper.FORCE_RANGE_N[0]:.2f} times more force at one depth "
+        "than at another",
+    ),
 }
 
 #: Claim ids in table order.
@@ -188,6 +203,9 @@ class ClaimSettings:
     significance : float
         C10: family-wise error rate of the curvature comparison (Bonferroni over
         the trials tested).
+    force_sd_N : float
+        C11: precision of one force reading (N, standard deviation); config key
+        ``mechanics: force_sd_N``.
     zero_crossing_rtol : float
         C7: largest relative distance between the numerical zero and L/3.  A
         bound on floating-point error, not on the data, so not a config key.
@@ -198,6 +216,7 @@ class ClaimSettings:
     symmetry_tolerance: float = 0.05
     misfit_growth: float = 0.01
     significance: float = 0.05
+    force_sd_N: float = 0.005
     zero_crossing_rtol: float = 1e-6
 
 
@@ -1030,6 +1049,177 @@ def claim_c10(fits, averaged, settings):
     return _row("C10", our, HOLDS, reason, rule)
 
 
+def _shape_checks(fits, allowed):
+    """Per subject with two or more depths of finite arc L: :func:`mechanics.ratio_check`
+    between its smallest and largest depth, with those depths."""
+    variant = mechanics.WATERBED_VARIANT
+    checks = {}
+    for subject, rows in fits.groupby("subject", sort=False):
+        rows = rows[np.isfinite(rows[f"{variant}_L_mm"].to_numpy(float))]
+        rows = rows.sort_values("depth_mm", kind="stable")
+        if rows["depth_mm"].nunique() < 2:
+            continue
+        small, large = rows.iloc[0], rows.iloc[-1]
+
+        def L_of(row):
+            return tuple(
+                float(row[f"{variant}_L{suffix}_mm"]) for suffix in ("", "_ci_low", "_ci_high")
+            )
+
+        check = mechanics.ratio_check(
+            float(small["depth_mm"]), L_of(small), float(large["depth_mm"]), L_of(large), allowed
+        )
+        check["depths_mm"] = (float(small["depth_mm"]), float(large["depth_mm"]))
+        checks[str(subject)] = check
+    return checks
+
+
+def _force_checks(fits, forces, force_sd_N):
+    """Per subject with forces at two or more depths: the stress-free and the full fit."""
+    variant = mechanics.WATERBED_VARIANT
+    lookup = mechanics._force_lookup(forces)
+    checks = {}
+    for subject, rows in fits.groupby("subject", sort=False):
+        rows = rows.sort_values("depth_mm", kind="stable")
+        depth = rows["depth_mm"].to_numpy(float)
+        L_mm = rows[f"{variant}_L_mm"].to_numpy(float)
+        L_sd = mechanics.sd_from_interval(
+            rows[f"{variant}_L_ci_low_mm"], rows[f"{variant}_L_ci_high_mm"]
+        )
+        force = np.array([lookup.get((str(subject), round(d, 9)), np.nan) for d in depth])
+        use = np.isfinite(force) & np.isfinite(L_mm) & np.isfinite(L_sd)
+        if np.unique(depth[use]).size < 2:
+            continue
+        args = (depth[use], L_mm[use], force[use], force_sd_N, L_sd[use])
+        checks[str(subject)] = {
+            "stress_free": mechanics.fit_membrane(*args, stress_free=True),
+            "tensioned": mechanics.fit_membrane(*args),
+            "ratio": float(force[use][-1] / force[use][0]),
+        }
+    return checks
+
+
+def claim_c11(fits, averaged, settings, forces=None):
+    """C11: the forces on the wedge go with the paper's stress-free membrane (eqs 3 and 7)."""
+    low_N, high_N = paper.FORCE_RANGE_N
+    allowed = mechanics.allowed_force_ratio()
+    alpha = settings.significance
+    rule = (
+        "Through F = 2 l N sin(theta0) (eq. 3) with N = E eps (eq. 7), the exact arc fitted "
+        "at each depth (arc_L_mm: its load angle and Green strain, lineload.mechanics) fixes "
+        "the ratio of the forces of a stress-free membrane at two depths, whatever E and the "
+        "contact length l. (a) Shapes: per subject, that ratio between its largest and "
+        "smallest depth, at the fitted L and at the ends of the two L's 95 % intervals; every "
+        f"force inside the paper's {low_N:g}-{high_N:g} N allows at most {high_N:g}/{low_N:g} "
+        f"= {allowed:.2f}. (b) Forces, where forces.csv has two or more depths of a subject: "
+        "the stress-free membrane fitted to them (one constant) by weighted least squares, "
+        f"each force with variance force_sd_N^2 = ({settings.force_sd_N:g} N)^2 plus the "
+        "part from L's uncertainty, and its chi-square against the chi-square distribution "
+        f"(significance = {alpha:g} divided by the number of subjects tested, Bonferroni). "
+        "Does not hold if in some subject even the most favourable ends of the intervals "
+        "give a ratio above the allowed one, or the forces reject the stress-free membrane; "
+        "holds if in every subject the least favourable ends stay within it and no subject's "
+        "forces reject it; cannot be checked otherwise. Beside it: the ratio of a membrane "
+        "held by its tension alone (the limit of a large pre-strain) and the smallest "
+        "pre-strain N0/E that would bring the ratio within the allowed one (none if even "
+        "tension alone exceeds it)."
+    )
+    shapes = _shape_checks(fits, allowed)
+    measured = _force_checks(fits, forces, settings.force_sd_N) if forces is not None else {}
+    if not shapes and not measured:
+        return _row(
+            "C11",
+            "no subject with a finite exact-arc L at two or more depths",
+            UNTESTABLE,
+            "No subject was fitted at two depths, so no force ratio follows from the shapes.",
+            rule,
+        )
+    parts, too_steep, all_within = [], [], True
+    if shapes:
+        fitted = [c["stress_free"] for c in shapes.values()]
+        lowest = [c["stress_free_low"] for c in shapes.values()]
+        tension = [c["tension_only"] for c in shapes.values()]
+        too_steep = [s for s, c in shapes.items() if c["stress_free_low"] > allowed]
+        all_within = all(c["stress_free_high"] <= allowed for c in shapes.values())
+        prestrains = {s: c["prestrain"] for s, c in shapes.items()}
+        finite = {s: p for s, p in prestrains.items() if math.isfinite(p)}
+        none = [s for s, p in prestrains.items() if p == math.inf]
+        spans = sorted({c["depths_mm"] for c in shapes.values()})
+        depth_text = ", ".join(f"{a:g} to {b:g} mm" for a, b in spans)
+        if len(shapes) <= 8:
+            reconcile = "per subject, stress-free ratio / pre-strain that reconciles: " + ", ".join(
+                f"{s} {format_fixed(c['stress_free'], 1)} / "
+                + ("none" if c["prestrain"] == math.inf else format_fixed(c["prestrain"], 2))
+                for s, c in shapes.items()
+            )
+        else:
+            reconcile = "pre-strain that reconciles " + (
+                f"{_span(list(finite.values()), 2, '')} in {len(finite)}" if finite else "none"
+            )
+            reconcile += f", none can in {len(none)} ({_list(none)})" if none else ""
+        parts.append(
+            f"shapes, {_n(len(shapes), 'subject')} (depths {depth_text}): stress-free force "
+            f"ratio {_span(fitted, 1, '')} (median {format_fixed(np.median(fitted), 1)}), "
+            f"lowest within the L intervals {_span(lowest, 1, '')}; allowed by "
+            f"{low_N:g}-{high_N:g} N at most {allowed:.2f}; tension alone "
+            f"{_span(tension, 2, '')}; {reconcile}"
+        )
+    rejected = []
+    if measured:
+        critical = alpha / len(measured)
+        p_values = {s: c["stress_free"].p_value for s, c in measured.items()}
+        rejected = [s for s, pv in p_values.items() if math.isfinite(pv) and pv < critical]
+        fitted_prestrain = [c["tensioned"].prestrain for c in measured.values()]
+        parts.append(
+            f"measured forces, {_n(len(measured), 'subject')}: ratio "
+            f"{_span([c['ratio'] for c in measured.values()], 2, '')}; stress-free rejected in "
+            f"{len(rejected)} of {len(measured)} (p < {critical:.2g}); fitted pre-strain "
+            f"{_span(fitted_prestrain, 2, '')}"
+        )
+    our = "; ".join(parts)
+    if too_steep or rejected:
+        reasons = []
+        if too_steep:
+            steep = [shapes[s]["stress_free"] for s in too_steep]
+            steep_low = [shapes[s]["stress_free_low"] for s in too_steep]
+            reasons.append(
+                f"with the fitted shapes a stress-free membrane needs {_span(steep, 0, '')} "
+                f"times more force at the largest depth than at the smallest (at least "
+                f"{_span(steep_low, 0, '')} anywhere in the L intervals) in {_list(too_steep)}, "
+                f"where the paper's {low_N:g}-{high_N:g} N allows {allowed:.1f}"
+            )
+        if rejected:
+            reasons.append(
+                f"the measured forces reject it in {_list(rejected)}, which they fit with a "
+                "tension at rest"
+            )
+        tension_over = [s for s, c in shapes.items() if c["prestrain"] == math.inf]
+        text = "; ".join(reasons)
+        if tension_over:
+            text += (
+                f". Even a membrane held by its tension alone gives more than {allowed:.1f} "
+                f"in {_list(tension_over)}: for them no pre-strain at all reconciles the "
+                "shapes with the paper's range"
+            )
+        return _row("C11", our, FAILS, text[0].upper() + text[1:] + ".", rule)
+    if shapes and all_within:
+        reason = (
+            f"In {_every(len(shapes), 'subject')} the fitted shapes give a stress-free membrane "
+            f"a force ratio within the {allowed:.1f} the paper's range allows, even at the "
+            "least favourable ends of the L intervals"
+        )
+        reason += "; the measured forces do not reject it." if measured else "."
+        return _row("C11", our, HOLDS, reason, rule)
+    reason = (
+        "The fitted shapes neither rule out a stress-free membrane nor confirm it: the L "
+        f"intervals straddle the ratio of {allowed:.1f} the paper's range allows"
+        if shapes
+        else "Only measured forces were tested and they do not reject it, but no subject's "
+        "shapes span two depths"
+    )
+    return _row("C11", our, UNTESTABLE, reason + ".", rule)
+
+
 CLAIM_FUNCTIONS = {
     "C1": claim_c1,
     "C2": claim_c2,
@@ -1041,11 +1231,15 @@ CLAIM_FUNCTIONS = {
     "C8": claim_c8,
     "C9": claim_c9,
     "C10": claim_c10,
+    "C11": claim_c11,
 }
 
+#: Claims that also take the force readings (keyword ``forces``).
+FORCE_CLAIMS = ("C11",)
 
-def compute_claims(fits, averaged, settings=None):
-    """The claims table: one row per claim C1-C10, each verdict from its stated rule.
+
+def compute_claims(fits, averaged, settings=None, forces=None):
+    """The claims table: one row per claim C1-C11, each verdict from its stated rule.
 
     Parameters
     ----------
@@ -1055,14 +1249,22 @@ def compute_claims(fits, averaged, settings=None):
         Averaged profiles of the subjects in ``fits``, stacked.
     settings : ClaimSettings, optional
         Thresholds of the rules; defaults as in the config schema.
+    forces : pandas.DataFrame, optional
+        Force readings (``subject``, ``depth_mm``, ``force_N``) for C11; None
+        when the dataset has none (C11 then uses the shapes alone).
 
     Returns
     -------
     pandas.DataFrame
-        Columns :data:`CLAIM_COLUMNS`, rows C1 to C10 in order.
+        Columns :data:`CLAIM_COLUMNS`, rows C1 to C11 in order.
     """
     settings = settings or ClaimSettings()
-    rows = [CLAIM_FUNCTIONS[claim](fits, averaged, settings) for claim in CLAIM_IDS]
+    rows = [
+        CLAIM_FUNCTIONS[claim](
+            fits, averaged, settings, **({"forces": forces} if claim in FORCE_CLAIMS else {})
+        )
+        for claim in CLAIM_IDS
+    ]
     return pd.DataFrame(rows, columns=CLAIM_COLUMNS)
 
 

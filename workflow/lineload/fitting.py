@@ -1,4 +1,4 @@
-"""Least-squares fits of the deflection models to one averaged profile.
+"""Least-squares fits of the deflection models to averaged profiles.
 
 Every fit takes the same points (distance and deflection in mm) and returns a
 :class:`FitResult` with its parameters and the same goodness-of-fit measures,
@@ -21,10 +21,30 @@ fitted:
     lower end is that bound).
 ``arc``
     The exact solution, a circular arc in the deformed plane.
+
+Batches
+-------
+Every algorithm here runs on many trials at once (:func:`fit_trials`,
+:func:`fit_windowed`, :func:`fit_batch`); the single-trial functions
+(:func:`fit_waterbed`, :func:`fit_trial`, :func:`minimise_in_L`, ...) are the
+same code with a batch of one.  The trials' points are padded to a common
+length, and each step (the exact quartic of the parabola, the grid and zoom in
+L, the profile-likelihood interval, the linear regression) is done for all
+trials together, in lockstep where trials need different numbers of steps.  A
+trial's numbers do not depend on its batch, and are those of the earlier
+one-trial code to the last bit (the Boussinesq regression, now in closed form,
+to about 1e-14): a sum over a trial's points is rounded as ``numpy.sum`` of
+those points alone, and the iterative model solves stop per trial exactly as a
+one-trial call stopped them (see ``independent_axes`` in
+:mod:`lineload.models`).  Only the grid, whose best point is all that is used,
+is evaluated more cheaply: to rounding noise, with an exact recheck where its
+two best values nearly tie, and for the shifted parabola only where a lower
+bound from eq. 19 does not prove a point worse.
 """
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,15 +59,24 @@ from .models import (
 )
 
 __all__ = [
+    "FIT_COLUMNS",
+    "MODELS",
+    "BatchFits",
     "FitResult",
     "fit_arc",
+    "fit_batch",
     "fit_boussinesq",
     "fit_shifted",
+    "fit_trial",
+    "fit_trials",
     "fit_waterbed",
     "fit_waterbed_free_depth",
+    "fit_windowed",
     "goodness_of_fit",
     "in_fit_window",
     "minimise_in_L",
+    "profile_interval",
+    "window_points",
 ]
 
 #: 95 % quantile of the chi-square distribution with one degree of freedom
@@ -58,6 +87,29 @@ CHI2_1DOF_95 = 3.841458820694124
 #: parabola with W0 free), as a multiple of the smallest admissible one. The
 #: fixed-W0 parabola needs no such bound: its minimum is found exactly.
 L_SEARCH_SPAN = 1000.0
+
+#: Trials fitted together in lockstep (after sorting by number of points, so that
+#: little is padded).
+CHUNK_TRIALS = 1024
+
+#: Largest number of elements of one temporary array while an objective is evaluated
+#: for many trials and many L at once (2**17 doubles: 1 MiB, about the size of a core's
+#: cache); larger evaluations go in blocks of trials.
+BLOCK_ELEMENTS = 1 << 14
+
+_TINY = np.finfo(float).tiny
+
+#: The models :func:`fit_batch` knows, with their parameters (in ``FitResult.params``
+#: order), number of free parameters and the fewest points each needs.
+MODELS = {
+    "waterbed": (("L_mm", "L_ci_low_mm", "L_ci_high_mm"), 1, 1),
+    "shifted": (("L_mm", "L_ci_low_mm", "L_ci_high_mm"), 1, 1),
+    "arc": (("L_mm", "L_ci_low_mm", "L_ci_high_mm"), 1, 1),
+    "waterbed_free_depth": (("L_mm", "L_ci_low_mm", "L_ci_high_mm", "W0_mm"), 2, 2),
+    "boussinesq": (("A_mm", "x0_mm"), 2, 2),
+}
+
+_MEASURES = ("sse_mm2", "rmse_mm", "max_abs_residual_mm", "aicc")
 
 
 @dataclass(frozen=True)
@@ -106,7 +158,7 @@ def in_fit_window(distance_mm, window_mm):
     ----------
     distance_mm : array_like
         Distances from the load (mm).
-    window_mm : float
+    window_mm : float or array_like
         Outer edge of the fitted region (mm); ``inf`` keeps the whole profile.
 
     Returns
@@ -115,6 +167,101 @@ def in_fit_window(distance_mm, window_mm):
     """
     distance_mm = np.asarray(distance_mm, dtype=float)
     return (distance_mm > 0) & (distance_mm <= window_mm)
+
+
+def _python_float(value):
+    """A float for tables and params; NaN is always the ``numpy.nan`` object."""
+    value = float(value)
+    return np.nan if value != value else value
+
+
+# --------------------------------------------------------------------------- padded points
+
+
+def _padded_width(n_points):
+    """Columns of a padded batch: a multiple of 8, at least 8."""
+    return max(8, -(-int(n_points) // 8) * 8)
+
+
+def _row_sums(values, n_points):
+    """Sum over the last axis of the first ``n_points[row]`` entries of each row.
+
+    Rounded exactly as ``numpy.sum`` of those entries alone would round them (the
+    same pairwise summation over the same count, in C order), so that neither
+    padding nor memory layout changes anything: one call per run of rows with equal
+    counts (rows come sorted by count).
+    """
+    n_points = np.asarray(n_points)
+    # numpy sums pairwise along an axis only when that axis is contiguous in memory
+    values = np.ascontiguousarray(values)
+    if n_points.size == 0 or np.all(n_points == n_points[0]):
+        count = n_points[0] if n_points.size else 0
+        return np.sum(values[..., :count], axis=-1)
+    bounds = np.concatenate([[0], np.flatnonzero(np.diff(n_points)) + 1, [n_points.size]])
+    total = np.empty(values.shape[:-1])
+    for start, stop in itertools.pairwise(bounds):
+        total[start:stop] = np.sum(values[start:stop, ..., : n_points[start]], axis=-1)
+    return total
+
+
+class _Trials:
+    """Points of many trials padded to a common width (a multiple of 8) with NaN.
+
+    Padded entries cost nothing in the iterative solves (a NaN distance is not
+    iterated on) and are left out of every sum (:func:`_row_sums`) and maximum
+    (through ``mask``).
+    """
+
+    def __init__(self, x, y, mask, n, x_max):
+        self.x, self.y, self.mask, self.n, self.x_max = x, y, mask, n, x_max
+
+    @classmethod
+    def from_flat(cls, x_mm, y_mm, counts, offsets):
+        """Trials ``i`` = ``x_mm[offsets[i]:offsets[i] + counts[i]]`` (each with a point)."""
+        width = _padded_width(counts.max())
+        column = np.arange(width)
+        mask = column < counts[:, None]
+        index = offsets[:, None] + np.minimum(column, counts[:, None] - 1)
+        x = np.where(mask, x_mm[index], np.nan)
+        y = np.where(mask, y_mm[index], np.nan)
+        return cls(x, y, mask, counts, np.fmax.reduce(x, axis=1))
+
+    def take(self, rows):
+        return _Trials(self.x[rows], self.y[rows], self.mask[rows], self.n[rows], self.x_max[rows])
+
+    @property
+    def width(self):
+        return self.x.shape[1]
+
+
+def _in_blocks(evaluate, n_rows, n_L, width):
+    """``evaluate(part)`` for slices of rows small enough that a temporary of ``n_L``
+    values of L at ``width`` points stays under BLOCK_ELEMENTS; results concatenated."""
+    size = max(1, BLOCK_ELEMENTS // max(1, n_L * width))
+    if n_rows <= size:
+        return evaluate(slice(None))
+    return np.concatenate([evaluate(slice(i, i + size)) for i in range(0, n_rows, size)])
+
+
+def _measures(residual_mm, mask, n_params):
+    """:func:`goodness_of_fit` for each row of padded residuals."""
+    n = np.sum(mask, axis=-1)
+    sse = _row_sums(residual_mm**2, n)
+    k = n_params + 1
+    aicc = np.full(n.shape, np.nan)
+    rmse = np.full(n.shape, np.nan)
+    largest = np.full(n.shape, np.nan)
+    corrected = n - k - 1 > 0
+    with np.errstate(divide="ignore"):
+        aicc[corrected] = (
+            n[corrected] * np.log(sse[corrected] / n[corrected])
+            + 2 * k
+            + 2 * k * (k + 1) / (n[corrected] - k - 1)
+        )
+    some = n > 0
+    rmse[some] = np.sqrt(sse[some] / n[some])
+    largest[some] = np.max(np.where(mask, np.abs(residual_mm), -np.inf), axis=-1)[some]
+    return {"sse_mm2": sse, "rmse_mm": rmse, "max_abs_residual_mm": largest, "aicc": aicc}
 
 
 def goodness_of_fit(residual_mm, n_params):
@@ -137,46 +284,295 @@ def goodness_of_fit(residual_mm, n_params):
         ``sse_mm2``, ``rmse_mm``, ``max_abs_residual_mm`` and ``aicc`` (NaN when
         there are too few points for the correction).
     """
-    residual_mm = np.asarray(residual_mm, dtype=float)
-    n = residual_mm.size
-    sse = float(np.sum(residual_mm**2))
-    k = n_params + 1
-    if n - k - 1 > 0:
-        with np.errstate(divide="ignore"):
-            aicc = n * np.log(sse / n) + 2 * k + 2 * k * (k + 1) / (n - k - 1)
-    else:
-        aicc = np.nan
-    return {
-        "sse_mm2": sse,
-        "rmse_mm": float(np.sqrt(sse / n)) if n else np.nan,
-        "max_abs_residual_mm": float(np.max(np.abs(residual_mm))) if n else np.nan,
-        "aicc": float(aicc),
-    }
+    residual_mm = np.asarray(residual_mm, dtype=float).reshape(-1)
+    width = _padded_width(residual_mm.size)
+    padded = np.zeros((1, width))
+    padded[0, : residual_mm.size] = residual_mm
+    mask = np.arange(width)[None, :] < residual_mm.size
+    measures = _measures(padded, mask, n_params)
+    return {name: _python_float(values[0]) for name, values in measures.items()}
 
 
-def _result(model, params, residual_mm, n_params):
-    return FitResult(
-        model=model,
-        params=params,
-        n_points=int(np.size(residual_mm)),
-        n_params=n_params,
-        residual_mm=np.asarray(residual_mm, dtype=float),
-        **goodness_of_fit(residual_mm, n_params),
+# --------------------------------------------------------------------------- one-parameter search
+
+
+def _single_objective(sse_of_L):
+    """A one-trial ``sse_of_L(1-D L)`` in the batch form ``(L (1, K), rows, mode) -> (1, K)``.
+
+    In mode ``"alone"`` each L goes in a call of its own, as the single-trial
+    interval search has always called it.
+    """
+
+    def objective(L_mm, rows, mode="call"):
+        if mode == "alone":
+            values = [np.asarray(sse_of_L(L_mm[:, j]), dtype=float) for j in range(L_mm.shape[1])]
+            return np.column_stack(values).reshape(L_mm.shape)
+        return np.asarray(sse_of_L(L_mm.reshape(-1)), dtype=float).reshape(L_mm.shape)
+
+    return objective
+
+
+def _grid_values(objective, grid, lower_bound, per_round=4):
+    """The objective on each trial's grid, or enough of it to find its smallest value.
+
+    Only the smallest value is used, so the grid is evaluated in the cheaper "grid"
+    mode (values as accurate, not bit for bit).  With ``lower_bound(grid, rows)``, a
+    valid lower bound of the objective at each point, the points are visited in
+    order of increasing bound, ``per_round`` at a time, until the next bound exceeds
+    the best value found (with a margin of 1e-9 for rounding): the points left are
+    provably worse, and are given as inf.
+    """
+    count, n_grid = grid.shape
+    rows = np.arange(count)
+    if lower_bound is None:
+        return objective(grid, rows, mode="grid")
+    bound = lower_bound(grid, rows)
+    bound = np.where(np.isnan(bound), 0.0, bound)
+    order = np.argsort(bound, axis=1, kind="stable")
+    sse = np.full(grid.shape, np.inf)
+    best = np.full(count, np.inf)
+    spared = np.ones(grid.shape, dtype=bool)
+    steps = np.arange(per_round)
+    first = np.zeros(count, dtype=np.intp)
+    going = rows
+    while going.size:
+        column = first[going, None] + steps
+        inside = column < n_grid
+        point = order[going[:, None], np.minimum(column, n_grid - 1)]
+        with np.errstate(invalid="ignore"):
+            wanted = inside & ~(bound[going[:, None], point] * (1.0 - 1e-9) > best[going, None])
+        r, j = np.nonzero(wanted)
+        r, c = going[r], point[r, j]
+        sse[r, c] = objective(grid[r, c][:, None], r, mode="grid")[:, 0]
+        spared[r, c] = False
+        best[going] = np.min(np.where(spared[going], np.inf, sse[going]), axis=1)
+        first[going] += per_round
+        going = going[wanted[:, -1]]  # the points after a refused one have larger bounds
+    return sse
+
+
+def _minimise_batch(objective, L_min, L_max, n_grid=200, rtol=1e-9, lower_bound=None):
+    """:func:`minimise_in_L` for many trials in lockstep.
+
+    ``objective(L_mm, rows, mode)`` gives the SSE of trials ``rows`` (R,) at ``L_mm``
+    (R, K), each row as one call of a single-trial objective would give it (mode
+    ``"call"``).  ``lower_bound`` (see :func:`_grid_values`) spares grid points that
+    cannot be the best.  Returns the minimising L (NaN where the grid holds no finite
+    value) and a mask of the trials that have one.
+    """
+    count = L_min.size
+    L_mm = np.full(count, np.nan)
+    if count == 0:
+        return L_mm, np.zeros(0, dtype=bool)
+    rows = np.arange(count)
+    grid = np.geomspace(L_min, L_max, n_grid, axis=-1)
+    sse = _grid_values(objective, grid, lower_bound)
+    # where the two best values are within 1e-9 of each other, or a value is unknown
+    # (NaN), the grid is evaluated again as one call would: its best point is then
+    # exactly the one-call best
+    two_best = np.partition(sse, 1, axis=1)[:, :2] if n_grid > 1 else sse[:, :1]
+    with np.errstate(invalid="ignore"):
+        clear = two_best[:, -1] - two_best[:, 0] > 1e-9 * np.abs(two_best[:, 0])
+    recheck = np.flatnonzero((~clear & np.isfinite(two_best[:, 0])) | np.isnan(sse).any(axis=1))
+    if recheck.size:
+        sse[recheck] = objective(grid[recheck], recheck)
+    found = np.any(np.isfinite(sse), axis=1)
+    best = np.argmin(sse, axis=1)
+    lo = grid[rows, np.maximum(best - 1, 0)]
+    hi = grid[rows, np.minimum(best + 1, n_grid - 1)]
+    fractions = np.arange(17.0)
+    zooming = found & (hi - lo > rtol * hi)
+    while zooming.any():
+        active = np.flatnonzero(zooming)
+        a, b = lo[active], hi[active]
+        # 17 even steps from a to b, rounded as numpy.linspace rounds them
+        points = fractions * ((b - a) / 16)[:, None] + a[:, None]
+        points[:, -1] = b
+        k = np.argmin(objective(points, active), axis=1)
+        j = np.arange(active.size)
+        lo[active] = points[j, np.maximum(k - 1, 0)]
+        hi[active] = points[j, np.minimum(k + 1, 16)]
+        zooming[active] = hi[active] - lo[active] > rtol * hi[active]
+    if found.any():
+        active = np.flatnonzero(found)
+        candidates = np.column_stack([grid[active, best[active]], 0.5 * (lo[active] + hi[active])])
+        choice = np.argmin(objective(candidates, active), axis=1)
+        L_mm[active] = candidates[np.arange(active.size), choice]
+    return L_mm, found
+
+
+def minimise_in_L(sse_of_L, L_min, L_max, n_grid=200, rtol=1e-9):
+    """Minimise a least-squares objective over one length, ``L_min <= L <= L_max``.
+
+    A dense log-spaced grid finds the basin of the global minimum; a zoom then
+    refines it inside the two grid cells around the best grid point (17 evenly
+    spaced values per step, keeping the two cells around the best each time)
+    until the bracket is ``rtol`` wide.  (The fits run the same steps for many
+    trials at once.)
+
+    Parameters
+    ----------
+    sse_of_L : callable
+        Objective for a 1-D array of L (mm); ``inf`` marks inadmissible values.
+    L_min, L_max : float
+        Search range (mm).
+    n_grid : int, optional
+        Number of grid points.
+    rtol : float, optional
+        Relative width of the final bracket.
+
+    Returns
+    -------
+    float
+        The minimising L (mm).
+
+    Raises
+    ------
+    ValueError
+        If the objective is infinite over the whole grid.
+    """
+    L_mm, found = _minimise_batch(
+        _single_objective(sse_of_L),
+        np.array([float(L_min)]),
+        np.array([float(L_max)]),
+        n_grid=n_grid,
+        rtol=rtol,
     )
+    if not found[0]:
+        raise ValueError(f"no admissible L between {L_min:g} and {L_max:g} mm")
+    return float(L_mm[0])
 
 
-def _as_points(distance_mm, deflection_mm, minimum):
-    distance_mm = np.asarray(distance_mm, dtype=float)
-    deflection_mm = np.asarray(deflection_mm, dtype=float)
-    if distance_mm.shape != deflection_mm.shape or distance_mm.ndim != 1:
-        raise ValueError("distance_mm and deflection_mm must be 1-D arrays of equal length")
-    if distance_mm.size < minimum:
-        raise ValueError(f"at least {minimum} points are needed, got {distance_mm.size}")
-    if not (np.all(np.isfinite(distance_mm)) and np.all(np.isfinite(deflection_mm))):
-        raise ValueError("distances and deflections must be finite")
-    if np.any(distance_mm <= 0):
-        raise ValueError("distances must be > 0 (the load point itself is not fitted)")
-    return distance_mm, deflection_mm
+def _illinois(g, a, b, fa, fb, rtol=1e-10):
+    """Roots of ``g(c, which)`` between ``a`` (g <= 0) and ``b`` (g > 0), one per entry.
+
+    The Illinois variant of regula falsi, in lockstep over the entries (each stops on
+    its own): superlinear on smooth functions and, unlike Newton's method, never
+    leaves the bracket.  ``fa`` and ``fb`` are ``g`` at ``a`` and ``b``.
+    """
+    a, b, fa, fb = (np.array(v, dtype=float) for v in (a, b, fa, fb))
+    c = np.full(a.size, np.nan)
+    last = np.zeros(a.size, dtype=int)
+    active = np.arange(a.size)
+    for _ in range(100):
+        if active.size == 0:
+            break
+        a_, b_, fa_, fb_ = a[active], b[active], fa[active], fb[active]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            # an infinite objective outside (an arc folded past the load) gives NaN,
+            # as the one-trial search always has
+            c_ = (a_ * fb_ - b_ * fa_) / (fb_ - fa_)
+        fc = g(c_, active)
+        right = fc > 0
+        previous = last[active]
+        a[active] = np.where(right, a_, c_)
+        fa[active] = np.where(right, np.where(previous == -1, fa_ / 2.0, fa_), fc)
+        b[active] = np.where(right, c_, b_)
+        fb[active] = np.where(right, fc, np.where(previous == 1, fb_ / 2.0, fb_))
+        last[active] = np.where(right, -1, 1)
+        c[active] = c_
+        done = (np.abs(b[active] - a[active]) <= rtol * np.abs(c_)) | (np.abs(fc) <= 1e-14)
+        active = active[~done]
+    return c
+
+
+def _profile_batch(objective, L_best, L_min, L_max, sse_min, n_points, chi2=CHI2_1DOF_95):
+    """:func:`profile_interval` for many trials; both ends of all trials in lockstep.
+
+    Stepping out by the factor 1.05 is done a block of steps at a time (4, then 8,
+    16, ... values per trial, each the previous one times the factor, as a loop
+    would make them), so that a trial that needs thousands of steps costs a few
+    rounds only.  The SSE at the last value inside and the first outside are kept
+    for the regula falsi.  The objective is called in mode ``"alone"``: each value
+    as if evaluated by itself, as the one-at-a-time search evaluates it.
+    """
+    count = L_best.size
+    low, high = np.full(count, np.nan), np.full(count, np.nan)
+    valid = np.isfinite(L_best) & (n_points >= 2)
+    if not valid.any():
+        return low, high
+    rows = np.flatnonzero(valid)
+    threshold = np.maximum(sse_min[rows], _TINY) * np.exp(chi2 / n_points[rows])
+    # one problem per end: first the lower ends of all rows, then the upper ends
+    problem_rows = np.concatenate([rows, rows])
+    problem_threshold = np.concatenate([threshold, threshold])
+    upper = np.repeat([False, True], rows.size)
+    bound = np.concatenate([L_min[rows], L_max[rows]])
+    factor = np.where(upper, 1.05, 1 / 1.05)
+    n_problems = problem_rows.size
+    end = np.full(n_problems, np.nan)
+    inside = L_best[problem_rows].astype(float)
+    outside = np.full(n_problems, np.nan)
+    sse_inside = np.full(n_problems, np.nan)
+    sse_outside = np.full(n_problems, np.nan)
+    crossed = np.zeros(n_problems, dtype=bool)
+    following = inside.copy()  # the next value to test
+    pending = np.arange(n_problems)
+    length = 4
+    while pending.size:
+        sequence = np.empty((pending.size, length))
+        sequence[:, 0] = following[pending]
+        sequence[:, 1:] = factor[pending, None]
+        with np.errstate(over="ignore"):
+            sequence = np.cumprod(sequence, axis=1)
+        limit = bound[pending, None]
+        sequence[:, 1:] = np.where(
+            upper[pending, None],
+            np.minimum(sequence[:, 1:], limit),
+            np.maximum(sequence[:, 1:], limit),
+        )
+        sse = objective(sequence, problem_rows[pending], mode="alone")
+        too_far = sse > problem_threshold[pending, None]
+        stop = too_far | (sequence == limit)
+        stops = stop.any(axis=1)
+        first = np.argmax(stop, axis=1)
+        # problems that crossed, or reached their bound, in this block
+        j = np.flatnonzero(stops)
+        done, f = pending[j], first[j]
+        crossed[done] = too_far[j, f]
+        earlier = f > 0
+        inside[done[earlier]] = sequence[j[earlier], f[earlier] - 1]
+        sse_inside[done[earlier]] = sse[j[earlier], f[earlier] - 1]
+        outside[done] = sequence[j, f]
+        sse_outside[done] = sse[j, f]
+        at_bound = done[~crossed[done]]
+        end[at_bound] = np.where(upper[at_bound], np.inf, bound[at_bound])
+        # the others go on from their last value
+        j = np.flatnonzero(~stops)
+        going = pending[j]
+        inside[going] = sequence[j, -1]
+        sse_inside[going] = sse[j, -1]
+        with np.errstate(over="ignore"):
+            following[going] = sequence[j, -1] * factor[going]
+        following[going] = np.where(
+            upper[going],
+            np.minimum(following[going], bound[going]),
+            np.maximum(following[going], bound[going]),
+        )
+        pending = going
+        length = min(2 * length, 4096)
+    same = crossed & (inside == outside)  # the best fit itself is past the threshold (no noise)
+    end[same] = inside[same]
+    bracketed = np.flatnonzero(crossed & ~same)
+    if bracketed.size:
+
+        def log_ratio(sse, which):
+            # an exact quartic can round to 0 or a hair below at a perfect fit
+            return np.log(np.maximum(sse, _TINY) / problem_threshold[bracketed[which]])
+
+        end[bracketed] = _illinois(
+            lambda L_mm, which: log_ratio(
+                objective(L_mm[:, None], problem_rows[bracketed[which]], mode="alone")[:, 0],
+                which,
+            ),
+            inside[bracketed],
+            outside[bracketed],
+            log_ratio(sse_inside[bracketed], slice(None)),
+            log_ratio(sse_outside[bracketed], slice(None)),
+        )
+    low[rows] = end[: rows.size]
+    high[rows] = end[rows.size :]
+    return low, high
 
 
 def profile_interval(sse_of_L, L_best, L_min, L_max, sse_min, n_points, chi2=CHI2_1DOF_95):
@@ -185,9 +581,11 @@ def profile_interval(sse_of_L, L_best, L_min, L_max, sse_min, n_points, chi2=CHI
     With Gaussian errors of unknown variance, the likelihood-ratio statistic
     of a value L is ``n ln(SSE(L) / SSE_min)``; the interval holds the L where
     it stays below the chi-square quantile.  Each end is found by stepping out
-    from the best fit until the statistic exceeds the quantile, then bisecting.
-    An end that reaches the admissible range without crossing is reported as
-    that bound (``L_min``) or as infinity (``L_max``).
+    from the best fit by factors of 1.05 until the statistic exceeds the
+    quantile, then by regula falsi (Illinois) between the last step inside and
+    the first outside.  An end that reaches the admissible range without
+    crossing is reported as that bound (``L_min``) or as infinity (``L_max``).
+    (The fits run the same steps for many trials at once.)
 
     The interval assumes independent errors; where the model misfits
     systematically, neighbouring residuals are correlated and the interval is
@@ -213,61 +611,511 @@ def profile_interval(sse_of_L, L_best, L_min, L_max, sse_min, n_points, chi2=CHI
     tuple of float
         ``(L_low_mm, L_high_mm)``.
     """
-    if not np.isfinite(L_best) or n_points < 2:
-        return (np.nan, np.nan)
-    threshold = max(sse_min, np.finfo(float).tiny) * np.exp(chi2 / n_points)
-
-    def too_far(L):
-        return sse_of_L(np.array([L]))[0] > threshold
-
-    def log_ratio(L):
-        # an exact quartic can round to 0 or a hair below at a perfect fit
-        return np.log(max(sse_of_L(np.array([L]))[0], np.finfo(float).tiny) / threshold)
-
-    ends = []
-    for bound, step in ((L_min, 1 / 1.05), (L_max, 1.05)):
-        inside, outside = L_best, L_best
-        while not too_far(outside):
-            inside = outside
-            if outside == bound:
-                outside = None
-                break
-            outside = min(outside * step, bound) if step > 1 else max(outside * step, bound)
-        if outside is None:
-            ends.append(bound if step < 1 else np.inf)
-            continue
-        if inside == outside:  # the best fit itself is past the threshold (no noise)
-            ends.append(inside)
-            continue
-        ends.append(_crossing(log_ratio, inside, outside))
-    return (float(ends[0]), float(ends[1]))
+    low, high = _profile_batch(
+        _single_objective(sse_of_L),
+        *(np.array([float(value)]) for value in (L_best, L_min, L_max, sse_min)),
+        np.array([int(n_points)]),
+        chi2=chi2,
+    )
+    return (_python_float(low[0]), _python_float(high[0]))
 
 
-def _crossing(g, inside, outside, rtol=1e-10):
-    """Root of ``g`` between ``inside`` (g <= 0) and ``outside`` (g > 0).
+# --------------------------------------------------------------------------- the fits of a chunk
 
-    The Illinois variant of regula falsi: superlinear on smooth functions and,
-    unlike Newton's method, never leaves the bracket.
+
+class _ChunkFit:
+    """One model fitted to the trials of a :class:`_Trials` chunk."""
+
+    def __init__(self, model, trials, params, residual_mm, errors=None):
+        self.model = model
+        self.trials = trials
+        self.params = params
+        self.residual_mm = residual_mm
+        self.errors = errors or {}
+        self.measures = _measures(residual_mm, trials.mask, MODELS[model][1])
+
+
+def _polyval(coefficients, u):
+    """Horner's rule, as numpy.polyval: one polynomial per row (highest power first)."""
+    value = np.zeros(u.shape)
+    for j in range(coefficients.shape[1]):
+        value = value * u + coefficients[:, j, None]
+    return value
+
+
+def _polynomial_roots(coefficients):
+    """Roots of one polynomial per row, as numpy.roots finds them.
+
+    The eigenvalues of each row's companion matrix, all rows in one call; a row
+    with a zero first or last coefficient goes through numpy.roots itself (which
+    strips them).  Rows with fewer roots are padded with NaN.
     """
-    a, b = inside, outside
-    fa, fb = g(a), g(b)
-    last = 0
-    for _ in range(100):
-        c = (a * fb - b * fa) / (fb - fa)
-        fc = g(c)
-        if fc > 0:
-            b, fb = c, fc
-            if last == -1:
-                fa /= 2.0
-            last = -1
-        else:
-            a, fa = c, fc
-            if last == 1:
-                fb /= 2.0
-            last = 1
-        if abs(b - a) <= rtol * abs(c) or abs(fc) <= 1e-14:
-            break
-    return c
+    size, m = coefficients.shape
+    roots = np.full((size, m - 1), np.nan, dtype=complex)
+    regular = (coefficients[:, 0] != 0) & (coefficients[:, -1] != 0)
+    if regular.any():
+        c = coefficients[regular]
+        companion = np.zeros((c.shape[0], m - 1, m - 1))
+        companion[:, 0, :] = -c[:, 1:] / c[:, :1]
+        companion[:, np.arange(1, m - 1), np.arange(m - 2)] = 1.0
+        roots[regular] = np.linalg.eigvals(companion)
+    for i in np.flatnonzero(~regular):
+        found = np.roots(coefficients[i])
+        roots[i, : found.size] = found
+    return roots
+
+
+def _fit_waterbed_chunk(trials, depth_mm):
+    x, y, n = trials.x, trials.y, trials.n
+    W0 = depth_mm[:, None]
+    a = y - W0
+    b = 4.0 * W0 * x
+    c = -3.0 * W0 * x**2
+    # S(u) = sum (a + b u + c u^2)^2, coefficients from the highest power down
+    quartic = np.column_stack(
+        [
+            _row_sums(c * c, n),
+            2.0 * _row_sums(b * c, n),
+            _row_sums(b * b + 2.0 * a * c, n),
+            2.0 * _row_sums(a * b, n),
+            _row_sums(a * a, n),
+        ]
+    )
+    x_max = trials.x_max
+    u_max = 1.0 / x_max
+    roots = _polynomial_roots(quartic[:, :-1] * np.arange(4, 0, -1))
+    size = np.abs(roots)
+    scale = np.maximum(1.0, np.max(np.where(np.isnan(size), 0.0, size), axis=1))
+    real = roots.real
+    usable = (np.abs(roots.imag) <= 1e-9 * scale[:, None]) & (real > 0) & (real < u_max[:, None])
+    candidates = np.column_stack([np.zeros(x_max.size), u_max, np.where(usable, real, 0.0)])
+    sse = _polyval(quartic, candidates)
+    sse[:, 2:][~usable] = np.inf
+    u_best = candidates[np.arange(x_max.size), np.argmin(sse, axis=1)]
+    with np.errstate(divide="ignore"):
+        L_mm = np.where(u_best == 0.0, np.inf, 1.0 / u_best)
+    residual = y - waterbed_deflection_mm(x, W0, L_mm[:, None])
+    low, high = _profile_batch(
+        lambda L, rows, mode="call": _polyval(quartic[rows], 1.0 / L),
+        L_mm,
+        x_max,
+        np.full(x_max.size, np.inf),
+        _row_sums(residual**2, n),
+        n,
+    )
+    params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
+    return _ChunkFit("waterbed", trials, params, residual)
+
+
+def _points_sse(model_mm, trials, rows):
+    """SSE of a model at the points of trials ``rows`` (R, K, width); not finite -> inf."""
+    sse = _row_sums((trials.y[rows, None, :] - model_mm) ** 2, trials.n[rows])
+    return np.where(np.isfinite(sse), sse, np.inf)
+
+
+#: How an objective solves its iterative model, by mode: ``call`` as one call per
+#: trial (row) would, ``alone`` as one call per value of L would, ``grid`` each value
+#: alone and only to its rounding noise (see :func:`lineload.models.resting_position_mm`).
+_SOLVE = {
+    "call": {"independent_axes": 1},
+    "alone": {"independent_axes": 2},
+    "grid": {"independent_axes": 2, "settle": True},
+}
+
+
+def _curve_objective(curve, trials, depth_mm):
+    """SSE of ``curve(x, W0, L, ...)`` for trials ``rows`` at L (R, K), solved per ``mode``."""
+
+    def objective(L_mm, rows, mode="call"):
+        def evaluate(part):
+            r = rows[part]
+            model = curve(
+                trials.x[r, None, :],
+                depth_mm[r, None, None],
+                L_mm[part, :, None],
+                **_SOLVE[mode],
+            )
+            return _points_sse(model, trials, r)
+
+        return _in_blocks(evaluate, rows.size, L_mm.shape[1], trials.width)
+
+    return objective
+
+
+def _arc_objective(trials, depth_mm):
+    """:func:`_curve_objective` of the arc, its circle solved once per (W0, L)."""
+
+    def objective(L_mm, rows, mode="call"):
+        W0 = depth_mm[rows, None]
+        geometry = arc_geometry(W0, L_mm, **_SOLVE[mode])
+
+        def evaluate(part):
+            r = rows[part]
+            model = arc_deflection_mm(
+                trials.x[r, None, :],
+                depth_mm[r, None, None],
+                L_mm[part, :, None],
+                geometry={name: values[part, :, None] for name, values in geometry.items()},
+            )
+            return _points_sse(model, trials, r)
+
+        sse = _in_blocks(evaluate, rows.size, L_mm.shape[1], trials.width)
+        if mode == "grid":
+            # whether the arc folds (no SSE) could come out the other way with the exact
+            # half-angle only at the border itself: there the value is unknown (NaN)
+            border = np.abs(np.tan(geometry["phi_rad"]) * W0 - L_mm) <= 1e-12 * L_mm
+            sse[border] = np.nan
+        return sse
+
+    return objective
+
+
+def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None):
+    """One-parameter fit in L by the grid and zoom over ``[L_lo, L_SEARCH_SPAN max(x)]``.
+
+    Shared by the fits that have no closed form (exact arc, shifted parabola, parabola
+    with W0 free): the minimum, the fitted curve's residuals and the interval.
+    ``residual_at(rows, L_mm)`` gives the residuals of trials ``rows`` at L (R,).
+    """
+    L_hi = L_SEARCH_SPAN * trials.x_max
+    L_mm, found = _minimise_batch(objective, L_lo, L_hi, lower_bound=lower_bound)
+    residual = np.full(trials.x.shape, np.nan)
+    rows = np.flatnonzero(found)
+    residual[rows] = residual_at(rows, L_mm[rows])
+    low, high = _profile_batch(
+        objective, L_mm, L_lo, L_hi, _row_sums(residual**2, trials.n), trials.n
+    )
+    errors = {
+        int(i): f"no valid {model} curve: no admissible L between {L_lo[i]:g} and {L_hi[i]:g} mm"
+        for i in np.flatnonzero(~found)
+    }
+    params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
+    return _ChunkFit(model, trials, params, residual, errors), L_mm
+
+
+def _fit_curve_chunk(model, curve, objective, trials, depth_mm, L_lo, lower_bound=None, **how):
+    def residual_at(rows, L_mm):
+        # one problem per trial, as a call with that trial's points and a scalar L
+        fitted = curve(
+            trials.x[rows], depth_mm[rows, None], L_mm[:, None], independent_axes=1, **how
+        )
+        return trials.y[rows] - fitted
+
+    return _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound)[0]
+
+
+def _shifted_lower_bound(trials, depth_mm):
+    """A lower bound of the shifted parabola's SSE, from the paper's parabola read at x.
+
+    The shifted curve is ``W(X)`` at ``x = X + U(X)`` with ``X <= x``, so at each
+    point it differs from ``W(x)`` by at most ``max |W'| |U(X)|``, where
+    ``|W'| <= 4 W0 / L`` on the membrane and ``|U(X)| = (6 W0^2 / L) g(X / L)``,
+    ``g(s) = s (1 - s)^2 <= min(s, 4/27)``.  The gaps' root sum of squares is then
+    at most ``D = min(sqrt(n) 32 W0^3 / (9 L^2), 24 W0^3 sqrt(sum x^2) / L^3)``, and
+    by the triangle inequality ``SSE_shifted >= (sqrt(SSE_parabola) - D)^2``.  The
+    parabola's SSE is the quartic in ``1 / L`` of the waterbed fit, less a bound on
+    its rounding error; each value costs a few operations, not one per point.
+    """
+    x, n = trials.x, trials.n
+    W0 = depth_mm[:, None]
+    a = trials.y - W0
+    b = 4.0 * W0 * x
+    c = -3.0 * W0 * x**2
+    quartic = np.column_stack(
+        [
+            _row_sums(c * c, n),
+            2.0 * _row_sums(b * c, n),
+            _row_sums(b * b + 2.0 * a * c, n),
+            2.0 * _row_sums(a * b, n),
+            _row_sums(a * a, n),
+        ]
+    )
+    # sums of the terms' sizes: the rounding of the coefficients and of Horner's rule
+    # together stay below (n + 10) eps times the polynomial of these
+    sizes = np.column_stack(
+        [
+            _row_sums(c * c, n),
+            2.0 * _row_sums(np.abs(b * c), n),
+            _row_sums(b * b + 2.0 * np.abs(a * c), n),
+            2.0 * _row_sums(np.abs(a * b), n),
+            _row_sums(a * a, n),
+        ]
+    )
+    rounding = 4.0 * (n + 10) * np.finfo(float).eps
+    W0_cubed = np.abs(depth_mm) ** 3
+    root_sum_x2 = np.sqrt(_row_sums(x**2, n))
+
+    def lower_bound(L_mm, rows):
+        u = 1.0 / L_mm
+        parabola = _polyval(quartic[rows], u) - rounding[rows, None] * _polyval(sizes[rows], u)
+        gap = np.minimum(
+            np.sqrt(n[rows, None]) * 32.0 * W0_cubed[rows, None] / (9.0 * L_mm**2),
+            24.0 * W0_cubed[rows, None] * root_sum_x2[rows, None] / L_mm**3,
+        )
+        return np.maximum(np.sqrt(np.maximum(parabola, 0.0)) - gap * (1.0 + 1e-9), 0.0) ** 2
+
+    return lower_bound
+
+
+def _fit_arc_chunk(trials, depth_mm):
+    objective = _arc_objective(trials, depth_mm)
+    return _fit_curve_chunk(
+        "arc", arc_deflection_mm, objective, trials, depth_mm, trials.x_max, as_scalars=True
+    )
+
+
+def _fit_shifted_chunk(trials, depth_mm):
+    fold_mm = np.abs(depth_mm) / MAX_ONE_TO_ONE_RATIO * (1.0 + 1e-9)
+    L_lo = np.maximum(trials.x_max, fold_mm)
+    objective = _curve_objective(shifted_deflection_mm, trials, depth_mm)
+    return _fit_curve_chunk(
+        "shifted",
+        shifted_deflection_mm,
+        objective,
+        trials,
+        depth_mm,
+        L_lo,
+        _shifted_lower_bound(trials, depth_mm),
+    )
+
+
+def _fit_free_depth_chunk(trials, depth_mm=None):
+    def shape_and_depth(L_mm, rows):
+        # for a given L the best W0 of W0 g(x) is linear least squares
+        s = trials.x[rows, None, :] / L_mm[:, :, None]
+        g = 3.0 * s**2 - 4.0 * s + 1.0
+        n = trials.n[rows]
+        return g, _row_sums(trials.y[rows, None, :] * g, n) / _row_sums(g * g, n)
+
+    def objective(L_mm, rows, mode="call"):
+        def evaluate(part):
+            r = rows[part]
+            g, W0 = shape_and_depth(L_mm[part], r)
+            return _row_sums((trials.y[r, None, :] - W0[:, :, None] * g) ** 2, trials.n[r])
+
+        return _in_blocks(evaluate, rows.size, L_mm.shape[1], trials.width)
+
+    W0_mm = np.full(trials.n.size, np.nan)
+
+    def residual_at(rows, L_mm):
+        W0_mm[rows] = shape_and_depth(L_mm[:, None], rows)[1][:, 0]
+        return trials.y[rows] - waterbed_deflection_mm(
+            trials.x[rows], W0_mm[rows, None], L_mm[:, None]
+        )
+
+    fit, _ = _fit_by_search("waterbed_free_depth", trials, objective, residual_at, trials.x_max)
+    fit.params["W0_mm"] = W0_mm
+    return fit
+
+
+def _fit_boussinesq_chunk(trials, depth_mm=None):
+    x, y, n = trials.x, trials.y, trials.n
+    log_x = np.log(x)
+    # w = A ln x0 - A ln x is a straight line in ln x: centred linear least squares
+    mean_log_x = _row_sums(log_x, n) / n
+    mean_y = _row_sums(y, n) / n
+    centred = log_x - mean_log_x[:, None]
+    spread = _row_sums(centred**2, n)
+    single = spread == 0.0  # one distinct distance: the minimum-norm solution, as lstsq
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = _row_sums(centred * (y - mean_y[:, None]), n) / spread
+    A_mm = np.where(single, -mean_log_x * mean_y / (1.0 + mean_log_x**2), -slope)
+    intercept = np.where(single, mean_y / (1.0 + mean_log_x**2), mean_y + A_mm * mean_log_x)
+    rising = A_mm > 0
+    x0_mm = np.full(n.size, np.nan)
+    x0_mm[rising] = np.exp(intercept[rising] / A_mm[rising])
+    residual = y - (intercept[:, None] + (-log_x) * A_mm[:, None])
+    residual[rising] = y[rising] - boussinesq_deflection_mm(
+        x[rising], A_mm[rising, None], x0_mm[rising, None]
+    )
+    return _ChunkFit("boussinesq", trials, {"A_mm": A_mm, "x0_mm": x0_mm}, residual)
+
+
+_CHUNK_FITS = {
+    "waterbed": _fit_waterbed_chunk,
+    "shifted": _fit_shifted_chunk,
+    "arc": _fit_arc_chunk,
+    "waterbed_free_depth": _fit_free_depth_chunk,
+    "boussinesq": _fit_boussinesq_chunk,
+}
+
+
+# --------------------------------------------------------------------------- many trials
+
+
+class BatchFits:
+    """One model fitted to many trials: parameters and measures as arrays, by trial.
+
+    Attributes
+    ----------
+    model : str
+        The model's name (a key of :data:`MODELS`).
+    params : dict of str to numpy.ndarray
+        Each parameter of the model (``FitResult.params`` names), NaN where the
+        trial has no fit.
+    measures : dict of str to numpy.ndarray
+        ``sse_mm2``, ``rmse_mm``, ``max_abs_residual_mm`` and ``aicc``, NaN where
+        the trial has no fit.
+    n_points : numpy.ndarray of int
+        Points of each trial.
+    fitted : numpy.ndarray of bool
+        Whether the trial has a fit (enough points, an admissible L).
+    errors : dict of int to str
+        Why a trial has no fit, by trial index.
+    """
+
+    def __init__(self, model, n_points):
+        count = n_points.size
+        self.model = model
+        self.params = {name: np.full(count, np.nan) for name in MODELS[model][0]}
+        self.measures = {name: np.full(count, np.nan) for name in _MEASURES}
+        self.n_points = n_points
+        self.fitted = np.zeros(count, dtype=bool)
+        self.errors = {}
+        self._chunks = []
+        self._where = np.full((count, 2), -1)
+
+    def _add(self, trial_index, chunk):
+        ok = np.ones(trial_index.size, dtype=bool)
+        for row, message in chunk.errors.items():
+            ok[row] = False
+            self.errors[int(trial_index[row])] = message
+        fitted = trial_index[ok]
+        for name, values in chunk.params.items():
+            self.params[name][fitted] = values[ok]
+        for name, values in chunk.measures.items():
+            self.measures[name][fitted] = values[ok]
+        self.fitted[fitted] = True
+        self._where[trial_index, 0] = len(self._chunks)
+        self._where[trial_index, 1] = np.arange(trial_index.size)
+        self._chunks.append(chunk)
+
+    def __len__(self):
+        return self.fitted.size
+
+    def result(self, i):
+        """The fit of trial ``i`` as a :class:`FitResult`.
+
+        Raises
+        ------
+        ValueError
+            If the trial has no fit (too few points, no admissible L).
+        """
+        if not self.fitted[i]:
+            raise ValueError(self.errors[i])
+        chunk, row = self._where[i]
+        chunk = self._chunks[chunk]
+        n = int(self.n_points[i])
+        return FitResult(
+            model=self.model,
+            params={name: _python_float(values[i]) for name, values in self.params.items()},
+            n_points=n,
+            n_params=MODELS[self.model][1],
+            residual_mm=chunk.residual_mm[row, :n].copy(),
+            **{name: _python_float(values[i]) for name, values in self.measures.items()},
+        )
+
+
+def _as_trials(distance_mm, deflection_mm):
+    """Concatenated points of many trials, and each trial's count."""
+    distance_mm = [np.asarray(x, dtype=float) for x in distance_mm]
+    deflection_mm = [np.asarray(y, dtype=float) for y in deflection_mm]
+    if len(distance_mm) != len(deflection_mm):
+        raise ValueError("distance_mm and deflection_mm must hold the same number of trials")
+    for i, (x, y) in enumerate(zip(distance_mm, deflection_mm, strict=True)):
+        if x.shape != y.shape or x.ndim != 1:
+            raise ValueError(
+                f"trial {i}: distance_mm and deflection_mm must be 1-D arrays of equal length"
+            )
+    counts = np.array([x.size for x in distance_mm], dtype=np.intp)
+    if not counts.size:
+        return np.zeros(0), np.zeros(0), counts
+    return np.concatenate(distance_mm), np.concatenate(deflection_mm), counts
+
+
+def _fit_flat(x_mm, y_mm, counts, depth_mm, models):
+    """Fit ``models`` to trials given as concatenated points and counts."""
+    offsets = np.cumsum(counts) - counts
+    fits = {model: BatchFits(model, counts) for model in models}
+    for model in models:
+        minimum = MODELS[model][2]
+        for i in np.flatnonzero(counts < minimum):
+            fits[model].errors[int(i)] = (
+                f"at least {minimum} points are needed, got {int(counts[i])}"
+            )
+    order = np.argsort(counts, kind="stable")
+    order = order[counts[order] >= 1]
+    for start in range(0, order.size, CHUNK_TRIALS):
+        chunk = order[start : start + CHUNK_TRIALS]
+        trials = _Trials.from_flat(x_mm, y_mm, counts[chunk], offsets[chunk])
+        for model in models:
+            enough = counts[chunk] >= MODELS[model][2]
+            if not enough.any():
+                continue
+            part = trials if enough.all() else trials.take(np.flatnonzero(enough))
+            fits[model]._add(chunk[enough], _CHUNK_FITS[model](part, depth_mm[chunk[enough]]))
+    return fits
+
+
+def fit_batch(distance_mm, deflection_mm, depth_mm=None, models=tuple(MODELS)):
+    """Fit models to many trials at once, each on all of its points.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : sequence of array_like
+        One 1-D array per trial (mm); distances > 0, all finite.  Trials may
+        differ in length.
+    depth_mm : float or array_like, optional
+        Indentation depth of each trial (mm), W0 of the fixed-depth waterbed
+        fits; needed for those.
+    models : iterable of str, optional
+        Keys of :data:`MODELS`.
+
+    Returns
+    -------
+    dict of str to BatchFits
+        By model.  A trial with fewer points than a model needs, or without an
+        admissible L, has no fit (``BatchFits.result`` raises the ValueError the
+        single-trial function raises).
+
+    Raises
+    ------
+    ValueError
+        For a trial whose arrays differ in shape, a distance <= 0 or a value
+        that is not finite.
+    """
+    models = tuple(models)
+    x_mm, y_mm, counts = _as_trials(distance_mm, deflection_mm)
+    if not (np.all(np.isfinite(x_mm)) and np.all(np.isfinite(y_mm))):
+        raise ValueError("distances and deflections must be finite")
+    if np.any(x_mm <= 0):
+        raise ValueError("distances must be > 0 (the load point itself is not fitted)")
+    if depth_mm is None:
+        if set(models) & {"waterbed", "shifted", "arc"}:
+            raise ValueError("the fixed-depth fits need depth_mm")
+        depth_mm = np.nan
+    depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), counts.shape)
+    return _fit_flat(x_mm, y_mm, counts, depth_mm, models)
+
+
+def _as_points(distance_mm, deflection_mm, minimum):
+    distance_mm = np.asarray(distance_mm, dtype=float)
+    deflection_mm = np.asarray(deflection_mm, dtype=float)
+    if distance_mm.shape != deflection_mm.shape or distance_mm.ndim != 1:
+        raise ValueError("distance_mm and deflection_mm must be 1-D arrays of equal length")
+    if distance_mm.size < minimum:
+        raise ValueError(f"at least {minimum} points are needed, got {distance_mm.size}")
+    if not (np.all(np.isfinite(distance_mm)) and np.all(np.isfinite(deflection_mm))):
+        raise ValueError("distances and deflections must be finite")
+    if np.any(distance_mm <= 0):
+        raise ValueError("distances must be > 0 (the load point itself is not fitted)")
+    return distance_mm, deflection_mm
+
+
+def _fit_one(model, distance_mm, deflection_mm, depth_mm=np.nan):
+    x, y = _as_points(distance_mm, deflection_mm, minimum=MODELS[model][2])
+    fits = _fit_flat(x, y, np.array([x.size]), np.array([float(depth_mm)]), (model,))
+    return fits[model].result(0)
 
 
 def fit_waterbed(distance_mm, deflection_mm, depth_mm):
@@ -293,111 +1141,7 @@ def fit_waterbed(distance_mm, deflection_mm, depth_mm):
         ``params = {"L_mm": L, "L_ci_low_mm": ..., "L_ci_high_mm": ...}``, the
         last two the 95 % profile-likelihood interval (:func:`profile_interval`).
     """
-    x, y = _as_points(distance_mm, deflection_mm, minimum=1)
-    a = y - depth_mm
-    b = 4.0 * depth_mm * x
-    c = -3.0 * depth_mm * x**2
-    # S(u) = sum (a + b u + c u^2)^2, coefficients from the highest power down
-    quartic = np.array(
-        [
-            np.sum(c * c),
-            2.0 * np.sum(b * c),
-            np.sum(b * b + 2.0 * a * c),
-            2.0 * np.sum(a * b),
-            np.sum(a * a),
-        ]
-    )
-    u_max = 1.0 / x.max()
-    roots = np.roots(np.polyder(quartic))
-    scale = max(1.0, float(np.max(np.abs(roots)))) if roots.size else 1.0
-    real = roots[np.abs(roots.imag) <= 1e-9 * scale].real
-    candidates = np.concatenate([[0.0, u_max], real[(real > 0) & (real < u_max)]])
-    sse = np.polyval(quartic, candidates)
-    u_best = float(candidates[np.argmin(sse)])
-    L_mm = np.inf if u_best == 0.0 else 1.0 / u_best
-    residual = y - waterbed_deflection_mm(x, depth_mm, L_mm)
-    low, high = profile_interval(
-        lambda L: np.polyval(quartic, 1.0 / np.asarray(L)),
-        L_mm,
-        x.max(),
-        np.inf,
-        float(np.sum(residual**2)),
-        x.size,
-    )
-    params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
-    return _result("waterbed", params, residual, n_params=1)
-
-
-def _arc_sse(x, y, depth_mm, L_mm):
-    """Sum of squared residuals of the arc model for each L (vectorised over L)."""
-    L_mm = np.atleast_1d(np.asarray(L_mm, dtype=float))
-    geometry = arc_geometry(depth_mm, L_mm[:, None])
-    dx = x[None, :] - geometry["centre_x_mm"]
-    z = geometry["centre_z_mm"] + np.sqrt(np.maximum(geometry["radius_mm"] ** 2 - dx**2, 0.0))
-    model = np.where(x[None, :] <= L_mm[:, None], -z, 0.0)
-    sse = np.sum((y[None, :] - model) ** 2, axis=1)
-    return np.where(geometry["is_graph"][:, 0], sse, np.inf)
-
-
-def minimise_in_L(sse_of_L, L_min, L_max, n_grid=200, rtol=1e-9):
-    """Minimise a least-squares objective over one length, ``L_min <= L <= L_max``.
-
-    A dense log-spaced grid finds the basin of the global minimum; a zoom then
-    refines it inside the two grid cells around the best grid point (17 evenly
-    spaced values per step, keeping the two cells around the best each time)
-    until the bracket is ``rtol`` wide.
-
-    Parameters
-    ----------
-    sse_of_L : callable
-        Objective for a 1-D array of L (mm); ``inf`` marks inadmissible values.
-    L_min, L_max : float
-        Search range (mm).
-    n_grid : int, optional
-        Number of grid points.
-    rtol : float, optional
-        Relative width of the final bracket.
-
-    Returns
-    -------
-    float
-        The minimising L (mm).
-
-    Raises
-    ------
-    ValueError
-        If the objective is infinite over the whole grid.
-    """
-    grid = np.geomspace(L_min, L_max, n_grid)
-    sse = sse_of_L(grid)
-    if not np.any(np.isfinite(sse)):
-        raise ValueError(f"no admissible L between {L_min:g} and {L_max:g} mm")
-    best = int(np.argmin(sse))
-    lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, n_grid - 1)]
-    while hi - lo > rtol * hi:
-        points = np.linspace(lo, hi, 17)
-        k = int(np.argmin(sse_of_L(points)))
-        lo, hi = points[max(k - 1, 0)], points[min(k + 1, 16)]
-    candidates = np.array([grid[best], 0.5 * (lo + hi)])
-    return float(candidates[np.argmin(sse_of_L(candidates))])
-
-
-def _fit_L_by_search(model, x, y, sse_of_L, deflection, L_lo):
-    """One-parameter fit in L by :func:`minimise_in_L` over ``[L_lo, L_SEARCH_SPAN max(x)]``.
-
-    Shared by the fixed-depth fits that have no closed form (exact arc,
-    shifted parabola): the minimum, the fitted curve's residuals and the
-    profile-likelihood interval.
-    """
-    L_hi = L_SEARCH_SPAN * x.max()
-    try:
-        L_mm = minimise_in_L(sse_of_L, L_lo, L_hi)
-    except ValueError as error:
-        raise ValueError(f"no valid {model} curve: {error}") from None
-    residual = y - deflection(x, L_mm)
-    low, high = profile_interval(sse_of_L, L_mm, L_lo, L_hi, float(np.sum(residual**2)), x.size)
-    params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
-    return _result(model, params, residual, n_params=1)
+    return _fit_one("waterbed", distance_mm, deflection_mm, depth_mm)
 
 
 def fit_arc(distance_mm, deflection_mm, depth_mm):
@@ -419,23 +1163,7 @@ def fit_arc(distance_mm, deflection_mm, depth_mm):
         ``params = {"L_mm": L, "L_ci_low_mm": ..., "L_ci_high_mm": ...}`` with
         the 95 % profile-likelihood interval (:func:`profile_interval`).
     """
-    x, y = _as_points(distance_mm, deflection_mm, minimum=1)
-    return _fit_L_by_search(
-        "arc",
-        x,
-        y,
-        lambda L: _arc_sse(x, y, depth_mm, L),
-        lambda x, L: arc_deflection_mm(x, depth_mm, L),
-        x.max(),
-    )
-
-
-def _shifted_sse(x, y, depth_mm, L_mm):
-    """Sum of squared residuals of the shifted parabola for each L (vectorised over L)."""
-    L_mm = np.atleast_1d(np.asarray(L_mm, dtype=float))
-    model = shifted_deflection_mm(x[None, :], depth_mm, L_mm[:, None])
-    sse = np.sum((y[None, :] - model) ** 2, axis=1)
-    return np.where(np.isfinite(sse), sse, np.inf)
+    return _fit_one("arc", distance_mm, deflection_mm, depth_mm)
 
 
 def fit_shifted(distance_mm, deflection_mm, depth_mm):
@@ -461,16 +1189,7 @@ def fit_shifted(distance_mm, deflection_mm, depth_mm):
         ``params = {"L_mm": L, "L_ci_low_mm": ..., "L_ci_high_mm": ...}`` with
         the 95 % profile-likelihood interval (:func:`profile_interval`).
     """
-    x, y = _as_points(distance_mm, deflection_mm, minimum=1)
-    fold_mm = abs(float(depth_mm)) / MAX_ONE_TO_ONE_RATIO * (1.0 + 1e-9)
-    return _fit_L_by_search(
-        "shifted",
-        x,
-        y,
-        lambda L: _shifted_sse(x, y, depth_mm, L),
-        lambda x, L: shifted_deflection_mm(x, depth_mm, L),
-        max(x.max(), fold_mm),
-    )
+    return _fit_one("shifted", distance_mm, deflection_mm, depth_mm)
 
 
 def fit_waterbed_free_depth(distance_mm, deflection_mm):
@@ -491,32 +1210,16 @@ def fit_waterbed_free_depth(distance_mm, deflection_mm):
     FitResult
         ``params = {"L_mm", "L_ci_low_mm", "L_ci_high_mm", "W0_mm"}``.
     """
-    x, y = _as_points(distance_mm, deflection_mm, minimum=2)
-    L_lo, L_hi = x.max(), L_SEARCH_SPAN * x.max()
-
-    def shape_and_depth(L):
-        s = x[None, :] / np.atleast_1d(np.asarray(L, dtype=float))[:, None]
-        g = 3.0 * s**2 - 4.0 * s + 1.0
-        return g, np.sum(y * g, axis=1) / np.sum(g * g, axis=1)
-
-    def sse_of_L(L):
-        g, W0 = shape_and_depth(L)
-        return np.sum((y[None, :] - W0[:, None] * g) ** 2, axis=1)
-
-    L_mm = minimise_in_L(sse_of_L, L_lo, L_hi)
-    W0_mm = float(shape_and_depth(L_mm)[1][0])
-    residual = y - waterbed_deflection_mm(x, W0_mm, L_mm)
-    low, high = profile_interval(sse_of_L, L_mm, L_lo, L_hi, float(np.sum(residual**2)), x.size)
-    params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high, "W0_mm": W0_mm}
-    return _result("waterbed_free_depth", params, residual, n_params=2)
+    return _fit_one("waterbed_free_depth", distance_mm, deflection_mm)
 
 
 def fit_boussinesq(distance_mm, deflection_mm):
     """Fit the modified Boussinesq profile ``A ln(x0 / x)``: linear least squares.
 
     The model is a straight line in ``ln x``: ``w = A ln x0 - A ln x``, so the
-    fit is an exact linear regression.  ``x0`` is reported as NaN when the
-    slope has the wrong sign (``A <= 0``), where the form has no zero crossing.
+    fit is an exact linear regression (centred, in closed form).  ``x0`` is
+    reported as NaN when the slope has the wrong sign (``A <= 0``), where the
+    form has no zero crossing.
 
     Parameters
     ----------
@@ -528,15 +1231,7 @@ def fit_boussinesq(distance_mm, deflection_mm):
     FitResult
         ``params = {"A_mm": A, "x0_mm": x0}``.
     """
-    x, y = _as_points(distance_mm, deflection_mm, minimum=2)
-    log_x = np.log(x)
-    design = np.column_stack([np.ones_like(log_x), -log_x])
-    (intercept, A_mm), *_ = np.linalg.lstsq(design, y, rcond=None)
-    residual = y - design @ np.array([intercept, A_mm])
-    x0_mm = float(np.exp(intercept / A_mm)) if A_mm > 0 else np.nan
-    if A_mm > 0:
-        residual = y - boussinesq_deflection_mm(x, A_mm, x0_mm)
-    return _result("boussinesq", {"A_mm": float(A_mm), "x0_mm": x0_mm}, residual, n_params=2)
+    return _fit_one("boussinesq", distance_mm, deflection_mm)
 
 
 #: Columns of the fit table, in order (one row per subject and depth).
@@ -572,6 +1267,98 @@ FIT_COLUMNS = [
     "boussinesq_aicc",
 ]
 
+#: The models of the fit table, in column order.
+TABLE_MODELS = ("waterbed", "shifted", "arc", "boussinesq")
+
+
+def window_points(distance_mm, deflection_mm, window_mm):
+    """The points of many trials inside a fit window, concatenated.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : sequence of array_like
+        One 1-D array per trial (mm).
+    window_mm : float or array_like
+        Outer edge of the fitted region (mm), one for all trials or one each.
+
+    Returns
+    -------
+    tuple
+        ``(x_mm, y_mm, counts)``: the points with ``0 < distance <= window`` and a
+        finite deflection, trial after trial, and how many each trial has.
+    """
+    x_mm, y_mm, counts = _as_trials(distance_mm, deflection_mm)
+    window_mm = np.broadcast_to(np.asarray(window_mm, dtype=float), counts.shape)
+    keep = in_fit_window(x_mm, np.repeat(window_mm, counts)) & np.isfinite(y_mm)
+    trial = np.repeat(np.arange(counts.size), counts)
+    return x_mm[keep], y_mm[keep], np.bincount(trial[keep], minlength=counts.size)
+
+
+def fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, models=tuple(MODELS)):
+    """Fit models to many trials at once, each on its points inside a fit window.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : sequence of array_like
+        The averaged profile of each trial (mm), one 1-D array per trial.
+    depth_mm : float or array_like
+        Indentation depth of each trial (mm), W0 of the fixed-depth waterbed fits.
+    window_mm : float or array_like
+        Points with ``0 < distance <= window_mm`` and a finite deflection are fitted.
+    models : iterable of str, optional
+        Keys of :data:`MODELS`.
+
+    Returns
+    -------
+    dict
+        ``n_points`` and ``max_distance_mm`` (arrays by trial, NaN for a trial
+        without points) and each model's :class:`BatchFits` by its name.
+    """
+    x_mm, y_mm, counts = window_points(distance_mm, deflection_mm, window_mm)
+    depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), counts.shape)
+    fits = _fit_flat(x_mm, y_mm, counts, depth_mm, tuple(models))
+    max_distance_mm = np.full(counts.size, np.nan)
+    some = counts > 0
+    if some.any():
+        max_distance_mm[some] = np.maximum.reduceat(x_mm, (np.cumsum(counts) - counts)[some])
+    return {"n_points": counts, "max_distance_mm": max_distance_mm, **fits}
+
+
+def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm):
+    """Fit every model of the fit table to many trials, each on its windowed points.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : sequence of array_like
+        The averaged profile of each trial (mm), one 1-D array per trial.
+    depth_mm : float or array_like
+        Indentation depth of each trial (mm), W0 of the waterbed fits.
+    window_mm : float or array_like
+        Points with ``0 < distance <= window_mm`` are fitted.
+
+    Returns
+    -------
+    list of dict
+        One row per trial, as :func:`fit_trial` gives it.
+    """
+    fits = fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, TABLE_MODELS)
+    count = fits["n_points"].size
+    columns = {
+        "depth_mm": np.broadcast_to(np.asarray(depth_mm, dtype=float), count).tolist(),
+        "fit_window_mm": np.broadcast_to(np.asarray(window_mm, dtype=float), count).tolist(),
+        "n_points": fits["n_points"].tolist(),
+        "max_distance_mm": fits["max_distance_mm"].tolist(),
+    }
+    for model in TABLE_MODELS:
+        fit = fits[model]
+        for name, values in (*fit.params.items(), *list(fit.measures.items())[1:]):
+            columns[f"{model}_{name}"] = values.tolist()
+    for name, values in columns.items():
+        if name != "n_points":
+            columns[name] = [np.nan if v != v else v for v in values]
+    names = list(columns)
+    return [dict(zip(names, row, strict=True)) for row in zip(*columns.values(), strict=True)]
+
 
 def fit_trial(distance_mm, deflection_mm, depth_mm, window_mm):
     """Fit every model to one trial on the same points.
@@ -592,29 +1379,4 @@ def fit_trial(distance_mm, deflection_mm, depth_mm, window_mm):
         ``species``).  A model that needs more points than the window holds
         gets NaN.
     """
-    distance_mm = np.asarray(distance_mm, dtype=float)
-    deflection_mm = np.asarray(deflection_mm, dtype=float)
-    keep = in_fit_window(distance_mm, window_mm) & np.isfinite(deflection_mm)
-    x, y = distance_mm[keep], deflection_mm[keep]
-    row = {
-        "depth_mm": float(depth_mm),
-        "fit_window_mm": float(window_mm),
-        "n_points": int(x.size),
-        "max_distance_mm": float(x.max()) if x.size else np.nan,
-    }
-    fits = {
-        "waterbed": (lambda: fit_waterbed(x, y, depth_mm), ["L_mm", "L_ci_low_mm", "L_ci_high_mm"]),
-        "shifted": (lambda: fit_shifted(x, y, depth_mm), ["L_mm", "L_ci_low_mm", "L_ci_high_mm"]),
-        "arc": (lambda: fit_arc(x, y, depth_mm), ["L_mm", "L_ci_low_mm", "L_ci_high_mm"]),
-        "boussinesq": (lambda: fit_boussinesq(x, y), ["A_mm", "x0_mm"]),
-    }
-    for model, (fit, names) in fits.items():
-        try:
-            result = fit()
-        except ValueError:
-            result = None
-        for name in names:
-            row[f"{model}_{name}"] = result.params[name] if result else np.nan
-        for measure in ("rmse_mm", "max_abs_residual_mm", "aicc"):
-            row[f"{model}_{measure}"] = getattr(result, measure) if result else np.nan
-    return row
+    return fit_trials([distance_mm], [deflection_mm], [depth_mm], window_mm)[0]

@@ -115,7 +115,80 @@ def shift_is_one_to_one(depth_mm, L_mm):
     return 6.0 * (np.asarray(depth_mm, dtype=float) / np.asarray(L_mm, dtype=float)) ** 2 < 1.0
 
 
-def resting_position_mm(distance_mm, depth_mm, L_mm):
+def _problem_labels(index, shape, independent_axes):
+    """Which problem each element ``index`` (flat, C order) of an array of ``shape`` is in.
+
+    The leading ``independent_axes`` axes index separate problems (0: the whole
+    array is one).  Returns the labels (None when every element is a problem of its
+    own) and the number of problems.
+    """
+    shape = tuple(shape)
+    inner = math.prod(shape[independent_axes:])
+    if inner <= 1:
+        return None, max(1, math.prod(shape))
+    return index // inner, math.prod(shape) // inner
+
+
+def _clipped_newton(start, params, step_of, converged, bounds, labels, n_problems, settle):
+    """Newton's method, each step clipped to ``bounds``, for many elements at once.
+
+    ``step_of(value, *params)`` gives the step of each element (``params``: arrays
+    of per-element data).  Each problem (``labels``; None: each element alone)
+    iterates, all of its elements together, until every element of it meets
+    ``converged(step, new_value)`` after a step, or 50 steps: the same steps,
+    element by element, as one loop per problem would take.  Two things only save
+    work, without changing any value: an element that a step left unchanged is at a
+    fixed point of its own iteration and is set aside (its test stays what it was),
+    and so is every element of a finished problem.
+
+    With ``settle``, an element also counts as converged once its step no longer
+    shrinks: it has reached the rounding noise of its equation, and further steps
+    would move it at random within that noise.  The values are then as accurate,
+    but not bit for bit those of the full iteration.
+    """
+    value = np.array(start, dtype=float)
+    position = np.arange(value.size)
+    current, labels_left = value, labels
+    aside = None if labels is None else np.zeros(n_problems, dtype=np.intp)
+    previous = None
+    for _ in range(50):
+        if position.size == 0:
+            break
+        step = step_of(current, *params)
+        new = current - step
+        np.clip(new, *bounds, out=new)
+        ok = converged(step, new)
+        if settle:
+            size = np.abs(step)
+            if previous is not None:
+                ok |= size >= previous
+        fixed = new == current
+        if labels is None:
+            going = ~(fixed | ok)
+        else:
+            stuck = fixed & ~ok
+            if stuck.any():
+                aside += np.bincount(labels_left[stuck], minlength=n_problems)
+            open_ = (np.bincount(labels_left[~ok], minlength=n_problems) + aside) > 0
+            going = ~fixed & open_[labels_left]
+        if going.all():
+            current = new
+        else:
+            leaving = ~going
+            value[position[leaving]] = new[leaving]
+            position, current = position[going], new[going]
+            params = tuple(values[going] for values in params)
+            if labels is not None:
+                labels_left = labels_left[going]
+            if settle:
+                size = size[going]
+        if settle:
+            previous = size
+    value[position] = current
+    return value
+
+
+def resting_position_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settle=False):
     """Resting position X of the membrane point seen at deformed position x (inverse of eq. 20).
 
     Solves ``X + U(X) = x`` on ``0 <= x <= L``; with ``s = X / L``,
@@ -124,7 +197,8 @@ def resting_position_mm(distance_mm, depth_mm, L_mm):
     (see :func:`shift_is_one_to_one`).  Newton's method from the first-order
     inverse ``s = t + k t (t - 1)**2``, each step clipped to ``[0, 1]``, reaches
     rounding in under 10 steps for ``k <= 0.999`` and slows only near the fold
-    (about 20 steps at ``k = 1 - 1e-9``); the loop stops at 50.  The tests check
+    (about 20 steps at ``k = 1 - 1e-9``); the loop stops when every step is below
+    1e-15, or at 50 (see ``independent_axes`` for what "every" covers).  The tests check
     the residual of the cubic on a dense grid of ``k`` and ``t`` up to
     ``1 - 1e-9``.  Beyond the wall (``x > L``), and for a flat membrane
     (``L`` infinite), ``X = x``.
@@ -137,33 +211,60 @@ def resting_position_mm(distance_mm, depth_mm, L_mm):
         W0 (mm).
     L_mm : float or array_like
         Half-width L (mm); broadcast against ``distance_mm``.
+    independent_axes : int, optional
+        How many leading axes (of the broadcast shape) index separate problems,
+        each iterated until its own elements have converged, as a separate call
+        would; 0 (the default) iterates the whole array together.  The values
+        differ between the two only at rounding level.
+    settle : bool, optional
+        Stop each element as soon as its steps stop shrinking (rounding noise
+        reached): as accurate, fewer steps, but not bit for bit the values of the
+        full iteration.
 
     Returns
     -------
     numpy.ndarray
         X (mm); NaN where the map is not one-to-one (``6 (W0/L)**2 >= 1``).
     """
-    distance_mm, L_mm = np.broadcast_arrays(
-        np.asarray(distance_mm, dtype=float), np.asarray(L_mm, dtype=float)
-    )
+    distance_mm = np.asarray(distance_mm, dtype=float)
+    L_mm = np.asarray(L_mm, dtype=float)
+    shape = np.broadcast_shapes(distance_mm.shape, L_mm.shape, np.shape(depth_mm))
     k = 6.0 * (depth_mm / L_mm) ** 2
     t = distance_mm / L_mm
-    inside = (t < 1.0) & (k < 1.0)
-    t_in = np.where(inside, t, 0.0)
-    k_in = np.where(inside, k, 0.0)
-    s = np.clip(t_in + k_in * t_in * (t_in - 1.0) ** 2, 0.0, 1.0)
-    for _ in range(50):
-        residual = s - k_in * s * (s - 1.0) ** 2 - t_in
-        step = residual / (1.0 - k_in * (s - 1.0) * (3.0 * s - 1.0))
-        s = np.clip(s - step, 0.0, 1.0)
-        if np.max(np.abs(step), initial=0.0) <= 1e-15:
-            break
-    curved = inside & (k > 0.0)
-    X_mm = np.where(curved, s * np.where(curved, L_mm, 1.0), distance_mm)
-    return np.where(k < 1.0, X_mm, np.nan)
+    # on the membrane (t < 1, k < 1) and curved (k > 0); elsewhere the start is exact
+    # (every step would be 0) and only these are iterated
+    curved = np.broadcast_to((t < 1.0) & ((k < 1.0) & (k > 0.0)), shape)
+    t_c, k_c = np.broadcast_to(t, shape)[curved], np.broadcast_to(k, shape)[curved]
+
+    def step_of(s, t, k):
+        # s - k s (s - 1)^2 - t over 1 - k (s - 1)(3 s - 1), rounded as written
+        u = s - 1.0
+        residual = k * s
+        residual *= u**2
+        np.subtract(s, residual, out=residual)
+        residual -= t
+        slope = k * u
+        slope *= 3.0 * s - 1.0
+        np.subtract(1.0, slope, out=slope)
+        residual /= slope
+        return residual
+
+    s = _clipped_newton(
+        np.clip(t_c + k_c * t_c * (t_c - 1.0) ** 2, 0.0, 1.0),
+        (t_c, k_c),
+        step_of,
+        lambda step, s: np.abs(step) <= 1e-15,
+        (0.0, 1.0),
+        *_problem_labels(np.flatnonzero(curved), shape, independent_axes),
+        settle,
+    )
+    X_mm = np.array(np.broadcast_to(distance_mm, shape), order="C")
+    X_mm[curved] = s * np.broadcast_to(L_mm, shape)[curved]
+    folded = ~(k < 1.0)
+    return np.where(folded, np.nan, X_mm) if folded.any() else X_mm
 
 
-def shifted_deflection_mm(distance_mm, depth_mm, L_mm):
+def shifted_deflection_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settle=False):
     """Small-slope waterbed seen in measured coordinates: W(X) at ``x = X + U(X)``.
 
     A photograph shows each point of the skin where it is after the load, at
@@ -183,6 +284,8 @@ def shifted_deflection_mm(distance_mm, depth_mm, L_mm):
         W0 (mm).
     L_mm : float or array_like
         Half-width L (mm); broadcast against ``distance_mm``.
+    independent_axes, settle : optional
+        See :func:`resting_position_mm`.
 
     Returns
     -------
@@ -190,7 +293,7 @@ def shifted_deflection_mm(distance_mm, depth_mm, L_mm):
         Downward deflection (mm); zero beyond the wall; NaN where the map
         ``X -> x`` is not one-to-one (``L <= sqrt(6) W0``).
     """
-    X_mm = resting_position_mm(distance_mm, depth_mm, L_mm)
+    X_mm = resting_position_mm(distance_mm, depth_mm, L_mm, independent_axes, settle)
     return waterbed_deflection_mm(X_mm, depth_mm, L_mm)
 
 
@@ -233,15 +336,19 @@ def waterbed_load_angle_rad(depth_mm, L_mm):
     return np.arctan(4.0 * np.asarray(depth_mm, dtype=float) / np.asarray(L_mm, dtype=float))
 
 
-def _shape_and_slope(phi):
+def _shape_and_slope(phi, as_scalars=False):
     """Shape function ``f = (2 phi - sin 2 phi) / (4 sin**2 phi)`` and its slope, phi >= 1e-3.
 
     The slope is ``1 - (2 phi - sin 2 phi) sin 2 phi / (4 sin**4 phi)``; both
     share their trigonometry.  (Near zero, ``f = phi/3 + 2 phi**3/45 + ...``.)
+    With ``as_scalars``, ``sin**2`` is rounded as Python rounds it for a float
+    (``pow``, not numpy's ``x * x``), so that each value is the one
+    :func:`_solve_half_angle_scalar` computes.
     """
     sin, sin2 = np.sin(phi), np.sin(2.0 * phi)
     numerator = 2.0 * phi - sin2
-    shape = numerator / (4.0 * sin**2)
+    square = np.power(sin, np.full(sin.shape, 2.0)) if as_scalars else sin**2
+    shape = numerator / (4.0 * square)
     return shape, 1.0 - numerator * sin2 / (4.0 * sin**4)
 
 
@@ -260,7 +367,7 @@ def _solve_half_angle_scalar(target):
     return phi
 
 
-def _solve_half_angle(target):
+def _solve_half_angle(target, independent_axes=0, settle=False):
     """Solve ``(2 phi - sin 2 phi) / (4 sin**2 phi) = target`` for ``0 <= target <= 1/2``.
 
     The shape function rises from 0 with slope 1/3 and is convex on
@@ -269,24 +376,38 @@ def _solve_half_angle(target):
     root, and from a start left of it the first step lands on the right.  The
     start is the inverted small-angle series ``phi = 3t - 3.6 t^3`` (from
     ``f = phi/3 + 2 phi^3/45 + ...``), already close, so a few steps suffice.
-    Below ``phi = 1e-3`` the series itself is exact to rounding.
+    Below ``phi = 1e-3`` the series itself is exact to rounding.  The leading
+    ``independent_axes`` axes index separate problems, and ``settle`` stops at
+    the rounding noise (see :func:`resting_position_mm`).
     """
     target = np.asarray(target, dtype=float)
     if target.size == 1:
         return np.full(target.shape, _solve_half_angle_scalar(float(target.reshape(-1)[0])))
     start = np.minimum(3.0 * target - 3.6 * target**3, np.pi / 2)
-    small = start < 1e-3
-    phi = np.where(small, 1.0, start)
-    for _ in range(50):
-        shape, slope = _shape_and_slope(phi)
-        step = np.where(small, 0.0, (shape - target) / slope)
-        phi = np.clip(phi - step, 1e-3, np.pi / 2)
-        if np.all(np.abs(step) <= 1e-15 + 1e-13 * phi):
-            break
-    return np.where(small, start, phi)
+    iterated = ~(start < 1e-3)  # below, the start is kept
+
+    labels, n_problems = _problem_labels(np.flatnonzero(iterated), target.shape, independent_axes)
+
+    def step_of(phi, target):
+        # a problem of one value is solved as a separate call solves it: with floats
+        shape, slope = _shape_and_slope(phi, as_scalars=labels is None)
+        return (shape - target) / slope
+
+    phi = start.copy()
+    phi[iterated] = _clipped_newton(
+        start[iterated],
+        (target[iterated],),
+        step_of,
+        lambda step, phi: np.abs(step) <= 1e-15 + 1e-13 * phi,
+        (1e-3, np.pi / 2),
+        labels,
+        n_problems,
+        settle,
+    )
+    return phi
 
 
-def arc_geometry(depth_mm, L_mm):
+def arc_geometry(depth_mm, L_mm, independent_axes=0, settle=False):
     """Circle through the load point and the wall that encloses zero net area.
 
     The arc runs from ``(0, -W0)`` to ``(L, 0)`` (z upward).  With
@@ -300,6 +421,8 @@ def arc_geometry(depth_mm, L_mm):
         Deflection under the load, W0 (mm, > 0).
     L_mm : float or array_like
         Half-width of the membrane (mm, > 0); broadcast against ``depth_mm``.
+    independent_axes, settle : optional
+        How the half-angle is iterated (see :func:`resting_position_mm`).
 
     Returns
     -------
@@ -312,7 +435,7 @@ def arc_geometry(depth_mm, L_mm):
         np.asarray(depth_mm, dtype=float), np.asarray(L_mm, dtype=float)
     )
     target = depth_mm * L_mm / (L_mm**2 + depth_mm**2)  # delta / (1 + delta**2) <= 1/2
-    phi = _solve_half_angle(target)
+    phi = _solve_half_angle(target, independent_axes, settle)
     chord_mm = np.hypot(L_mm, depth_mm)
     with np.errstate(divide="ignore", invalid="ignore"):
         radius_mm = chord_mm / (2.0 * np.sin(phi))
@@ -330,31 +453,53 @@ def arc_geometry(depth_mm, L_mm):
     }
 
 
-def arc_deflection_mm(distance_mm, depth_mm, L_mm):
+def arc_deflection_mm(
+    distance_mm, depth_mm, L_mm, geometry=None, independent_axes=0, as_scalars=False
+):
     """Exact waterbed profile: the zero-area circular arc, as downward deflection.
 
     Parameters
     ----------
     distance_mm : array_like
         Horizontal distance x from the load in the deformed state (mm, >= 0).
-    depth_mm : float
+    depth_mm : float or array_like
         Deflection under the load, W0 (mm, > 0).
-    L_mm : float
-        Half-width of the membrane (mm, > 0).
+    L_mm : float or array_like
+        Half-width of the membrane (mm, > 0).  Arrays of ``depth_mm`` and
+        ``L_mm`` broadcast against each other and against ``distance_mm``; the
+        circle is solved once per (W0, L), not per distance.
+    geometry : dict, optional
+        ``arc_geometry(depth_mm, L_mm)`` if already at hand (a fit evaluates
+        many distances for each (W0, L)); its arrays broadcast like ``L_mm``.
+    independent_axes : int, optional
+        Passed to :func:`arc_geometry` when it is called here.
+    as_scalars : bool, optional
+        Square the radius as numpy squares a scalar (``pow``, not ``x * x``), so
+        that each (W0, L) gives the values of a call with scalar W0 and L, to the
+        last bit.
 
     Returns
     -------
     numpy.ndarray
-        Downward deflection w(x) (mm); zero beyond the wall and NaN everywhere
-        when the arc is not a function of x (extreme W0 / L).
+        Downward deflection w(x) (mm); zero beyond the wall and NaN for every
+        distance of an arc that is not a function of x (extreme W0 / L).
     """
     distance_mm = np.asarray(distance_mm, dtype=float)
-    geometry = arc_geometry(depth_mm, L_mm)
-    if not bool(geometry["is_graph"]):
+    L_mm = np.asarray(L_mm, dtype=float)
+    if geometry is None:
+        geometry = arc_geometry(depth_mm, L_mm, independent_axes)
+    is_graph = np.asarray(geometry["is_graph"])
+    if is_graph.ndim == 0 and not bool(is_graph):
         return np.full(distance_mm.shape, np.nan)
+    radius_mm = np.asarray(geometry["radius_mm"])
+    if as_scalars:
+        radius_squared = np.power(radius_mm, np.full(radius_mm.shape, 2.0))
+    else:
+        radius_squared = geometry["radius_mm"] ** 2
     dx = distance_mm - geometry["centre_x_mm"]
-    z_mm = geometry["centre_z_mm"] + np.sqrt(np.maximum(geometry["radius_mm"] ** 2 - dx**2, 0.0))
-    return np.where(distance_mm <= L_mm, -z_mm, 0.0)
+    z_mm = geometry["centre_z_mm"] + np.sqrt(np.maximum(radius_squared - dx**2, 0.0))
+    w_mm = np.where(distance_mm <= L_mm, -z_mm, 0.0)
+    return w_mm if is_graph.ndim == 0 else np.where(is_graph, w_mm, np.nan)
 
 
 def boussinesq_deflection_mm(distance_mm, A_mm, x0_mm):

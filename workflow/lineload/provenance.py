@@ -25,7 +25,7 @@ __all__ = [
 ]
 
 #: Distributions whose versions are recorded (the pinned dependencies that run the build).
-PACKAGES = ("snakemake", "numpy", "scipy", "pandas", "matplotlib", "pyyaml")
+PACKAGES = ("snakemake", "numpy", "scipy", "pandas", "matplotlib", "pyyaml", "typst")
 
 
 def file_sha256(path):

@@ -12,14 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fitting import (
-    fit_arc,
-    fit_boussinesq,
-    fit_shifted,
-    fit_waterbed,
-    fit_waterbed_free_depth,
-    in_fit_window,
-)
+from .fitting import fit_windowed
 from .models import arc_deflection_mm, shifted_deflection_mm, waterbed_deflection_mm
 
 __all__ = [
@@ -28,7 +21,9 @@ __all__ = [
     "agreement_reach_mm",
     "curve_gap_mm",
     "sensitivity_rows",
+    "sensitivity_rows_batch",
     "trial_checks",
+    "trial_checks_batch",
 ]
 
 SENSITIVITY_COLUMNS = [
@@ -78,6 +73,36 @@ FIXED_DEPTH = ("waterbed", "shifted", "arc")
 #: The waterbed curves in measured coordinates, by model name.
 CONSISTENT_CURVES = {"shifted": shifted_deflection_mm, "arc": arc_deflection_mm}
 
+#: How each curve is evaluated for many trials at once so that every row is what a
+#: call with that trial's scalar W0 and L gives (see lineload.models).
+_ONE_CALL_PER_ROW = {
+    "shifted": {"independent_axes": 1},
+    "arc": {"independent_axes": 1, "as_scalars": True},
+}
+
+
+def _nan_is_nan(value):
+    """A float for the tables; NaN is always the ``numpy.nan`` object."""
+    value = float(value)
+    return np.nan if value != value else value
+
+
+def _curve_gaps_mm(depth_mm, waterbed_L_mm, other_L_mm, max_distance_mm, model, n_points=601):
+    """:func:`curve_gap_mm` for many trials at once (arrays by trial)."""
+    values = (depth_mm, waterbed_L_mm, other_L_mm, max_distance_mm)
+    values = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in values))
+    depth_mm, waterbed_L_mm, other_L_mm, max_distance_mm = (v.reshape(-1) for v in values)
+    gaps = np.full(depth_mm.size, np.nan)
+    rows = np.flatnonzero(np.all([np.isfinite(v) for v in values], axis=0).reshape(-1))
+    if rows.size:
+        x = np.linspace(0.0, max_distance_mm[rows], n_points, axis=-1)
+        paper = waterbed_deflection_mm(x, depth_mm[rows, None], waterbed_L_mm[rows, None])
+        other = CONSISTENT_CURVES[model](
+            x, depth_mm[rows, None], other_L_mm[rows, None], **_ONE_CALL_PER_ROW[model]
+        )
+        gaps[rows] = np.max(np.abs(paper - other), axis=1)
+    return gaps.reshape(values[0].shape)
+
 
 def curve_gap_mm(depth_mm, waterbed_L_mm, other_L_mm, max_distance_mm, model, n_points=601):
     """Largest vertical gap between the paper's fitted curve and a coordinate-consistent one.
@@ -106,13 +131,10 @@ def curve_gap_mm(depth_mm, waterbed_L_mm, other_L_mm, max_distance_mm, model, n_
     float
         The gap (mm); NaN if either L or the range is not finite.
     """
-    values = (depth_mm, waterbed_L_mm, other_L_mm, max_distance_mm)
-    if not all(np.isfinite(v) for v in values):
-        return np.nan
-    x = np.linspace(0.0, max_distance_mm, n_points)
-    paper = waterbed_deflection_mm(x, depth_mm, waterbed_L_mm)
-    other = CONSISTENT_CURVES[model](x, depth_mm, other_L_mm)
-    return float(np.max(np.abs(paper - other)))
+    gap = _curve_gaps_mm(
+        depth_mm, waterbed_L_mm, other_L_mm, max_distance_mm, model, n_points=n_points
+    )
+    return _nan_is_nan(gap)
 
 
 def window_label(window_mm):
@@ -140,52 +162,59 @@ def sensitivity_rows(distance_mm, deflection_mm, depth_mm, windows_mm):
         parameters a model does not have are NaN.  ``delta_aicc`` is the AICc
         minus the lowest AICc of the models in that window.
     """
-    distance_mm = np.asarray(distance_mm, dtype=float)
-    deflection_mm = np.asarray(deflection_mm, dtype=float)
-    rows = []
+    return sensitivity_rows_batch([distance_mm], [deflection_mm], [depth_mm], windows_mm)[0]
+
+
+def sensitivity_rows_batch(distance_mm, deflection_mm, depth_mm, windows_mm):
+    """:func:`sensitivity_rows` for many trials at once (each model fitted to all together).
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : sequence of array_like
+        The averaged profile of each trial (mm), one 1-D array per trial.
+    depth_mm : float or array_like
+        Indentation depth of each trial (mm).
+    windows_mm : sequence of float
+        Outer edges of the fitted region (mm); ``inf`` is the whole profile.
+
+    Returns
+    -------
+    list of list of dict
+        For each trial, its rows as :func:`sensitivity_rows` gives them.
+    """
+    count = len(distance_mm)
+    depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), (count,))
+    rows = [[] for _ in range(count)]
     for window_mm in windows_mm:
-        keep = in_fit_window(distance_mm, window_mm) & np.isfinite(deflection_mm)
-        x, y = distance_mm[keep], deflection_mm[keep]
-        fits = {
-            "waterbed": lambda x=x, y=y: fit_waterbed(x, y, depth_mm),
-            "waterbed_free_depth": lambda x=x, y=y: fit_waterbed_free_depth(x, y),
-            "shifted": lambda x=x, y=y: fit_shifted(x, y, depth_mm),
-            "arc": lambda x=x, y=y: fit_arc(x, y, depth_mm),
-            "boussinesq": lambda x=x, y=y: fit_boussinesq(x, y),
-        }
-        window_rows = []
+        fits = fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, MODELS)
+        aicc = np.array([fits[model].measures["aicc"] for model in MODELS])
+        best = np.fmin.reduce(aicc, axis=0)  # NaN only where every model has none
         for model in MODELS:
-            try:
-                result = fits[model]()
-            except ValueError:
-                result = None
-            params = result.params if result else {}
-            window_rows.append(
-                {
-                    "depth_mm": float(depth_mm),
+            fit = fits[model]
+            columns = {
+                name: fit.params.get(name, np.full(count, np.nan))
+                for name in ("L_mm", "L_ci_low_mm", "L_ci_high_mm", "A_mm", "x0_mm")
+            }
+            columns["W0_mm"] = fit.params.get(
+                "W0_mm", depth_mm if model in FIXED_DEPTH else np.full(count, np.nan)
+            )
+            columns.update(
+                {name: fit.measures[name] for name in ("rmse_mm", "max_abs_residual_mm", "aicc")}
+            )
+            columns["delta_aicc"] = fit.measures["aicc"] - best
+            values = {name: column.tolist() for name, column in columns.items()}
+            n_points = fits["n_points"].tolist()
+            for i in range(count):
+                row = {
+                    "depth_mm": float(depth_mm[i]),
                     "window": window_label(window_mm),
                     "fit_window_mm": float(window_mm),
                     "model": model,
-                    "n_points": int(x.size),
-                    "L_mm": params.get("L_mm", np.nan),
-                    "L_ci_low_mm": params.get("L_ci_low_mm", np.nan),
-                    "L_ci_high_mm": params.get("L_ci_high_mm", np.nan),
-                    "W0_mm": params.get(
-                        "W0_mm",
-                        float(depth_mm) if model in ("waterbed", "shifted", "arc") else np.nan,
-                    ),
-                    "A_mm": params.get("A_mm", np.nan),
-                    "x0_mm": params.get("x0_mm", np.nan),
-                    "rmse_mm": result.rmse_mm if result else np.nan,
-                    "max_abs_residual_mm": result.max_abs_residual_mm if result else np.nan,
-                    "aicc": result.aicc if result else np.nan,
+                    "n_points": int(n_points[i]),
                 }
-            )
-        aiccs = np.array([row["aicc"] for row in window_rows])
-        best = np.nanmin(aiccs) if np.any(np.isfinite(aiccs)) else np.nan
-        for row in window_rows:
-            row["delta_aicc"] = row["aicc"] - best
-        rows.extend(window_rows)
+                for name in SENSITIVITY_COLUMNS[7:]:
+                    row[name] = _nan_is_nan(values[name][i])
+                rows[i].append(row)
     return rows
 
 
@@ -242,43 +271,88 @@ def trial_checks(distance_mm, deflection_mm, depth_mm, window_mm, reach_fraction
     -------
     dict
         The columns of :data:`CHECK_COLUMNS` except ``subject`` and ``species``.
+
+    Raises
+    ------
+    ValueError
+        If a waterbed curve cannot be fitted in the window (no point in it).
     """
-    distance_mm = np.asarray(distance_mm, dtype=float)
-    deflection_mm = np.asarray(deflection_mm, dtype=float)
-    usable = (distance_mm > 0) & np.isfinite(deflection_mm)
-    x, y = distance_mm[usable], deflection_mm[usable]
-    inside = x <= window_mm
-    L_mm = fit_waterbed(x[inside], y[inside], depth_mm).params["L_mm"]
-    consistent_L_mm = {
-        "shifted": fit_shifted(x[inside], y[inside], depth_mm).params["L_mm"],
-        "arc": fit_arc(x[inside], y[inside], depth_mm).params["L_mm"],
+    return trial_checks_batch(
+        [distance_mm], [deflection_mm], [depth_mm], window_mm, reach_fraction
+    )[0]
+
+
+def trial_checks_batch(distance_mm, deflection_mm, depth_mm, window_mm, reach_fraction):
+    """:func:`trial_checks` for many trials at once (the fits of all of them together).
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : sequence of array_like
+        The averaged profile of each trial (mm), one 1-D array per trial.
+    depth_mm : float or array_like
+        Indentation depth of each trial (mm).
+    window_mm : float
+        Fit window (mm) of the waterbed fits.
+    reach_fraction : float
+        Tolerance of the reach, as a fraction of the depth.
+
+    Returns
+    -------
+    list of dict
+        For each trial, what :func:`trial_checks` gives.
+
+    Raises
+    ------
+    ValueError
+        For the first trial whose waterbed curves cannot be fitted in the window.
+    """
+    count = len(distance_mm)
+    depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), (count,))
+    fits = fit_windowed(
+        distance_mm, deflection_mm, depth_mm, window_mm, ("waterbed", "shifted", "arc")
+    )
+    for i in range(count):
+        for model in ("waterbed", "shifted", "arc"):
+            if not fits[model].fitted[i]:
+                raise ValueError(fits[model].errors[i])
+    L_mm = fits["waterbed"].params["L_mm"]
+    consistent_L_mm = {model: fits[model].params["L_mm"] for model in CONSISTENT_CURVES}
+    max_distance_mm = fits["max_distance_mm"]
+    gaps = {
+        model: _curve_gaps_mm(depth_mm, L_mm, consistent_L_mm[model], max_distance_mm, model)
+        for model in CONSISTENT_CURVES
     }
-    max_distance_mm = float(x[inside].max())
-    shift_mm = 8.0 * depth_mm**2 / (9.0 * L_mm)
-    residual = y - waterbed_deflection_mm(x, depth_mm, L_mm)
-    tolerance_mm = reach_fraction * depth_mm
-    beyond = ~inside
-    return {
-        "depth_mm": float(depth_mm),
-        "waterbed_L_mm": L_mm,
-        "shifted_L_mm": consistent_L_mm["shifted"],
-        "arc_L_mm": consistent_L_mm["arc"],
-        **{
-            f"gap_{model}_mm": curve_gap_mm(
-                depth_mm, L_mm, consistent_L_mm[model], max_distance_mm, model
-            )
-            for model in CONSISTENT_CURVES
-        },
-        "shift_at_third_mm": shift_mm,
-        "shift_fraction_at_third": shift_mm / (L_mm / 3.0),
-        "reach_tolerance_mm": tolerance_mm,
-        "reach_mm": agreement_reach_mm(x, residual, tolerance_mm),
-        "rmse_within_window_mm": float(np.sqrt(np.mean(residual[inside] ** 2))),
-        "rmse_beyond_window_mm": (
-            float(np.sqrt(np.mean(residual[beyond] ** 2))) if beyond.any() else np.nan
-        ),
-        "n_beyond_window": int(beyond.sum()),
-    }
+    checks = []
+    for i in range(count):
+        distance = np.asarray(distance_mm[i], dtype=float)
+        deflection = np.asarray(deflection_mm[i], dtype=float)
+        usable = (distance > 0) & np.isfinite(deflection)
+        x, y = distance[usable], deflection[usable]
+        inside = x <= window_mm
+        depth, L = float(depth_mm[i]), float(L_mm[i])
+        shift_mm = 8.0 * depth**2 / (9.0 * L)
+        residual = y - waterbed_deflection_mm(x, depth, L)
+        tolerance_mm = reach_fraction * depth
+        beyond = ~inside
+        checks.append(
+            {
+                "depth_mm": depth,
+                "waterbed_L_mm": L,
+                "shifted_L_mm": _nan_is_nan(consistent_L_mm["shifted"][i]),
+                "arc_L_mm": _nan_is_nan(consistent_L_mm["arc"][i]),
+                **{f"gap_{model}_mm": _nan_is_nan(gaps[model][i]) for model in CONSISTENT_CURVES},
+                "shift_at_third_mm": shift_mm,
+                "shift_fraction_at_third": shift_mm / (L / 3.0),
+                "reach_tolerance_mm": tolerance_mm,
+                "reach_mm": agreement_reach_mm(x, residual, tolerance_mm),
+                "rmse_within_window_mm": float(np.sqrt(np.mean(residual[inside] ** 2))),
+                "rmse_beyond_window_mm": (
+                    float(np.sqrt(np.mean(residual[beyond] ** 2))) if beyond.any() else np.nan
+                ),
+                "n_beyond_window": int(beyond.sum()),
+            }
+        )
+    return checks
 
 
 MODEL_NAMES = {

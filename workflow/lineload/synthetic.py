@@ -21,6 +21,16 @@ slope: there is no bulge.  Per subject, ``e`` and ``p`` vary linearly with depth
 between their values at 0.5 and 2 mm, and ``beta`` grows linearly from 0 at
 0.5 mm; each side's edge is ``e (1 + a)`` (left) or ``e (1 - a)`` (right).
 
+Forces
+------
+The shipped fingers also get a steady reaction force on the wedge at every
+depth (``forces.csv``) and the length of wedge edge in contact with each finger
+(``contact_length_mm`` in ``subjects.csv``).  The forces come from a waterbed
+membrane under tension at rest (:mod:`lineload.mechanics`), ``F = 2 l (N0 + E
+eps) sin(theta0)``, whose shape at each depth is the exact arc fitted, within
+3 mm of the wedge, to the noise-free left/right mean of the true profile; plus
+seeded Gaussian noise, rounded to 1 mN.  See :func:`trial_forces`.
+
 Everything here is a pure function: no file is read or written.  The CLI
 ``workflow/scripts/make_synthetic_data.py`` writes what :func:`build_dataset`
 returns.
@@ -28,6 +38,7 @@ returns.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,11 +50,15 @@ from .tables import markdown_table
 __all__ = [
     "DEFAULT_SEED",
     "DEPTHS_MM",
+    "FORCE_NOISE_SD_N",
     "MAGNIFICATION",
     "SubjectParameters",
     "TrialParameters",
     "build_dataset",
     "draw_subjects",
+    "force_markdown",
+    "force_table",
+    "membrane_markdown",
     "outline_table",
     "parameter_markdown",
     "parameter_table",
@@ -54,6 +69,7 @@ __all__ = [
     "subject_markdown",
     "subject_rng",
     "subjects_table",
+    "trial_forces",
     "trial_parameters",
     "true_deflection_mm",
 ]
@@ -95,6 +111,12 @@ OUTLINE_MARGIN_MM = 2.0
 OUTLINE_MAX_FRACTION_OF_RADIUS = 0.9
 #: Depths at which outlines are drawn (Figure 1).
 OUTLINE_DEPTHS_MM = (1.0, 2.0)
+#: Standard deviation of one force reading (N) and its resolution (N).
+FORCE_NOISE_SD_N = 0.005
+FORCE_RESOLUTION_N = 0.001
+#: Distance from the wedge (mm) within which the membrane's arc is fitted to the
+#: noise-free mean profile: the paper's region of interest.
+FORCE_FIT_WINDOW_MM = paper.REACH_MM
 
 #: Species number in the random-stream key (the order of lineload.paper.SPECIES).
 SPECIES_CODE = {species: code for code, species in enumerate(paper.SPECIES)}
@@ -153,6 +175,13 @@ class SubjectParameters:
     resting_radius_mm : float or None
         Radius of the circular resting outline drawn for Figure 1; ``None``
         for fingers without an outline file.
+    contact_length_mm : float or None
+        Length of wedge edge in contact with the finger (mm); ``None``: no
+        forces are made for this finger (the scale-mode fingers).
+    stiffness_N_per_mm : float or None
+        Membrane stiffness ``E`` (modulus times thickness, N/mm).
+    prestrain : float or None
+        Pre-strain ``N0 / E`` of the membrane at rest.
     """
 
     subject: str
@@ -167,6 +196,16 @@ class SubjectParameters:
     near_fraction_deep: float
     side_asymmetry: float
     resting_radius_mm: float | None = None
+    contact_length_mm: float | None = None
+    stiffness_N_per_mm: float | None = None
+    prestrain: float | None = None
+
+    @property
+    def pretension_N_per_mm(self):
+        """Membrane force at rest, ``N0 = prestrain x E`` (N/mm); None without a membrane."""
+        if self.stiffness_N_per_mm is None or self.prestrain is None:
+            return None
+        return self.prestrain * self.stiffness_N_per_mm
 
 
 @dataclass(frozen=True)
@@ -211,6 +250,22 @@ def _subject(species, index, depths_mm, **values):
     )
 
 
+#: Membrane of each shipped finger: contact length of the wedge edge (mm), stiffness E
+#: (N/mm) and pre-strain N0 / E.  Chosen by hand, once: contact lengths near the width
+#: of a juvenile macaque's and an adult's fingertip, pre-strains of 0.25-0.45, and E
+#: such that the true force at 2 mm is about 0.97 N.  With these profile shapes no
+#: pre-strain keeps every force inside the paper's 0.3-1 N (data/README.md).
+SHIPPED_MEMBRANES = {
+    "M1": (9.0, 0.24, 0.35),
+    "M2": (9.5, 0.18, 0.45),
+    "M3": (8.5, 0.225, 0.40),
+    "M4": (10.0, 0.24, 0.30),
+    "H1": (15.0, 0.185, 0.30),
+    "H2": (14.5, 0.17, 0.35),
+    "H3": (16.0, 0.205, 0.25),
+}
+
+
 def shipped_subjects():
     """The seven hand-chosen fingers of the shipped dataset.
 
@@ -234,7 +289,9 @@ def shipped_subjects():
         ("human", 3, 7.3, 11.0, 2.20, 2.60, 0.26, 0.030, None),
     ]
     subjects = []
-    for species, index, e_lo, e_hi, p_lo, p_hi, beta, asym, radius in rows:
+    for row in rows:
+        species, index, e_lo, e_hi, p_lo, p_hi, beta, asym, radius = row
+        contact_mm, stiffness, prestrain = SHIPPED_MEMBRANES[f"{SPECIES_PREFIX[species]}{index}"]
         depths = SHORT_DEPTHS_MM if (species, index) == ("human", 3) else DEPTHS_MM
         subjects.append(
             _subject(
@@ -248,6 +305,9 @@ def shipped_subjects():
                 near_fraction_deep=beta,
                 side_asymmetry=asym,
                 resting_radius_mm=radius,
+                contact_length_mm=contact_mm,
+                stiffness_N_per_mm=stiffness,
+                prestrain=prestrain,
             )
         )
     return subjects
@@ -437,6 +497,104 @@ def _to_image(value_mm, magnification):
     return steps * IMAGE_RESOLUTION_MM + 0.0
 
 
+def noise_free_mean_profile(subject, depth_mm, window_mm=FORCE_FIT_WINDOW_MM):
+    """Mean of the true left and right deflection at the reading positions within a window.
+
+    Parameters
+    ----------
+    subject : SubjectParameters
+    depth_mm : float
+        One of the subject's depths (mm).
+    window_mm : float, optional
+        Outer edge of the points kept (mm).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(distance_mm, deflection_mm)``: the reading grid from 0.05 mm up to
+        the window, and the noise-free mean of the two sides there.
+    """
+    trial = trial_parameters(subject, depth_mm)
+    distance_mm = reading_distances_mm(window_mm + GRID_TICK_MM)[:-1]
+    distance_mm = distance_mm[distance_mm <= window_mm + 1e-9]
+    sides = [_trial_deflection_mm(distance_mm, trial, side) for side in ("left", "right")]
+    return distance_mm, (sides[0] + sides[1]) / 2.0
+
+
+def trial_forces(subject, seed=DEFAULT_SEED):
+    """The membrane behind each trial's force, its true force and the force as read.
+
+    At each depth the membrane takes the ``L`` of the exact arc fitted
+    (:func:`lineload.fitting.fit_arc`) to :func:`noise_free_mean_profile`, and
+    pushes back on the wedge with ``F = 2 l (N0 + E eps) sin(theta0)`` (exact
+    arc geometry, :func:`lineload.mechanics.force_terms`).  The reading adds
+    Gaussian noise of SD :data:`FORCE_NOISE_SD_N` (stream 4 of the subject) and
+    is rounded to :data:`FORCE_RESOLUTION_N`.
+
+    Parameters
+    ----------
+    subject : SubjectParameters
+        Must have a contact length, stiffness and pre-strain.
+    seed : int, optional
+        Dataset seed.
+
+    Returns
+    -------
+    list of dict
+        Per depth: ``depth_mm``, ``L_mm``, ``load_angle_rad``, ``strain``,
+        ``true_force_N``, ``force_N`` (as read).
+    """
+    from .fitting import fit_arc
+    from .mechanics import arc_load_angle_rad, arc_strain
+
+    if subject.contact_length_mm is None:
+        raise ValueError(f"subject {subject.subject} has no membrane (no contact length)")
+    rng = subject_rng(seed, subject.species, subject.index, 4)
+    noise_N = rng.normal(0.0, FORCE_NOISE_SD_N, len(subject.depths_mm))
+    rows = []
+    for depth_mm, noise in zip(subject.depths_mm, noise_N, strict=True):
+        distance_mm, deflection_mm = noise_free_mean_profile(subject, depth_mm)
+        L_mm = fit_arc(distance_mm, deflection_mm, depth_mm).params["L_mm"]
+        angle = float(arc_load_angle_rad(depth_mm, L_mm))
+        strain = float(arc_strain(depth_mm, L_mm))
+        tension = subject.pretension_N_per_mm + subject.stiffness_N_per_mm * strain
+        true_N = 2.0 * subject.contact_length_mm * tension * math.sin(angle)
+        read_N = round(round((true_N + noise) / FORCE_RESOLUTION_N) * FORCE_RESOLUTION_N, 9)
+        rows.append(
+            {
+                "depth_mm": float(depth_mm),
+                "L_mm": float(L_mm),
+                "load_angle_rad": angle,
+                "strain": strain,
+                "true_force_N": true_N,
+                "force_N": read_N,
+            }
+        )
+    return rows
+
+
+def force_table(subjects, seed=DEFAULT_SEED):
+    """The force readings of every finger with a membrane: ``subject``, ``depth_mm``, ``force_N``.
+
+    Parameters
+    ----------
+    subjects : list of SubjectParameters
+    seed : int, optional
+
+    Returns
+    -------
+    pandas.DataFrame
+        Rows in subject order, depths ascending; empty if no finger has a membrane.
+    """
+    rows = [
+        {"subject": s.subject, "depth_mm": r["depth_mm"], "force_N": r["force_N"]}
+        for s in subjects
+        if s.contact_length_mm is not None
+        for r in trial_forces(s, seed)
+    ]
+    return pd.DataFrame(rows, columns=["subject", "depth_mm", "force_N"])
+
+
 def registration_error_mm(subject, seed=DEFAULT_SEED):
     """Offset and tilt of each trial's superimposed outlines, drawn once per trial.
 
@@ -590,6 +748,8 @@ def outline_table(subject, magnification=MAGNIFICATION):
 def subjects_table(subjects, magnification=MAGNIFICATION):
     """The subject sheet: ``subject``, ``species``, ``magnification``, ``label``.
 
+    ``contact_length_mm`` follows when every finger has one (the shipped ones).
+
     Parameters
     ----------
     subjects : list of SubjectParameters
@@ -599,7 +759,7 @@ def subjects_table(subjects, magnification=MAGNIFICATION):
     -------
     pandas.DataFrame
     """
-    return pd.DataFrame(
+    table = pd.DataFrame(
         {
             "subject": [s.subject for s in subjects],
             "species": [s.species for s in subjects],
@@ -607,6 +767,9 @@ def subjects_table(subjects, magnification=MAGNIFICATION):
             "label": [s.label for s in subjects],
         }
     )
+    if all(s.contact_length_mm is not None for s in subjects):
+        table["contact_length_mm"] = [s.contact_length_mm for s in subjects]
+    return table
 
 
 def parameter_table(subjects):
@@ -720,9 +883,81 @@ def subject_markdown(subjects):
     return markdown_table(headers, rows, "l" * len(headers))
 
 
+def membrane_markdown(subjects):
+    """The membrane of each finger with one, as a Markdown table, as printed in ``data/README.md``.
+
+    Parameters
+    ----------
+    subjects : list of SubjectParameters
+
+    Returns
+    -------
+    str
+        A Markdown table ending with a newline (no rows if no finger has a membrane).
+    """
+    headers = [
+        "subject",
+        "contact length l (mm)",
+        "stiffness E (N/mm)",
+        "pre-strain N0/E",
+        "pre-tension N0 (N/mm)",
+    ]
+    rows = [
+        [
+            s.subject,
+            f"{s.contact_length_mm:g}",
+            f"{s.stiffness_N_per_mm:g}",
+            f"{s.prestrain:g}",
+            f"{s.pretension_N_per_mm:.4f}",
+        ]
+        for s in subjects
+        if s.contact_length_mm is not None
+    ]
+    return markdown_table(headers, rows, "l" * len(headers))
+
+
+def force_markdown(subjects, seed=DEFAULT_SEED):
+    """Every trial's membrane geometry and force as a Markdown table (``data/README.md``).
+
+    Parameters
+    ----------
+    subjects : list of SubjectParameters
+    seed : int, optional
+
+    Returns
+    -------
+    str
+        A Markdown table ending with a newline.
+    """
+    headers = [
+        "subject",
+        "depth (mm)",
+        "arc L (mm)",
+        "theta0 (rad)",
+        "strain",
+        "true force (N)",
+        "force_N as written",
+    ]
+    rows = [
+        [
+            s.subject,
+            f"{r['depth_mm']:.2f}",
+            f"{r['L_mm']:.3f}",
+            f"{r['load_angle_rad']:.4f}",
+            f"{r['strain']:.5f}",
+            f"{r['true_force_N']:.4f}",
+            f"{r['force_N']:.3f}",
+        ]
+        for s in subjects
+        if s.contact_length_mm is not None
+        for r in trial_forces(s, seed)
+    ]
+    return markdown_table(headers, rows, "l" * len(headers))
+
+
 def _csv_text(table, formats):
     """CSV text with one fixed format per column and ``\\n`` line endings."""
-    columns = list(formats)
+    columns = [column for column in formats if column in table.columns]
     cells = []
     for column in columns:
         fmt = formats[column]
@@ -732,7 +967,14 @@ def _csv_text(table, formats):
     return "\n".join(lines) + "\n"
 
 
-SUBJECT_FORMATS = {"subject": "", "species": "", "magnification": ".1f", "label": ""}
+SUBJECT_FORMATS = {
+    "subject": "",
+    "species": "",
+    "magnification": ".1f",
+    "label": "",
+    "contact_length_mm": ".1f",
+}
+FORCE_FORMATS = {"subject": "", "depth_mm": ".2f", "force_N": ".3f"}
 PROFILE_FORMATS = {
     "depth_mm": ".2f",
     "side": "",
@@ -772,8 +1014,9 @@ def build_dataset(
     Returns
     -------
     dict of str to str
-        Relative POSIX path (``NOTICE.txt``, ``subjects.csv``,
-        ``profiles/M1.csv``, ``outlines/M1.csv``...) to file content, in a
+        Relative POSIX path (``NOTICE.txt``, ``subjects.csv``, ``forces.csv``
+        when the fingers have membranes, ``profiles/M1.csv``,
+        ``outlines/M1.csv``...) to file content, in a
         stable order.  ``NOTICE.txt`` marks the folder as synthetic: the
         workflow prints its first line under every figure and table.
     """
@@ -787,6 +1030,9 @@ def build_dataset(
         "NOTICE.txt": DATA_NOTICE,
         "subjects.csv": _csv_text(subjects_table(subjects, magnification), SUBJECT_FORMATS),
     }
+    forces = force_table(subjects, seed)
+    if len(forces):
+        files["forces.csv"] = _csv_text(forces, FORCE_FORMATS)
     for subject in subjects:
         readings = profile_table(subject, seed, magnification, shuffle)
         files[f"profiles/{subject.subject}.csv"] = _csv_text(readings, PROFILE_FORMATS)

@@ -1,16 +1,16 @@
 """Checks of the raw-data contract, with messages that point at the bad cell.
 
 Each table of the contract (``subjects.csv``, ``profiles/<subject>.csv``,
-``outlines/<subject>.csv``) has a JSON schema describing one row.  The column
-rules of that schema (required columns, ``type``, ``enum``, ``pattern``,
-``minimum``/``exclusiveMinimum``/``maximum``) are applied here to whole
-columns at once, so that thousands of files validate in seconds, and every
-failure is reported as one line naming the file, the line (the header is
-line 1) and the column, with what was expected and what was found.  Rules that
-span rows (unique ids, duplicate readings, a profile file for each subject)
-are checked here too, since a row schema cannot say them, and so are two
-plausibility rules on units (:func:`check_depth_range`,
-:func:`check_deflection_near_wedge`).
+``outlines/<subject>.csv``, the optional ``forces.csv``) has a JSON schema
+describing one row.  The column rules of that schema (required columns,
+``type``, ``enum``, ``pattern``, ``minimum``/``exclusiveMinimum``/``maximum``)
+are applied here to whole columns at once, so that thousands of files validate
+in seconds, and every failure is reported as one line naming the file, the
+line (the header is line 1) and the column, with what was expected and what
+was found.  Rules that span rows (unique ids, duplicate readings, a profile
+file for each subject, one force per trial) are checked here too, since a row
+schema cannot say them, and so are two plausibility rules on units
+(:func:`check_depth_range`, :func:`check_deflection_near_wedge`).
 
 All problems of a run in one pass
 ---------------------------------
@@ -36,7 +36,6 @@ import os
 import re
 
 import numpy as np
-import pandas as pd
 
 __all__ = [
     "MAX_REPORTED",
@@ -46,9 +45,12 @@ __all__ = [
     "check_dataset",
     "check_deflection_near_wedge",
     "check_depth_range",
+    "check_forces",
     "check_no_duplicate_readings",
     "check_subjects",
     "collecting",
+    "read_columns",
+    "read_forces",
     "read_table",
     "report_lines",
     "unlisted_files",
@@ -183,6 +185,10 @@ def _where(path, line, column):
     return f"{place}, column '{column}'"
 
 
+def _fail(path, line, column, message):
+    raise InputError(f"{_where(path, line, column)}: {message}")
+
+
 def _expected_number(rules):
     bounds = []
     if "exclusiveMinimum" in rules:
@@ -255,15 +261,20 @@ def _check_column(path, column, cells, lines, rules, found):
         return values
     bad = np.zeros(len(cells), dtype=bool)
     expected = []
+    distinct = set(cells)  # a column repeats few values: each is tested once
     if "enum" in rules:
         allowed = set(rules["enum"])
-        bad |= np.fromiter((cell not in allowed for cell in cells), dtype=bool, count=len(cells))
+        if not distinct <= allowed:
+            bad |= np.fromiter(
+                (cell not in allowed for cell in cells), dtype=bool, count=len(cells)
+            )
         expected.append(" or ".join(repr(v) for v in rules["enum"]))
     if "pattern" in rules:
         pattern = re.compile(rules["pattern"])
-        bad |= np.fromiter(
-            (pattern.search(cell) is None for cell in cells), dtype=bool, count=len(cells)
-        )
+        if any(pattern.search(cell) is None for cell in distinct):
+            bad |= np.fromiter(
+                (pattern.search(cell) is None for cell in cells), dtype=bool, count=len(cells)
+            )
         expected.append(rules.get("description", f"text matching {rules['pattern']}"))
     if bad.any():
         i = int(np.argmax(bad))
@@ -325,6 +336,165 @@ def _check_header(shown, header, header_line, schema, found):
     return ok
 
 
+#: Characters that stop the plain reading of a CSV file (quoted cells, other line ends,
+#: NUL bytes): such files go through the csv module.
+_NOT_PLAIN = re.compile(r'["\r\x00]')
+
+
+#: A line with no cell that is not empty (a blank row).
+_BLANK_LINE = re.compile(r"^,*$", re.MULTILINE)
+
+
+def _plain_rows(path):
+    """The non-blank rows of a plain CSV file, each with its line number, or None.
+
+    A file is plain when it is UTF-8 without quotes, carriage returns or NUL
+    bytes: then every line is one row and its cells are split at the commas,
+    which is what the csv module makes of it, only faster.  Anything else
+    returns None and is read by :func:`_csv_rows`.
+    """
+    with open(path, "rb") as handle:
+        data = handle.read()
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return None
+    if _NOT_PLAIN.search(text):
+        return None
+    lines = text.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()  # the end of the last line, not a row
+    # without whitespace other than the line ends no cell needs stripping
+    strip = any(character.isspace() for character in set(text) - {"\n"})
+    if not strip and not _BLANK_LINE.search("\n".join(lines)):
+        # no blank row to leave out: every line is a row
+        return [line.split(",") for line in lines], list(range(1, len(lines) + 1)), False
+    rows, numbers = [], []
+    for number, line in enumerate(lines, start=1):
+        if strip:
+            if not line.replace(",", "").strip():
+                continue  # a blank row (every cell empty or spaces)
+        elif not line.replace(",", ""):
+            continue
+        rows.append(line.split(","))
+        numbers.append(number)
+    return rows, numbers, strip
+
+
+def _csv_rows(path, shown):
+    """The non-blank rows of a CSV file by the csv module, each with the line it starts on."""
+    rows, numbers = [], []
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as handle:
+            reader = csv.reader(handle)
+            while True:
+                start = reader.line_num + 1  # a row may span lines: report where it starts
+                row = next(reader, None)
+                if row is None:
+                    break
+                if not any(cell.strip() for cell in row):
+                    continue
+                rows.append(row)
+                numbers.append(start)
+    except UnicodeDecodeError as error:
+        _fail(
+            shown,
+            None,
+            None,
+            f"expected UTF-8 text, found a byte that is not ({error.reason} at byte {error.start})",
+        )
+    except csv.Error as error:
+        _fail(shown, reader.line_num, None, f"expected comma-separated values ({error})")
+    return rows, numbers, True
+
+
+def read_columns(path, schema, display_path=None, problems=None):
+    """Read one contract table and check it against its row schema, as columns.
+
+    :func:`read_table` without the DataFrame: the same checks and messages.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        CSV file to read.
+    schema : dict
+        JSON schema of one row: ``properties`` (column rules) and ``required``.
+    display_path : str, optional
+        How to name the file in messages (defaults to ``path``).
+    problems : Problems, optional
+        Collector to add problems to; without one, they are raised.
+
+    Returns
+    -------
+    tuple or None
+        ``(columns, lines)``: a dict of column name to numpy array (schema
+        columns typed, numbers as float, text as objects; in header order) and
+        each row's line number in the file.  With a collector, a bad number is
+        NaN; None when the file cannot be read as a table at all (missing,
+        empty, not comma-separated, a required column missing, ragged rows).
+
+    Raises
+    ------
+    InputError
+        As :func:`read_table`.
+    """
+    shown = display_path or os.fspath(path)
+    with collecting(problems) as found:
+        table = _read_columns(path, schema, shown, found)
+    return table
+
+
+def _read_columns(path, schema, shown, found):
+    if not os.path.isfile(path):
+        found.error(shown, None, None, "file not found")
+        return None
+    plain = _plain_rows(path)
+    try:
+        rows, lines, strip = plain if plain is not None else _csv_rows(path, shown)
+    except InputError as error:  # not UTF-8, or a quote the csv module cannot read
+        found.errors.extend(error.problems)
+        return None
+    if not rows:
+        found.error(
+            shown,
+            None,
+            None,
+            "file is empty; expected a header line naming the columns "
+            + ", ".join(schema.get("required", [])),
+        )
+        return None
+    header, header_line = [cell.strip() for cell in rows[0]], lines[0]
+    rows, lines = rows[1:], lines[1:]
+    if not _check_header(shown, header, header_line, schema, found):
+        return None
+    if not rows:
+        found.error(
+            shown, None, None, "has a header but no data rows; expected at least one data row"
+        )
+        return None
+    width = len(header)
+    if set(map(len, rows)) != {width}:
+        ragged = np.array([len(row) != width for row in rows])
+        i = int(np.argmax(ragged))
+        found.error(
+            shown,
+            lines[i],
+            None,
+            f"expected {width} comma-separated fields as in the header, got {len(rows[i])}"
+            + _more(lines, ragged, "rows with another number of fields"),
+        )
+        return None
+    properties = schema.get("properties", {})
+    columns = {}
+    for name, cells in zip(header, zip(*rows, strict=True), strict=True):
+        cells = [cell.strip() for cell in cells] if strip else list(cells)
+        if name in properties:
+            columns[name] = _check_column(shown, name, cells, lines, properties[name], found)
+        else:
+            columns[name] = np.array(cells, dtype=object)
+    return columns, np.array(lines, dtype=np.int64)
+
+
 def read_table(path, schema, display_path=None, problems=None):
     """Read one contract table and check it against its row schema.
 
@@ -346,9 +516,7 @@ def read_table(path, schema, display_path=None, problems=None):
         any extra columns kept as text.  Its index is each row's line number in
         the file (the header is line 1 unless blank lines precede it), which
         later checks use in their messages.  With a collector, a bad number is
-        NaN in the table; None when the file cannot be read as a table at all
-        (missing, empty, not comma-separated, a required column missing,
-        ragged rows).
+        NaN in the table; None when the file cannot be read as a table at all.
 
     Raises
     ------
@@ -358,79 +526,42 @@ def read_table(path, schema, display_path=None, problems=None):
         cell of each column that breaks a column rule; every problem found in
         the file is in the one error.
     """
-    shown = display_path or os.fspath(path)
-    with collecting(problems) as found:
-        table = _read_table(path, schema, shown, found)
-    return table
+    import pandas as pd  # here only: the batch jobs read columns (read_columns) without it
 
-
-def _read_table(path, schema, shown, found):
-    if not os.path.isfile(path):
-        found.error(shown, None, None, "file not found")
+    table = read_columns(path, schema, display_path, problems)
+    if table is None:
         return None
-    header, header_line, rows, lines = None, None, [], []
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as handle:
-            reader = csv.reader(handle)
-            while True:
-                start = reader.line_num + 1  # a row may span lines: report where it starts
-                row = next(reader, None)
-                if row is None:
-                    break
-                if not any(cell.strip() for cell in row):
-                    continue
-                if header is None:
-                    header, header_line = [cell.strip() for cell in row], start
-                else:
-                    rows.append(row)
-                    lines.append(start)
-    except UnicodeDecodeError as error:
-        found.error(
-            shown,
-            None,
-            None,
-            f"expected UTF-8 text, found a byte that is not ({error.reason} at byte {error.start})",
-        )
-        return None
-    except csv.Error as error:
-        found.error(shown, reader.line_num, None, f"expected comma-separated values ({error})")
-        return None
-    if header is None:
-        found.error(
-            shown,
-            None,
-            None,
-            "file is empty; expected a header line naming the columns "
-            + ", ".join(schema.get("required", [])),
-        )
-        return None
-    if not _check_header(shown, header, header_line, schema, found):
-        return None
-    if not rows:
-        found.error(
-            shown, None, None, "has a header but no data rows; expected at least one data row"
-        )
-        return None
-    ragged = np.array([len(row) != len(header) for row in rows])
-    if ragged.any():
-        i = int(np.argmax(ragged))
-        found.error(
-            shown,
-            lines[i],
-            None,
-            f"expected {len(header)} comma-separated fields as in the header, got {len(rows[i])}"
-            + _more(lines, ragged, "rows with another number of fields"),
-        )
-        return None
-    properties = schema.get("properties", {})
-    columns = {}
-    for name, cells in zip(header, zip(*rows, strict=True), strict=True):
-        cells = [cell.strip() for cell in cells]
-        if name in properties:
-            columns[name] = _check_column(shown, name, cells, lines, properties[name], found)
-        else:
-            columns[name] = np.array(cells, dtype=object)
+    columns, lines = table
     return pd.DataFrame(columns, index=pd.Index(lines, name="line"))
+
+
+def _may_repeat(columns, keys):
+    """Whether two rows could agree in every key column (numpy, no pandas).
+
+    Rows are sorted on the keys and neighbours compared, NaN counting as equal
+    to NaN and -0.0 to 0.0 as pandas counts them; a column numpy cannot sort
+    answers True, leaving the decision to pandas.
+    """
+    arrays = []
+    for key in keys:
+        values = np.asarray(columns[key])
+        if values.dtype.kind != "f":
+            try:
+                values = np.unique(values, return_inverse=True)[1].reshape(-1)
+            except TypeError:
+                return True
+        arrays.append(values)
+    if arrays[0].size < 2:
+        return False
+    order = np.lexsort(arrays[::-1])
+    same = np.ones(order.size - 1, dtype=bool)
+    for values in arrays:
+        ordered = values[order]
+        equal = ordered[1:] == ordered[:-1]
+        if ordered.dtype.kind == "f":
+            equal |= np.isnan(ordered[1:]) & np.isnan(ordered[:-1])
+        same &= equal
+    return bool(same.any())
 
 
 def check_no_duplicate_readings(
@@ -440,8 +571,9 @@ def check_no_duplicate_readings(
 
     Parameters
     ----------
-    profile : pandas.DataFrame
-        Output of :func:`read_table` for one profile file (rows in file order).
+    profile : pandas.DataFrame or tuple
+        Output of :func:`read_table` for one profile file (rows in file order),
+        or the ``(columns, lines)`` of :func:`read_columns`.
     path : str
         File name used in the message.
     keys : tuple of str
@@ -453,26 +585,37 @@ def check_no_duplicate_readings(
     ------
     InputError
         Without a collector: naming both lines of the first duplicate and the
-        columns that coincide.
+        columns that coincide (and how many more readings repeat).
     """
     with collecting(problems) as found:
-        duplicated = profile.duplicated(subset=list(keys), keep="first").to_numpy()
-        if duplicated.any():
-            i = int(np.argmax(duplicated))
-            row = profile.iloc[i]
-            same = (profile[list(keys)] == row[list(keys)]).all(axis=1).to_numpy()
-            first = int(np.argmax(same))
-            reading = ", ".join(
-                f"{k}={row[k]:g}" if isinstance(row[k], float) else f"{k}={row[k]}" for k in keys
-            )
-            found.error(
-                path,
-                profile.index[i],
-                list(keys),
-                f"duplicate reading ({reading}) already given on line {profile.index[first]}; "
-                "expected one reading per depth, side and distance"
-                + _more(list(profile.index), duplicated, "repeated readings"),
-            )
+        _check_no_duplicates(profile, path, keys, found)
+
+
+def _check_no_duplicates(profile, path, keys, found):
+    columns = profile[0] if isinstance(profile, tuple) else profile
+    if not _may_repeat(columns, keys):
+        return
+    import pandas as pd  # only to name a duplicate, as it always has
+
+    if isinstance(profile, tuple):
+        profile = pd.DataFrame(profile[0], index=pd.Index(profile[1], name="line"))
+    duplicated = profile.duplicated(subset=list(keys), keep="first").to_numpy()
+    if duplicated.any():
+        i = int(np.argmax(duplicated))
+        row = profile.iloc[i]
+        same = (profile[list(keys)] == row[list(keys)]).all(axis=1).to_numpy()
+        first = int(np.argmax(same))
+        reading = ", ".join(
+            f"{k}={row[k]:g}" if isinstance(row[k], float) else f"{k}={row[k]}" for k in keys
+        )
+        found.error(
+            path,
+            profile.index[i],
+            list(keys),
+            f"duplicate reading ({reading}) already given on line {profile.index[first]}; "
+            "expected one reading per depth, side and distance"
+            + _more(list(profile.index), duplicated, "repeated readings"),
+        )
 
 
 def _files_in(folder):
@@ -596,6 +739,13 @@ def unlisted_files(folder, folder_shown, subjects, sheet_shown, what, problems):
 # ---------------------------------------------------------------- plausibility of units
 
 
+def _as_columns(table):
+    """Columns and line numbers of a table from :func:`read_table` or :func:`read_columns`."""
+    if isinstance(table, tuple):
+        return table[0], np.asarray(table[1])
+    return table, table.index.to_numpy()
+
+
 def _unit_hint(value_mm, low_mm, high_mm, magnification=None):
     """A likely cause for a depth outside [low, high] mm.
 
@@ -630,8 +780,9 @@ def check_depth_range(table, path, low_mm, high_mm, magnification=None, problems
 
     Parameters
     ----------
-    table : pandas.DataFrame
-        A profile or outline table from :func:`read_table` (``depth_mm`` typed).
+    table : pandas.DataFrame or tuple
+        A profile or outline from :func:`read_table`, or the ``(columns, lines)``
+        of :func:`read_columns` (``depth_mm`` typed).
     path : str
         File name used in the message.
     low_mm, high_mm : float
@@ -649,11 +800,12 @@ def check_depth_range(table, path, low_mm, high_mm, magnification=None, problems
         more lines are), with a likely cause.
     """
     with collecting(problems) as found:
-        depth_mm = table["depth_mm"].to_numpy(float)
+        columns, lines = _as_columns(table)
+        depth_mm = np.asarray(columns["depth_mm"], dtype=float)
         with np.errstate(invalid="ignore"):
             bad = (depth_mm < low_mm) | (depth_mm > high_mm)
         if bad.any():
-            lines = list(table.index)
+            lines = [int(n) for n in lines]
             i = int(np.argmax(bad))
             found.error(
                 path,
@@ -707,8 +859,9 @@ def check_deflection_near_wedge(profile, path, magnification, factor, problems=N
 
     Parameters
     ----------
-    profile : pandas.DataFrame
-        A profile without contract problems, from :func:`read_table`.
+    profile : pandas.DataFrame or tuple
+        A profile without contract problems, from :func:`read_table` or
+        :func:`read_columns`.
     path : str
         File name used in the message.
     magnification : float
@@ -725,11 +878,11 @@ def check_deflection_near_wedge(profile, path, magnification, factor, problems=N
         the first depth that fails (naming the other depths that fail too).
     """
     with collecting(problems) as found:
-        depth_mm = profile["depth_mm"].to_numpy(float)
-        distance = profile["distance_image_mm"].to_numpy(float)
-        deflection = profile["deflection_image_mm"].to_numpy(float)
-        side = profile["side"].to_numpy(object)
-        lines = np.asarray(profile.index)
+        columns, lines = _as_columns(profile)
+        depth_mm = np.asarray(columns["depth_mm"], dtype=float)
+        distance = np.asarray(columns["distance_image_mm"], dtype=float)
+        deflection = np.asarray(columns["deflection_image_mm"], dtype=float)
+        side = np.asarray(columns["side"], dtype=object)
         failed = []  # (depth, rows of the nearest readings, mean deflection in mm)
         for depth in np.unique(depth_mm):
             nearest = []
@@ -752,7 +905,7 @@ def check_deflection_near_wedge(profile, path, magnification, factor, problems=N
             also = f" (so do depths {', '.join(f'{d:g}' for d, _, _ in failed[1:])} mm)"
         found.error(
             path,
-            lines[nearest[0]],
+            int(lines[nearest[0]]),
             "deflection_image_mm",
             f"at depth {depth:g} mm the readings nearest the wedge ({at_mm:.3g} mm from it, "
             f"{sides}) show {mean_mm:.4g} mm of deflection after dividing by the "
@@ -773,9 +926,11 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
     Parameters
     ----------
     raw_dir : str
-        Folder with ``subjects.csv``, ``profiles/`` and optionally ``outlines/``.
+        Folder with ``subjects.csv``, ``profiles/`` and optionally ``outlines/``
+        and ``forces.csv``.
     schemas : dict
-        Row schemas keyed ``subjects``, ``profiles`` and ``outlines``.
+        Row schemas keyed ``subjects``, ``profiles``, ``outlines`` and
+        (optionally) ``forces``.
     raw_dir_shown : str, optional
         How to name the folder in messages (defaults to ``raw_dir``).
     plausibility : dict, optional
@@ -808,8 +963,7 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
     if subjects is None:
         found.raise_if_any()
     profile_dir, profile_dir_shown = here("profiles")
-    with found.collect():
-        check_subjects(subjects, sheet_shown, profile_dir, profile_dir_shown, found)
+    check_subjects(subjects, sheet_shown, profile_dir, profile_dir_shown, found)
     id_pattern = re.compile(schemas["subjects"]["properties"]["subject"]["pattern"])
     magnifications = dict(zip(subjects["subject"], subjects["magnification"], strict=True))
     listed = [
@@ -824,39 +978,39 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
             magnification = None
         path, path_shown = here("profiles", f"{subject}.csv")
         before = found.count()
-        profile = read_table(path, schemas["profiles"], path_shown, found)
+        profile = read_columns(path, schemas["profiles"], path_shown, found)
         if profile is None:
             continue
-        with found.collect():
-            check_no_duplicate_readings(profile, path_shown, problems=found)
-            check_depth_range(
-                profile,
-                path_shown,
-                limits["depth_min_mm"],
-                limits["depth_max_mm"],
-                magnification,
-                found,
-            )
-        depths_mm[subject] = sorted(float(d) for d in set(profile["depth_mm"]) if d == d)
+        check_no_duplicate_readings(profile, path_shown, problems=found)
+        check_depth_range(
+            profile,
+            path_shown,
+            limits["depth_min_mm"],
+            limits["depth_max_mm"],
+            magnification,
+            found,
+        )
+        depths_mm[subject] = sorted(float(d) for d in set(profile[0]["depth_mm"]) if d == d)
         if found.count() == before and magnification:  # only a profile that is otherwise fine
-            with found.collect():
-                check_deflection_near_wedge(
-                    profile, path_shown, magnification, limits["deflection_factor"], found
-                )
+            check_deflection_near_wedge(
+                profile, path_shown, magnification, limits["deflection_factor"], found
+            )
         path, path_shown = here("outlines", f"{subject}.csv")
         if os.path.isfile(path):
-            outline = read_table(path, schemas["outlines"], path_shown, found)
+            outline = read_columns(path, schemas["outlines"], path_shown, found)
             if outline is not None:
-                with found.collect():
-                    check_depth_range(
-                        outline,
-                        path_shown,
-                        limits["depth_min_mm"],
-                        limits["depth_max_mm"],
-                        magnification,
-                        found,
-                    )
-                outlines[subject] = sorted(float(d) for d in set(outline["depth_mm"]) if d == d)
+                check_depth_range(
+                    outline,
+                    path_shown,
+                    limits["depth_min_mm"],
+                    limits["depth_max_mm"],
+                    magnification,
+                    found,
+                )
+                outlines[subject] = sorted(float(d) for d in set(outline[0]["depth_mm"]) if d == d)
+    forces_schema = schemas.get("forces") or _forces_schema()
+    with found.collect():  # (a check that raises is folded in the same way)
+        check_forces(raw_dir, forces_schema, subjects, depths_mm, shown, problems=found)
     sheet_ids = [str(s) for s in subjects["subject"]]
     for folder in ("profiles", "outlines"):
         folder_path, folder_shown = here(folder)
@@ -868,3 +1022,112 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
         "outlines": outlines,
         "warnings": found.warnings,
     }
+
+
+# ------------------------------------------------------------------ forces (optional)
+
+
+def check_forces(raw_dir, schema, subjects, depths_mm, raw_dir_shown=None, problems=None):
+    """Check the optional ``forces.csv``: typed cells, known trials, one force per trial.
+
+    Parameters
+    ----------
+    raw_dir : str
+        The raw-data folder.
+    schema : dict
+        Row schema of ``forces.csv`` (``workflow/schemas/forces.schema.yaml``).
+    subjects : pandas.DataFrame
+        The checked subject sheet (:func:`read_table`).
+    depths_mm : dict
+        Subject -> depths of its profile file (mm).
+    raw_dir_shown : str, optional
+        How to name the folder in messages.
+    problems : Problems, optional
+        Collector to add problems to; without one, they are raised.
+
+    Returns
+    -------
+    pandas.DataFrame or None
+        The typed forces (index: line numbers), or None without the file (or,
+        with a collector, when it cannot be read as a table).
+
+    Raises
+    ------
+    InputError
+        Without a collector, naming the line and column of each problem: a
+        cell that breaks the schema (a force of zero or less, text), a subject
+        not in the subject sheet, a depth with no profile for that subject, or
+        a second force for the same subject and depth.
+    """
+    path = os.path.join(raw_dir, "forces.csv")
+    if not os.path.isfile(path):
+        return None
+    shown = "/".join([(raw_dir_shown or raw_dir).rstrip("/"), "forces.csv"])
+    with collecting(problems) as found:
+        forces = read_table(path, schema, shown, found)
+        if forces is None:
+            return None
+        known = set(subjects["subject"])
+        id_rule = schema.get("properties", {}).get("subject", {}).get("pattern", "")
+        seen = {}
+        for line, subject, depth_mm in zip(
+            forces.index, forces["subject"], forces["depth_mm"], strict=True
+        ):
+            if not re.search(id_rule, subject) or depth_mm != depth_mm:
+                continue  # a cell the schema refused: reported already
+            if subject not in known:
+                found.error(
+                    shown,
+                    line,
+                    "subject",
+                    f"subject {subject!r} is not in subjects.csv; expected a listed subject",
+                )
+                continue
+            profile_depths = depths_mm.get(subject, [])
+            if not any(abs(depth_mm - d) <= 1e-9 * max(1.0, d) for d in profile_depths):
+                listed = ", ".join(f"{d:g}" for d in profile_depths)
+                found.error(
+                    shown,
+                    line,
+                    "depth_mm",
+                    f"no profile of subject {subject!r} at {depth_mm:g} mm; expected a depth of "
+                    f"profiles/{subject}.csv ({listed})",
+                )
+                continue
+            key = (subject, round(float(depth_mm), 9))
+            if key in seen:
+                found.error(
+                    shown,
+                    line,
+                    ["subject", "depth_mm"],
+                    f"a second force for {subject!r} at {depth_mm:g} mm (the first is on line "
+                    f"{seen[key]}); expected one force per subject and depth",
+                )
+            seen.setdefault(key, line)
+    return forces
+
+
+def read_forces(path):
+    """Read a checked ``forces.csv`` as ``subject``, ``depth_mm``, ``force_N``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file that passed :func:`check_forces`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The three columns (any others dropped), in file order, default index.
+    """
+    from .io import load_schema
+
+    table = read_table(path, load_schema("forces"))
+    return table[["subject", "depth_mm", "force_N"]].reset_index(drop=True)
+
+
+def _forces_schema():
+    """The row schema of ``forces.csv`` (for callers that pass no ``forces`` schema)."""
+    from .io import load_schema
+
+    return load_schema("forces")

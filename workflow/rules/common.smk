@@ -26,21 +26,61 @@ ENVIRONMENT = "../../environment.yml"
 report_item = report
 
 
+def descendants(pid):
+    """Process ids of every descendant of a process (Linux /proc; none elsewhere)."""
+    children = {}
+    for entry in os.listdir("/proc") if os.path.isdir("/proc") else []:
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat", encoding="ascii") as handle:
+                    parent = int(handle.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, ValueError, IndexError):
+                continue
+            children.setdefault(parent, []).append(int(entry))
+    found, stack = [], [pid]
+    while stack:
+        for child in children.get(stack.pop(), []):
+            found.append(child)
+            stack.append(child)
+    return found
+
+
 def stop_on_sigterm():
-    """Make `kill` (SIGTERM) stop a build the way Ctrl-C does.
+    """Make `kill` (SIGTERM) stop a build the way Ctrl-C does, jobs included.
 
     Snakemake's own SIGTERM handler takes a lock that the main thread may already
-    hold (while it selects or finishes jobs), and then the build never returns.  A
-    KeyboardInterrupt raised by the signal takes the Ctrl-C path instead: running
-    jobs are cancelled, their outputs marked incomplete, and the build exits.  Called
-    from `onstart:`, which runs after Snakemake has installed its handler.
+    hold (while it selects or finishes jobs), and then the build never returns; and
+    even on its Ctrl-C path it waits for running jobs unless they got the signal too,
+    as a terminal's Ctrl-C gives them.  So the running jobs are sent SIGTERM (whatever
+    process group they are in, and even if SIGINT is ignored), and a KeyboardInterrupt
+    takes Snakemake's Ctrl-C path: outputs of cut jobs are marked incomplete, and the
+    build exits.  Called from `onstart:`, which runs after Snakemake has installed
+    its own handler.
     """
     import signal
 
     def interrupt(signum, frame):
+        for child in descendants(os.getpid()):
+            try:
+                os.kill(child, signal.SIGTERM)
+            except ProcessLookupError:
+                pass
         raise KeyboardInterrupt(f"signal {signum}")
 
     signal.signal(signal.SIGTERM, interrupt)
+
+
+def where_to_look():
+    """After a build: print where the reader's documents are."""
+    lines = ["", "Where to look:"]
+    for what, path in (
+        ("the article", result("article", "reproduction.pdf")),
+        ("the claims table", result("tables", "claims.md")),
+    ):
+        if Path(path).is_file():
+            lines.append(f"  {what}: {path}")
+    lines.append(f"  the HTML report: snakemake --report {result('report.html')}")
+    print("\n".join(lines), file=sys.stderr)
 
 
 def abort(message):
@@ -93,8 +133,9 @@ def check_inputs():
 
     Returns what the rules need from the data as plain values (JSON-ready, so a
     passed check can be remembered): the validated config, each subject's
-    species, magnification and display label in subject-sheet order, the depths
-    of each subject's profiles and of its outlines.
+    species, magnification and display label in subject-sheet order, its
+    contact length (None without one), the depths of each subject's profiles
+    and of its outlines.
     """
     from lineload.validation import InputError, check_dataset
 
@@ -106,7 +147,10 @@ def check_inputs():
     try:
         dataset = check_dataset(
             raw,
-            {name: load_schema(name) for name in ("subjects", "profiles", "outlines")},
+            {
+                name: load_schema(name)
+                for name in ("subjects", "profiles", "outlines", "forces")
+            },
             plausibility=config["input_checks"],
         )
         validate(dataset["subjects"], "../schemas/subjects.schema.yaml")
@@ -129,9 +173,19 @@ def check_inputs():
             sheet["subject"], sheet["species"], sheet["magnification"], labels
         )
     }
+    # Optional column: length of wedge edge in contact (mm), None without it.
+    contact = (
+        sheet["contact_length_mm"]
+        if "contact_length_mm" in sheet.columns
+        else [None] * len(sheet)
+    )
     return {
         "config": dict(config),
         "subjects": subjects,
+        "contact_length_mm": {
+            str(s): None if c is None else float(c)
+            for s, c in zip(sheet["subject"], contact)
+        },
         "depths_mm": dataset["depths_mm"],
         "outlines": dataset["outlines"],
         "warnings": dataset["warnings"],
@@ -172,6 +226,8 @@ warn(DATASET["warnings"])
 
 RAW = config["raw_data"]
 RES = config["results"]
+# The optional force readings (data contract: data/README.md); [] without them.
+FORCES = [f"{RAW}/forces.csv"] if Path(RAW, "forces.csv").is_file() else []
 
 # Subject id -> {"species", "magnification", "label"}, in subject-sheet order.
 SUBJECTS = DATASET["subjects"]
@@ -210,6 +266,8 @@ def read_notice():
 
 
 NOTICE = read_notice()
+# The footer in force, from the config or NOTICE.txt: the report's front page says it.
+config["data_notice"] = NOTICE
 
 
 # ---------------------------------------------------------------- what each job is given
@@ -310,18 +368,18 @@ FIGURE_TABLES = {
     ),
     "sensitivity": [result("tables", "sensitivity.csv")],
     "checks": [result("tables", "trial_checks.csv")],
+    "mechanics": [result("tables", "mechanics.csv")],
+    "mechanics_trials": [result("tables", "mechanics_trials.csv")],
 }
 
 
 def figure_files(group):
-    """PDF and PNG of every figure of a group; the PNG goes into the report."""
+    """PDF and PNG of every figure of a group (the report shows them through report_pages)."""
     files = []
     for figure in registry.figures_in_group(group):
-        caption, labels = f"../report/{figure.name}.rst", {"figure": figure.title}
-        png = result("figures", f"{figure.name}.png")
         files += [
             result("figures", f"{figure.name}.pdf"),
-            report_item(png, caption=caption, category=figure.category, labels=labels),
+            result("figures", f"{figure.name}.png"),
         ]
     return files
 
@@ -349,14 +407,157 @@ def figure_inputs(group):
     return inputs
 
 
+def article_inputs():
+    """Named inputs of the article job: its spec, its source, the tables and every figure."""
+    return {
+        "spec": spec(
+            "article",
+            settings={
+                "fit_window_mm": config["fit_window_mm"],
+                "claims": config["claims"],
+                "sensitivity": config["sensitivity"],
+                "figures": {
+                    key: FIGURE_SETTINGS[key]
+                    for key in (
+                        "example_subjects",
+                        "example_depth_mm",
+                        "outline_subjects",
+                        "outline_depth_mm",
+                    )
+                },
+            },
+            subjects=SUBJECTS,
+            depths_mm=DATASET["depths_mm"],
+            notice=NOTICE,
+            source_dir=str(Path(workflow.basedir).parent),
+        ),
+        "source": os.path.relpath(
+            Path(workflow.basedir, "article", "reproduction.typ")
+        ),
+        "fits": result("tables", "fits.csv"),
+        "claims": result("tables", "claims.csv"),
+        "checks": result("tables", "trial_checks.csv"),
+        "mechanics": result("tables", "mechanics.csv"),
+        "figures": [f for f in FIGURE_FILES if f.endswith(".pdf")],
+        "code": code("write_article.py"),
+    }
+
+
+# ---------------------------------------------------------------- the report's pages
+# Snakemake's report shows HTML on the page (a CSV only as a download) and keeps captions
+# behind an icon: each table and figure gets a page with its caption written out.
+REPORT_TABLES = {
+    "claims": (
+        "The paper's claims, recomputed",
+        result("tables", "claims.csv"),
+        "Claims",
+    ),
+    "fits": ("Fits per subject and depth", result("tables", "fits.csv"), "Fits"),
+    "summary": (
+        "Summary per species and depth",
+        result("tables", "summary.csv"),
+        "Fits",
+    ),
+    "trial_checks": (
+        "What the paper's approximations cost, per trial",
+        result("tables", "trial_checks.csv"),
+        "Supplement",
+    ),
+    "sensitivity": (
+        "Refits under other analysis choices",
+        result("tables", "sensitivity.csv"),
+        "Supplement",
+    ),
+    "mechanics": (
+        "The membrane per subject: pre-tension, stiffness, pre-strain",
+        result("tables", "mechanics.csv"),
+        "Mechanics",
+    ),
+    "mechanics_trials": (
+        "The membrane per trial: strain, load angle, force",
+        result("tables", "mechanics_trials.csv"),
+        "Mechanics",
+    ),
+}
+
+
+def report_page_inputs():
+    """Named inputs of the report_pages job."""
+    captions = Path(workflow.basedir, "report")
+    names = [*REPORT_TABLES, *(f.name for f in registry.FIGURES), "data", "software"]
+    return {
+        "spec": spec(
+            "report_pages",
+            tables={
+                name: [title, path] for name, (title, path, _) in REPORT_TABLES.items()
+            },
+            config=config,
+            notice=NOTICE,
+            subjects=SUBJECTS,
+            depths_mm=DATASET["depths_mm"],
+            source_dir=str(Path(workflow.basedir).parent),
+        ),
+        "tables": [path for _, path, _ in REPORT_TABLES.values()],
+        "figures": [f for f in FIGURE_FILES if f.endswith(".png")],
+        "captions": [os.path.relpath(captions / f"{name}.rst") for name in names],
+        "code": code("write_report_pages.py"),
+    }
+
+
+def report_pages():
+    """Every page of the report, each registered with its caption and category."""
+    pages = []
+    for name, (title, _, category) in REPORT_TABLES.items():
+        pages.append(
+            report_item(
+                result("report", f"{name}.html"),
+                caption=f"../report/{name}.rst",
+                category=category,
+                subcategory="Tables",
+                labels={"table": title},
+            )
+        )
+    supplements = [f for f in registry.FIGURES if f.category == "Supplement"]
+    for figure in registry.FIGURES:
+        # "Figure 2" or "Supplement 1" first, so the report lists them in the paper's order
+        number = (
+            f"Supplement {supplements.index(figure) + 1}"
+            if figure in supplements
+            else figure.name.replace("figure", "Figure ")
+        )
+        pages.append(
+            report_item(
+                result("report", f"{figure.name}.html"),
+                caption=f"../report/{figure.name}.rst",
+                category=figure.category,
+                subcategory="Figures",
+                labels={"figure": number, "shows": figure.title},
+            )
+        )
+    for name, title, category in (
+        ("data", "the subjects and depths", "Data"),
+        ("software", "versions and source", "Provenance"),
+    ):
+        pages.append(
+            report_item(
+                result("report", f"{name}.html"),
+                caption=f"../report/{name}.rst",
+                category=category,
+                subcategory="Pages",
+                labels={"page": title},
+            )
+        )
+    return pages
+
+
 # Every figure file the default target builds (PDF and PNG of each).
 FIGURE_FILES = [f for group in registry.GROUPS for f in figure_files(group)]
 
 
 # ---------------------------------------------------------------- provenance
 def raw_files():
-    """Every raw input the build read: subject sheet, profiles, outlines, notice."""
-    files = [f"{RAW}/subjects.csv"]
+    """Every raw input the build read: subject sheet, forces, profiles, outlines, notice."""
+    files = [f"{RAW}/subjects.csv", *FORCES]
     files += [f"{RAW}/profiles/{s}.csv" for s in SUBJECT_IDS]
     files += [f"{RAW}/outlines/{s}.csv" for s in DATASET["outlines"]]
     if Path(RAW, "NOTICE.txt").is_file():

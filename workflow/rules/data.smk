@@ -14,14 +14,14 @@ rule prepare_profiles:
             result("data", "converted", "{batch}.csv"),
             caption="../report/converted.rst",
             category="Data",
-            subcategory="Readings in tissue mm",
+            subcategory="Readings in tissue mm (CSV)",
             labels={"subjects": "{batch}"},
         ),
         averaged=report_item(
             result("data", "averaged", "{batch}.csv"),
             caption="../report/averaged.rst",
             category="Data",
-            subcategory="Left/right averages",
+            subcategory="Left/right averages (CSV)",
             labels={"subjects": "{batch}"},
         ),
     log:

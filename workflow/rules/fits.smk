@@ -30,6 +30,7 @@ rule fits_table:
             result("tables", "fits.csv"),
             caption="../report/fits.rst",
             category="Fits",
+            subcategory="CSV files",
             labels={"table": "fits per subject and depth"},
         ),
     log:
@@ -81,12 +82,14 @@ rule sensitivity_tables:
             result("tables", "sensitivity.csv"),
             caption="../report/sensitivity.rst",
             category="Supplement",
+            subcategory="CSV files",
             labels={"table": "sensitivity refits"},
         ),
         checks=report_item(
             result("tables", "trial_checks.csv"),
             caption="../report/trial_checks.rst",
             category="Supplement",
+            subcategory="CSV files",
             labels={"table": "U shift and reach per trial"},
         ),
         markdown=result("tables", "sensitivity.md"),

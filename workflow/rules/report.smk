@@ -21,8 +21,11 @@ rule provenance:
             rules.fits_table.output,
             rules.sensitivity_tables.output,
             rules.fit_tables.output,
+            rules.mechanics.output,
             rules.claims_table.output,
             FIGURE_FILES,
+            rules.article.output,
+            report_pages(),
         ],
         code=code("write_provenance.py"),
     output:
@@ -40,3 +43,19 @@ rule provenance:
         ENVIRONMENT
     script:
         "../scripts/write_provenance.py"
+
+
+rule report_pages:
+    """The report's pages: each table and figure shown with its caption; data; software."""
+    input:
+        **report_page_inputs(),
+    output:
+        report_pages(),
+    log:
+        result("logs", "report_pages.log"),
+    benchmark:
+        result("benchmarks", "report_pages.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/write_report_pages.py"

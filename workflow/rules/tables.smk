@@ -14,6 +14,7 @@ rule fit_tables:
             result("tables", "summary.csv"),
             caption="../report/summary.rst",
             category="Fits",
+            subcategory="CSV files",
             labels={"table": "summary per species and depth"},
         ),
         summary_md=result("tables", "summary.md"),
@@ -29,17 +30,27 @@ rule fit_tables:
 
 
 rule claims_table:
-    """Recompute the paper's claims from the fits and averaged profiles, with verdicts."""
+    """Recompute the paper's claims from the fits, averaged profiles and forces, with verdicts."""
     input:
-        spec=spec("claims_table", settings=config["claims"], notice=NOTICE),
+        spec=spec(
+            "claims_table",
+            settings={
+                **config["claims"],
+                "force_sd_N": config["mechanics"]["force_sd_N"],
+            },
+            notice=NOTICE,
+        ),
         fits=result("tables", "fits.csv"),
         averaged=expand(result("data", "averaged", "{batch}.csv"), batch=BATCH_IDS),
+        # C11 checks the measured forces too when there are any
+        forces=FORCES,
         code=code("make_claims.py"),
     output:
         csv=report_item(
             result("tables", "claims.csv"),
             caption="../report/claims.rst",
             category="Claims",
+            subcategory="CSV files",
             labels={"table": "claims of the paper"},
         ),
         md=result("tables", "claims.md"),

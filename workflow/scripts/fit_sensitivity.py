@@ -5,26 +5,37 @@ import math
 import numpy as np
 
 from lineload.io import output_to, read_json, read_trials, write_rows
-from lineload.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS, sensitivity_rows, trial_checks
+from lineload.sensitivity import (
+    CHECK_COLUMNS,
+    SENSITIVITY_COLUMNS,
+    sensitivity_rows_batch,
+    trial_checks_batch,
+)
 
 
 def fit_sensitivity(averaged, sensitivity, checks, subjects, window_mm, windows_mm, reach_fraction):
     """Refit every trial in each window (null: the whole profile) and check U and reach."""
     windows_mm = [math.inf if w is None else float(w) for w in windows_mm]
     trials = read_trials(averaged)  # numpy only: this job runs once per batch
+    keys = [
+        (subject, about["species"], depth_mm, np.asarray(x), np.asarray(y))
+        for subject, about in subjects.items()
+        for depth_mm, (x, y) in trials.get(subject, {}).items()
+    ]
+    # every trial of the batch at once: each refit runs for all of them together
+    distance, deflection, depth = ([key[k] for key in keys] for k in (3, 4, 2))
+    refits = sensitivity_rows_batch(distance, deflection, depth, windows_mm)
+    trial_rows = trial_checks_batch(distance, deflection, depth, window_mm, reach_fraction)
     rows, check_rows = [], []
-    for subject, about in subjects.items():
-        species = about["species"]
-        for depth_mm, columns in trials.get(subject, {}).items():
-            x, y = (np.asarray(values) for values in columns)
-            for row in sensitivity_rows(x, y, depth_mm, windows_mm):
-                rows.append({"subject": subject, "species": species, **row})
-            check = trial_checks(x, y, depth_mm, window_mm, reach_fraction)
-            check_rows.append({"subject": subject, "species": species, **check})
-            print(
-                f"{subject} {depth_mm:g} mm: reach {check['reach_mm']:g} mm, "
-                f"U/X at L/3 = {check['shift_fraction_at_third']:.3f}"
-            )
+    for (subject, species, depth_mm, _, _), refit, check in zip(
+        keys, refits, trial_rows, strict=True
+    ):
+        rows.extend({"subject": subject, "species": species, **row} for row in refit)
+        check_rows.append({"subject": subject, "species": species, **check})
+        print(
+            f"{subject} {depth_mm:g} mm: reach {check['reach_mm']:g} mm, "
+            f"U/X at L/3 = {check['shift_fraction_at_third']:.3f}"
+        )
     write_rows(rows, SENSITIVITY_COLUMNS, sensitivity)
     write_rows(check_rows, CHECK_COLUMNS, checks)
 

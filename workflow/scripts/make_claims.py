@@ -4,13 +4,15 @@ import pandas as pd
 
 from lineload.claims import CLAIM_COLUMNS, ClaimSettings, claims_markdown, compute_claims
 from lineload.io import output_to, read_json, read_results_csv, write_csv, write_text
+from lineload.validation import read_forces
 
 
-def make_claims(fits_path, averaged_paths, outputs, settings, notice):
-    """Compute the claims table from the fits and averaged profiles; write CSV and Markdown."""
+def make_claims(fits_path, averaged_paths, forces_paths, outputs, settings, notice):
+    """Compute the claims from the fits, averaged profiles and forces; write CSV and Markdown."""
     fits = read_results_csv(fits_path)
     averaged = pd.concat([read_results_csv(path) for path in averaged_paths], ignore_index=True)
-    claims = compute_claims(fits, averaged, ClaimSettings(**settings))
+    forces = read_forces(forces_paths[0]) if forces_paths else None
+    claims = compute_claims(fits, averaged, ClaimSettings(**settings), forces=forces)
     write_csv(claims, outputs.csv, columns=CLAIM_COLUMNS)
     write_text(claims_markdown(claims, notice), outputs.md)
     for _, row in claims.iterrows():
@@ -22,6 +24,7 @@ if __name__ == "__main__":
         make_claims(
             snakemake.input.fits,
             snakemake.input.averaged,
+            list(snakemake.input.forces),
             snakemake.output,
             **read_json(snakemake.input.spec),
         )

@@ -1,4 +1,4 @@
-"""Write the synthetic raw-data folder (subjects.csv, profiles/, outlines/).
+"""Write the synthetic raw-data folder (subjects.csv, forces.csv, profiles/, outlines/).
 
 Without ``--monkeys``/``--humans`` this rebuilds the shipped reconstruction
 byte for byte::
@@ -11,7 +11,8 @@ for benchmarks::
     python workflow/scripts/make_synthetic_data.py --out /tmp/big --monkeys 500 --humans 500
 
 ``--print-parameters`` prints the true parameters (per subject, then per
-trial) as Markdown tables instead of writing files.  The generator itself is ``lineload.synthetic``.
+trial, then the membranes behind the forces) as Markdown tables instead of
+writing files.  The generator itself is ``lineload.synthetic``.
 """
 
 from __future__ import annotations
@@ -65,7 +66,8 @@ def parse_args(argv=None):
     parser.add_argument(
         "--print-parameters",
         action="store_true",
-        help="print the true parameters (per subject and per trial) as Markdown and exit",
+        help="print the true parameters (per subject and per trial, and the membranes "
+        "behind the forces) as Markdown and exit",
     )
     args = parser.parse_args(argv)
     for name in ("monkeys", "humans"):
@@ -98,6 +100,9 @@ def main(argv=None):
         )
         sys.stdout.write(synthetic.subject_markdown(subjects) + "\n")
         sys.stdout.write(synthetic.parameter_markdown(subjects))
+        if any(s.contact_length_mm is not None for s in subjects):
+            sys.stdout.write("\n" + synthetic.membrane_markdown(subjects) + "\n")
+            sys.stdout.write(synthetic.force_markdown(subjects, args.seed))
         return 0
     files = synthetic.build_dataset(
         seed=args.seed,

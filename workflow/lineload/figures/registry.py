@@ -77,6 +77,15 @@ ARGUMENTS = {
     "checks": Argument(
         "file", "per-trial shift, reach and coordinate gaps (tables/trial_checks.csv)"
     ),
+    "mechanics": Argument(
+        "file",
+        "the membrane fitted to each subject's forces (tables/mechanics.csv); may be empty",
+    ),
+    "mechanics_trials": Argument(
+        "file",
+        "per trial: exact-arc load angle and strain, force, fitted and stress-free forces "
+        "(tables/mechanics_trials.csv)",
+    ),
     "subjects": Argument(
         "dataset", "the subject sheet in its order: a DataFrame of subject, species, label"
     ),
@@ -249,6 +258,15 @@ FIGURES = (
         ("fits", "checks", "noise_mm", "notice"),
         category="Supplement",
         title="What fitting in measured coordinates changes, against the reading noise",
+    ),
+    Figure(
+        "supplement_mechanics",
+        "supplements",
+        "supplements",
+        "figure_mechanics",
+        ("mechanics_trials", "mechanics", "subjects", "notice"),
+        category="Supplement",
+        title="Force on the wedge against depth: readings, stress-free and pre-tensioned membrane",
     ),
 )
 

@@ -17,7 +17,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from matplotlib import ticker
 from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
 from .. import models, paper
 from ..sensitivity import MODEL_NAMES as REFIT_NAMES
@@ -33,12 +35,14 @@ from .style import (
     SPECIES_PLURAL,
     WINDOW_STYLE,
     add_footer,
+    grid_shape,
     label_outer_axes,
     legend_columns,
     log_distance_axis,
     message_figure,
     new_figure,
     padded_limits,
+    panel_title,
     styled,
     subject_table,
     wrapped_note,
@@ -47,6 +51,7 @@ from .style import (
 __all__ = [
     "figure_arc_vs_parabola",
     "figure_coordinates",
+    "figure_mechanics",
     "figure_residuals",
     "figure_sensitivity",
 ]
@@ -656,5 +661,221 @@ def figure_coordinates(fits, checks, noise_mm, notice=""):
         for species, marker in SPECIES_MARKERS.items()
     ]
     fig.legend(handles=handles, loc="outside upper center", ncols=4)
+    add_footer(fig, notice)
+    return fig
+
+
+# ---------------------------------------------------------------- forces on the wedge
+
+#: Colours and line styles of the force curves (Okabe-Ito).
+FORCE_STYLES = {
+    "stress_free": {
+        "color": "#D55E00",
+        "linestyle": "--",
+        "label": r"stress-free membrane, $N = E\varepsilon$ (eq. 7)",
+    },
+    "tension_only": {
+        "color": "0.45",
+        "linestyle": ":",
+        "label": r"tension at rest alone, $N = N_0$",
+    },
+    "fitted": {
+        "color": "#0072B2",
+        "linestyle": "-",
+        "label": r"fit with tension at rest, $N = N_0 + E\varepsilon$",
+    },
+}
+#: Fill of the paper's force range (absolute mode) or its largest ratio (relative mode).
+PAPER_BAND = {"color": "#F0E442", "alpha": 0.25, "linewidth": 0}
+
+
+@styled
+def figure_mechanics(mechanics_trials, mechanics, subjects, notice=""):
+    """Supplement: force on the wedge against depth, one panel per subject, log-log.
+
+    With force readings (any finite ``force_N``), each panel shows the readings,
+    the stress-free membrane of the paper's eq. 7 with each trial's fitted
+    exact-arc shape (force proportional to ``eps sin(theta0)``) and a membrane
+    held by its tension alone (proportional to ``sin(theta0)``), both scaled to
+    the reading at the subject's smallest depth, the pre-tensioned fit
+    (``fitted_force_N``), and the paper's 0.3-1 N as a band.  Without any
+    readings, the same two model curves are drawn relative to the smallest
+    depth, against the largest ratio the paper's range allows.  Model values
+    exist only at the measured depths (each has its own fitted L); lines join them.
+
+    Parameters
+    ----------
+    mechanics_trials : pandas.DataFrame
+        Rows of :data:`lineload.mechanics.TRIAL_COLUMNS`.
+    mechanics : pandas.DataFrame
+        Rows of :data:`lineload.mechanics.SUBJECT_COLUMNS` (may be empty).
+    subjects : pandas.DataFrame
+        ``subject``, ``species`` and optionally ``label``, in sheet order.
+    notice : str, optional
+        Footer text; empty for none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Lines carry gids ``force:<subject>`` (readings), ``stress_free:<subject>``,
+        ``tension_only:<subject>`` and ``fitted:<subject>``; bands ``paper-range``.
+    """
+    table = subject_table(subjects)
+    trials = mechanics_trials.copy() if mechanics_trials is not None else None
+    if trials is None or trials.empty:
+        return message_figure("No fitted trials in this dataset: no forces to show.", notice)
+    trials["subject"] = trials["subject"].astype(str)
+    angle = trials["load_angle_rad"].astype(float).to_numpy()
+    trials["u"] = np.sin(angle)
+    trials["v"] = trials["strain"].astype(float).to_numpy() * trials["u"]
+    usable = np.isfinite(trials["v"].to_numpy(float))
+    members = [
+        s
+        for s in table["subject"]
+        if trials.loc[(trials["subject"] == s) & usable, "depth_mm"].nunique() >= 2
+    ]
+    if not members:
+        return message_figure(
+            "No subject has fitted shapes at two or more depths: no force ratio to show.",
+            notice,
+        )
+    forces = trials["force_N"].astype(float).to_numpy()
+    absolute = bool(np.isfinite(forces).any())
+    fits = {} if mechanics is None else {str(r.subject): r for r in mechanics.itertuples()}
+    low_N, high_N = paper.FORCE_RANGE_N
+    n_rows, n_columns = grid_shape(len(members), max_columns=4)
+    width_mm = DOUBLE_COLUMN_MM if n_columns > 1 else SINGLE_COLUMN_MM
+    fig = new_figure(width_mm, 24.0 + 44.0 * n_rows)
+    axes = fig.subplots(n_rows, n_columns, squeeze=False, sharex=True, sharey=True)
+    present = np.zeros(axes.shape, dtype=bool)
+    depths_all, values_all = (
+        [],
+        [low_N, high_N] if absolute else [1.0, paper.FORCE_RANGE_N[1] / low_N],
+    )
+    for k, subject in enumerate(members):
+        i, j = divmod(k, n_columns)
+        ax, present[i, j] = axes[i, j], True
+        rows = trials[(trials["subject"] == subject) & usable].sort_values("depth_mm")
+        depth = rows["depth_mm"].to_numpy(float)
+        u, v = rows["u"].to_numpy(float), rows["v"].to_numpy(float)
+        force = rows["force_N"].to_numpy(float)
+        depths_all.extend(depth)
+        if absolute:
+            ax.axhspan(low_N, high_N, gid="paper-range", **PAPER_BAND)
+            measured = np.isfinite(force)
+            if measured.any():
+                first = int(np.argmax(measured))
+                scale_v, scale_u = force[first] / v[first], force[first] / u[first]
+                curves = {"stress_free": scale_v * v, "tension_only": scale_u * u}
+                fitted = rows["fitted_force_N"].to_numpy(float)
+                if np.isfinite(fitted).any():
+                    curves["fitted"] = fitted
+                for name, values in curves.items():
+                    style = {k: val for k, val in FORCE_STYLES[name].items() if k != "label"}
+                    ok = np.isfinite(values)
+                    ax.plot(depth[ok], values[ok], gid=f"{name}:{subject}", **style)
+                    values_all.extend(values[ok])
+                ax.plot(
+                    depth[measured],
+                    force[measured],
+                    linestyle="none",
+                    marker="o",
+                    markersize=3.5,
+                    color=DATA_COLOUR,
+                    gid=f"force:{subject}",
+                )
+                values_all.extend(force[measured])
+                fit = fits.get(subject)
+                if fit is not None and np.isfinite(fit.prestrain):
+                    ax.text(
+                        0.04,
+                        0.96,
+                        f"pre-strain {fit.prestrain:.2f} ± {fit.prestrain_se:.2f}",
+                        transform=ax.transAxes,
+                        ha="left",
+                        va="top",
+                        fontsize=7,
+                    )
+            else:
+                ax.text(
+                    0.5,
+                    0.5,
+                    "no force readings",
+                    transform=ax.transAxes,
+                    ha="center",
+                    va="center",
+                    color="0.4",
+                )
+        else:
+            ax.axhspan(1.0, high_N / low_N, gid="paper-range", **PAPER_BAND)
+            curves = {"stress_free": v / v[0], "tension_only": u / u[0]}
+            for name, values in curves.items():
+                style = {k: val for k, val in FORCE_STYLES[name].items() if k != "label"}
+                ax.plot(depth, values, marker=".", gid=f"{name}:{subject}", **style)
+                values_all.extend(values)
+            ax.text(
+                0.04,
+                0.96,
+                f"stress-free ×{v[-1] / v[0]:.0f}",
+                transform=ax.transAxes,
+                ha="left",
+                va="top",
+                fontsize=7,
+            )
+        ax.set_title(
+            panel_title(table.loc[subject, "label"], table.loc[subject, "species"]), loc="left"
+        )
+    for i in range(n_rows):
+        for j in range(n_columns):
+            if not present[i, j]:
+                fig.delaxes(axes[i, j])
+    ax0 = axes[0, 0]
+    ax0.set_xscale("log")
+    ax0.set_yscale("log")
+    depth_ticks = sorted(set(depths_all))
+    ax0.set_xticks(depth_ticks, [f"{d:g}" for d in depth_ticks])
+    ax0.xaxis.set_minor_formatter(ticker.NullFormatter())
+    ax0.set_xlim(min(depths_all) / 1.15, max(depths_all) * 1.15)
+    values_all = np.asarray(values_all, dtype=float)
+    values_all = values_all[np.isfinite(values_all) & (values_all > 0)]
+    ax0.set_ylim(values_all.min() / 1.3, values_all.max() * 1.3)
+    ax0.yaxis.set_major_locator(ticker.LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    ax0.yaxis.set_major_formatter(ticker.FuncFormatter(lambda value, _: f"{value:g}"))
+    ax0.yaxis.set_minor_formatter(ticker.NullFormatter())
+    # labels on the outer panels (short: neighbouring panels' labels would collide);
+    # one y label for the whole grid
+    label_outer_axes(axes, present, "depth (mm, log scale)", "")
+    fig.supylabel(
+        "force on the wedge (N, log scale)"
+        if absolute
+        else "force / force at the smallest depth (log scale)",
+        fontsize=8,
+    )
+    handles = []
+    if absolute:
+        handles.append(
+            Line2D([], [], linestyle="none", marker="o", color=DATA_COLOUR, label="force readings")
+        )
+    names = (
+        ("stress_free", "tension_only", "fitted") if absolute else ("stress_free", "tension_only")
+    )
+    for name in names:
+        style = FORCE_STYLES[name]
+        handles.append(
+            Line2D([], [], color=style["color"], linestyle=style["linestyle"], label=style["label"])
+        )
+    band_label = (
+        f"paper's {low_N:g}-{high_N:g} N"
+        if absolute
+        else f"ratios inside the paper's {low_N:g}-{high_N:g} N (up to {high_N / low_N:.2f})"
+    )
+    handles.append(Patch(label=band_label, **PAPER_BAND))
+    title = (
+        "model curves scaled to the reading at each subject's smallest depth; "
+        "each depth uses its own fitted exact-arc L"
+        if absolute
+        else "no forces.csv: each model relative to its force at the subject's smallest depth"
+    )
+    fig.legend(handles=handles, loc="outside upper center", ncols=3, title=title, title_fontsize=7)
     add_footer(fig, notice)
     return fig

@@ -1,0 +1,122 @@
+"""The reproduction article: its facts come from the tables, its verdicts from the claims
+table, its data statement from the data; read back from the PDF itself."""
+
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+from pypdf import PdfReader
+
+from conftest import run_snakemake, write_small_dataset
+from lineload.article import article_facts, join_words, number_words, shown, span_text
+from lineload.claims import CLAIM_COLUMNS
+from lineload.fitting import FIT_COLUMNS
+
+
+def test_words_for_the_text():
+    assert [number_words(n) for n in (0, 1, 4, 10, 11)] == ["no", "one", "four", "ten", "11"]
+    assert join_words(["a"]) == "a" and join_words(["a", "b", "c"]) == "a, b and c"
+    assert span_text([2.0, np.nan, 1.25]) == "1.25 to 2.00 mm"
+    assert span_text([3.0, 3.0], 1) == "3.0 mm" and span_text([]) == "none"
+    assert shown({"a": 3.0, "b": [2.0, None], "c": None}) == {"a": "3", "b": "2, none", "c": "none"}
+
+
+def small_tables():
+    fits = pd.DataFrame(
+        [
+            {**dict.fromkeys(FIT_COLUMNS, 1.0), "subject": s, "species": sp, "depth_mm": d}
+            for s, sp, d in (("A", "monkey", 1.0), ("A", "monkey", 2.0), ("B", "human", 1.0))
+        ]
+    )
+    fits["waterbed_L_mm"] = [10.0, 11.0, 14.0]
+    fits["shifted_L_mm"] = [10.2, 11.9, 14.1]
+    fits["waterbed_rmse_mm"] = [0.01, 0.02, 0.01]
+    fits["boussinesq_rmse_mm"] = [0.05, 0.01, 0.04]
+    claims = pd.DataFrame(
+        [
+            dict.fromkeys(CLAIM_COLUMNS, "x") | {"claim": c, "verdict": v}
+            for c, v in (("C1", "holds"), ("C2", "does not hold"), ("C7", "identity"))
+        ]
+    )
+    checks = pd.DataFrame({"gap_shifted_mm": [0.002, 0.02, 0.001]})
+    subjects = {
+        "A": {"species": "monkey", "magnification": 20.0, "label": "A"},
+        "B": {"species": "human", "magnification": 10.0, "label": "B"},
+    }
+    depths = {"A": [1.0, 2.0], "B": [1.0]}
+    settings = {
+        "fit_window_mm": 3.0,
+        "claims": {"noise_mm": 0.01},
+        "sensitivity": {"windows_mm": [2.0, None]},
+        "figures": {
+            "example_subjects": ["A", "B"],
+            "example_depth_mm": 1.0,
+            "outline_subjects": [],
+            "outline_depth_mm": None,
+        },
+    }
+    software = {
+        "python": "3.11",
+        "packages": {"numpy": "2", "x": None},
+        "git": {"commit": None, "dirty": None},
+    }
+    return fits, claims, checks, subjects, depths, settings, software
+
+
+def test_facts_follow_the_tables():
+    fits, claims, checks, subjects, depths, settings, software = small_tables()
+    facts = article_facts(fits, claims, checks, subjects, depths, settings, "", software)
+    data = facts["data"]
+    assert not data["synthetic"] and data["who"] == "one monkey and one human"
+    assert data["n_trials"] == 3 and data["depths"] == "1 and 2 mm"
+    assert data["magnification"] == "10 to 20"
+    assert facts["fits"]["L_paper"] == {"monkey": "10.00 to 11.00 mm", "human": "14.00 mm"}
+    assert facts["fits"]["waterbed_better"] == "2 of 3"  # the ratio is below 1 in one trial
+    assert facts["fits"]["gap_above_noise"] == "1 of 3"
+    assert facts["verdicts"]["evidence"] == 2 and facts["verdicts"]["identity"] == 1
+    assert [c["evidence"] for c in facts["claims"]] == [True, True, False]
+    assert facts["settings"]["sensitivity"]["windows_mm"] == "2, none"
+    assert facts["software"]["git"]["commit"] == "unknown"
+    assert facts["software"]["packages"] == {"numpy": "2"}
+    assert facts["figures"]["example_subjects"] == "A and B"
+    synthetic = article_facts(
+        fits, claims, checks, subjects, depths, settings, "Made up.", software
+    )
+    assert synthetic["data"]["synthetic"] and synthetic["data"]["notice"] == "Made up."
+
+
+def pdf_text(path):
+    """The article's text as pypdf reads it, white space folded."""
+    return " ".join(" ".join(page.extract_text() for page in PdfReader(path).pages).split())
+
+
+@pytest.mark.e2e
+@pytest.mark.parametrize("notice", ["", "Invented numbers for a test."])
+def test_article_reports_the_claims_table_and_the_data(tmp_path, notice):
+    raw = write_small_dataset(
+        tmp_path / "raw",
+        subjects={"MK": ("monkey", [1.0, 2.0], 5.0), "HU": ("human", [1.0, 2.0], 9.0)},
+    )
+    if notice:
+        (raw / "NOTICE.txt").write_text(notice + "\n")
+    results = tmp_path / "out"
+    process = run_snakemake(str(results / "article" / "reproduction.pdf"), raw=raw, results=results)
+    assert process.returncode == 0, process.stderr[-3000:]
+    text = pdf_text(results / "article" / "reproduction.pdf")
+    claims = pd.read_csv(results / "tables" / "claims.csv")
+    for claim, verdict in zip(claims["claim"], claims["verdict"], strict=True):
+        # each claim's paragraph opens with "<claim>: <verdict>."
+        found = re.findall(
+            rf"\b{claim}: (holds|does not hold|cannot be checked on these data|identity)\.", text
+        )
+        assert found == [verdict], (claim, verdict, found)
+    # this dataset's own numbers, not the paper's design
+    assert "one monkey and one human" in text and "4 trials" in text
+    fits = pd.read_csv(results / "tables" / "fits.csv")
+    low, high = fits["waterbed_L_mm"].min(), fits["waterbed_L_mm"].max()
+    assert f"{low:.2f} to {high:.2f} mm" in text
+    if notice:
+        assert "These results come from synthetic data." in text and notice in text
+    else:
+        assert "synthetic" not in text.lower()

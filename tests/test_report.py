@@ -1,0 +1,99 @@
+"""The HTML report, read in headless Chromium as a reviewer reads it: the data statement
+follows the data, tables are shown as tables, figures with their captions beside them."""
+
+import shutil
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from conftest import run_snakemake, write_small_dataset
+
+pytestmark = pytest.mark.e2e
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+# as the machine's notes say: no sandbox as root, no background networking (it is refused)
+ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+
+
+@pytest.fixture(scope="module")
+def browser():
+    if not Path(CHROMIUM).is_file():
+        pytest.skip("no Chromium here (CI installs Debian's chromium package)")
+    sync_api = pytest.importorskip("playwright.sync_api")
+    with sync_api.sync_playwright() as playwright:
+        chromium = playwright.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield chromium
+        chromium.close()
+
+
+def open_item(page, report, steps, item):
+    """Open a result of the report: click through the menu, then the item's eye icon;
+    return the text of the page it shows (an iframe)."""
+    page.goto(report.as_uri())
+    page.wait_for_timeout(800)
+    for step in steps:
+        target = page.get_by_text(step, exact=True).first
+        if target.count():  # a category with one subcategory skips that level
+            target.click()
+            page.wait_for_timeout(300)
+    page.locator("tr", has=page.get_by_text(item, exact=True)).first.locator(
+        "a[iconname=eye]"
+    ).click()
+    page.wait_for_timeout(800)
+    frame = next(f for f in page.frames if f != page.main_frame)
+    return frame, " ".join(frame.inner_text("body").split())
+
+
+@pytest.mark.parametrize("notice", ["Invented readings, for a test.", ""])
+def test_report_reads_as_a_reviewer_needs(tmp_path, browser, notice):
+    raw = write_small_dataset(tmp_path / "raw")
+    if notice:
+        (raw / "NOTICE.txt").write_text(notice + "\n")
+    results = tmp_path / "out"
+    build = run_snakemake(raw=raw, results=results)
+    assert build.returncode == 0, build.stderr[-3000:]
+    report = results / "report.html"
+    made = run_snakemake("--report", str(report), raw=raw, results=results)
+    assert made.returncode == 0, made.stderr[-3000:]
+
+    page = browser.new_page(viewport={"width": 1400, "height": 900})
+    page.goto(report.as_uri())
+    page.wait_for_timeout(800)
+    front = " ".join(page.inner_text("body").split())
+    if notice:
+        assert notice in front
+    else:
+        assert "carries no notice" in front and "synthetic" not in front.lower()
+    for category in ("Article", "Claims", "Fits", "Paper figures", "Supplement", "Provenance"):
+        assert category in front, category
+
+    # the claims table on the page, a verdict per claim as claims.csv has it
+    frame, text = open_item(page, report, ["Claims", "Tables"], "The paper's claims, recomputed")
+    claims = pd.read_csv(results / "tables" / "claims.csv")
+    rows = frame.locator("tbody tr")
+    assert rows.count() == len(claims)
+    for i, (claim, verdict) in enumerate(zip(claims["claim"], claims["verdict"], strict=True)):
+        cells = rows.nth(i).locator("td").all_inner_texts()
+        assert cells[0] == claim and verdict in cells, (claim, verdict, cells[:6])
+    assert "quantitative statements" in text  # the caption, on the page
+    # a figure with its caption beside it
+    frame, text = open_item(
+        page,
+        report,
+        ["Paper figures", "Figures"],
+        "One depth against log distance, with the waterbed and Boussinesq fits",
+    )
+    assert frame.locator("img").count() == 1 and "log axis" in text
+    # the software page names the versions
+    frame, text = open_item(page, report, ["Provenance", "Pages"], "versions and source")
+    assert "snakemake" in text and "typst" in text
+    page.close()

@@ -1,0 +1,265 @@
+"""What the reproduction article says, computed from the results tables.
+
+The article (``workflow/article/reproduction.typ``, typeset with Typst) holds no
+number of its own: every number and every data-dependent phrase in its text comes
+from the facts built here out of the workflow's tables, written to
+``results/article/facts.json`` beside it.  Numbers arrive as finished text
+(fixed decimals, ranges, counts in words where a sentence needs them), so the
+article reads the same whatever the dataset, and a reviewer can open the JSON to
+see each value the text uses.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import paper
+from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
+from .tables import format_fixed
+
+__all__ = ["article_facts", "join_words", "number_words", "shown", "span_text"]
+
+#: Small counts in words, as a sentence would write them.
+_WORDS = ("no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
+
+
+def number_words(count):
+    """``3`` -> ``"three"`` up to ten, digits beyond."""
+    count = int(count)
+    return _WORDS[count] if 0 <= count < len(_WORDS) else str(count)
+
+
+def join_words(items):
+    """``["a", "b", "c"]`` -> ``"a, b and c"``."""
+    items = [str(item) for item in items]
+    if len(items) <= 1:
+        return "".join(items)
+    return ", ".join(items[:-1]) + " and " + items[-1]
+
+
+def span_text(values, decimals=2, unit=" mm"):
+    """``"a to b mm"`` over the finite values; one value if all are equal; ``"none"`` if none."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return "none"
+    low, high = format_fixed(values.min(), decimals), format_fixed(values.max(), decimals)
+    return f"{low}{unit}" if low == high else f"{low} to {high}{unit}"
+
+
+def shown(value):
+    """A setting as the text shows it: numbers short (``3``, ``0.01``), lists joined, null
+    as ``none``; dicts shown key by key."""
+    if isinstance(value, dict):
+        return {key: shown(item) for key, item in value.items()}
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (int, float)):
+        return f"{value:g}"
+    if isinstance(value, (list, tuple)):
+        return ", ".join(shown(item) for item in value)
+    return str(value)
+
+
+def _depths_text(depths_mm):
+    return join_words(f"{d:g}" for d in sorted(set(depths_mm))) + " mm"
+
+
+def _plural(species, count):
+    return species if count == 1 else f"{species}s"
+
+
+def _data_facts(subjects, depths_mm, notice):
+    """Who was measured, at which depths, and how the data describe themselves."""
+    by_species = {}
+    for subject, about in subjects.items():
+        by_species.setdefault(about["species"], []).append(subject)
+    order = [s for s in paper.SPECIES if s in by_species] + sorted(
+        s for s in by_species if s not in paper.SPECIES
+    )
+    groups = []
+    for species in order:
+        members = by_species[species]
+        depths = sorted({d for s in members for d in depths_mm[s]})
+        groups.append(
+            {
+                "species": species,
+                "count": len(members),
+                "count_words": f"{number_words(len(members))} {_plural(species, len(members))}",
+                "subjects": join_words(members),
+                "depths": _depths_text(depths),
+                "n_trials": sum(len(depths_mm[s]) for s in members),
+            }
+        )
+    magnifications = sorted({about["magnification"] for about in subjects.values()})
+    all_depths = sorted({d for s in subjects for d in depths_mm[s]})
+    return {
+        "synthetic": bool(notice),
+        "notice": notice,
+        "n_subjects": len(subjects),
+        "n_trials": sum(len(d) for d in depths_mm.values()),
+        "groups": groups,
+        "who": join_words(g["count_words"] for g in groups),
+        "depths": _depths_text(all_depths),
+        "n_depths": len(all_depths),
+        "magnification": (
+            f"{magnifications[0]:g}"
+            if len(magnifications) == 1
+            else f"{magnifications[0]:g} to {magnifications[-1]:g}"
+        ),
+        "paper_depths": _depths_text(paper.DEPTHS_MM),
+    }
+
+
+def _fit_facts(fits, checks, noise_mm):
+    """L per species and procedure, the model comparison and what the coordinates change."""
+    species = [s for s in paper.SPECIES if (fits["species"] == s).any()]
+    species += sorted(set(fits["species"]) - set(species))
+    L = {
+        model: {s: span_text(fits.loc[fits["species"] == s, f"{model}_L_mm"]) for s in species}
+        for model in ("waterbed", "shifted", "arc")
+    }
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = (fits["boussinesq_rmse_mm"] / fits["waterbed_rmse_mm"]).to_numpy(float)
+    finite = np.isfinite(ratio)
+    change = (fits["shifted_L_mm"] - fits["waterbed_L_mm"]).to_numpy(float)
+    deepest = float(fits["depth_mm"].max()) if len(fits) else math.nan
+    at_deepest = (fits["depth_mm"] == deepest).to_numpy()
+    gaps = checks["gap_shifted_mm"].to_numpy(float) if len(checks) else np.array([])
+    return {
+        "species": species,
+        "L_paper": L["waterbed"],
+        "L_shifted": L["shifted"],
+        "L_arc": L["arc"],
+        "L_paper_all": span_text(fits["waterbed_L_mm"]),
+        "rmse_waterbed": span_text(fits["waterbed_rmse_mm"], 3),
+        "rmse_boussinesq": span_text(fits["boussinesq_rmse_mm"], 3),
+        "ratio_median": format_fixed(np.median(ratio[finite]), 1) if finite.any() else "–",
+        "ratio_range": span_text(ratio[finite], 1, ""),
+        "waterbed_better": f"{int((ratio[finite] > 1).sum())} of {int(finite.sum())}",
+        "L_change": span_text(change, 2),
+        "L_change_deepest": span_text(change[at_deepest], 2),
+        "deepest_mm": f"{deepest:g}",
+        "gap_range": span_text(gaps, 4),
+        "gap_above_noise": f"{int((gaps > noise_mm).sum())} of {gaps.size}",
+        "noise_mm": f"{noise_mm:g}",
+    }
+
+
+def article_facts(
+    fits, claims, checks, subjects, depths_mm, settings, notice, software, mechanics=None
+):
+    """Every number and data-dependent phrase of the article.
+
+    Parameters
+    ----------
+    fits, claims, checks : pandas.DataFrame
+        The fit table, the claims table and the per-trial checks.
+    subjects : dict
+        Subject id -> ``{"species", "magnification", "label"}``, in sheet order.
+    depths_mm : dict
+        Subject id -> list of measured depths (mm).
+    settings : dict
+        The analysis settings the article names, each under its config key
+        (``fit_window_mm``, ``claims``, ``sensitivity``, ``figures``).
+    notice : str
+        The data notice (empty for data that carry none).
+    software : dict
+        ``python``, ``packages`` (name -> version) and ``git`` (``commit``, ``dirty``)
+        from the provenance record.
+    mechanics : pandas.DataFrame, optional
+        The per-subject membrane mechanics, when the workflow made them.
+
+    Returns
+    -------
+    dict
+        JSON-ready: ``data``, ``fits``, ``verdicts``, ``claims`` (one dict per claim,
+        in table order), ``settings`` (as given), ``figures`` (the data-dependent
+        parts of the captions), ``mechanics`` (or None) and ``software``.
+    """
+    counts = verdict_counts(claims)
+    noise_mm = float(settings["claims"]["noise_mm"])
+    figures = settings["figures"]
+    facts = {
+        "data": _data_facts(subjects, depths_mm, notice),
+        "fits": _fit_facts(fits, checks, noise_mm),
+        "verdicts": {
+            **{key.replace(" ", "_"): value for key, value in counts.items()},
+            "sentence": summary_sentence(claims),
+            "n_claims": len(claims),
+            "evidence_words": number_words(counts["evidence"]),
+            "holds_words": number_words(counts["holds"]),
+            "fails_words": number_words(counts["does not hold"]),
+        },
+        "claims": [
+            {
+                "claim": row["claim"],
+                "statement": row["statement"],
+                "paper_location": row["paper_location"],
+                "paper_value": row["paper_value"],
+                "our_value": row["our_value"],
+                "verdict": row["verdict"],
+                "evidence": row["verdict"] in EVIDENCE_VERDICTS,
+                "reason": row["reason"],
+            }
+            for _, row in claims.iterrows()
+        ],
+        "settings": shown(settings),
+        "figures": {
+            "example_depth": f"{figures['example_depth_mm']:g} mm",
+            "example_subjects": join_words(figures["example_subjects"]),
+            "outline_subjects": join_words(figures["outline_subjects"]),
+            "outline_depth": (
+                "" if figures["outline_depth_mm"] is None else f"{figures['outline_depth_mm']:g} mm"
+            ),
+            "has_outlines": bool(figures["outline_subjects"]),
+        },
+        "mechanics": None,
+        "software": {
+            "python": str(software["python"]),
+            "packages": {name: str(v) for name, v in software["packages"].items() if v},
+            "git": {
+                "commit": software["git"]["commit"] or "unknown",
+                "dirty": bool(software["git"]["dirty"]),
+            },
+        },
+    }
+    if mechanics is not None and len(mechanics):
+        facts["mechanics"] = _mechanics_facts(mechanics)
+    return facts
+
+
+def _with_error(value, error, decimals):
+    """``"0.083 ± 0.002"``; the value alone without an error; ``"–"`` if missing."""
+    if value is None or not math.isfinite(float(value)):
+        return "–"
+    text = format_fixed(value, decimals)
+    if error is not None and math.isfinite(float(error)):
+        text += f" ± {format_fixed(error, decimals)}"
+    return text
+
+
+def _mechanics_facts(mechanics):
+    """The membrane per subject, as the article's table shows it."""
+    rows = [
+        {
+            "subject": str(row["subject"]),
+            "species": str(row["species"]),
+            "n_depths": str(int(row["n_depths"])),
+            "pretension": _with_error(row["pretension_N_per_mm"], row["pretension_se_N_per_mm"], 3),
+            "stiffness": _with_error(row["stiffness_N_per_mm"], row["stiffness_se_N_per_mm"], 2),
+            "prestrain": _with_error(row["prestrain"], row["prestrain_se"], 2),
+        }
+        for _, row in mechanics.iterrows()
+    ]
+    with_lengths = int(np.isfinite(mechanics["pretension_N_per_mm"].to_numpy(float)).sum())
+    return {
+        "n_subjects": len(rows),
+        "n_words": number_words(len(rows)),
+        "with_contact_lengths": with_lengths,
+        "rows": rows,
+    }

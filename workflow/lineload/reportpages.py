@@ -1,0 +1,134 @@
+"""Pages of the HTML report: tables shown as tables and figures with their captions.
+
+Snakemake's report shows an HTML, PNG or PDF result on the page but offers a CSV
+only as a download, and keeps each caption behind an icon.  The workflow
+therefore gives the report one small, self-contained HTML page per table and per
+figure, with the caption written out beside it.  Pure functions: text in, text
+out; the figure's PNG is embedded as a data URI so the page needs no other file.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+
+__all__ = ["figure_page", "page", "table_page", "versions_page"]
+
+_STYLE = """
+body { font-family: "DejaVu Sans", Helvetica, Arial, sans-serif; font-size: 14px;
+       color: #1f2937; margin: 16px; max-width: 1200px; }
+h1 { font-size: 18px; margin: 0 0 8px 0; }
+.caption { background: #f3f4f6; border-left: 4px solid #0072b2; padding: 8px 12px;
+           margin: 8px 0 14px 0; line-height: 1.45; }
+.notice { background: #fdf1dc; border-left: 4px solid #d55e00; padding: 6px 12px;
+          margin: 8px 0 14px 0; }
+table { border-collapse: collapse; font-size: 13px; }
+th, td { border-bottom: 1px solid #e5e7eb; padding: 4px 8px; text-align: left;
+         vertical-align: top; }
+th { background: #f9fafb; position: sticky; top: 0; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+img { max-width: 100%; height: auto; border: 1px solid #e5e7eb; }
+"""
+
+
+def page(title, body, caption_html="", notice=""):
+    """One self-contained HTML page: a title, the caption, the notice, then the body.
+
+    Parameters
+    ----------
+    title : str
+        Plain text (escaped here).
+    body : str
+        HTML of the content.
+    caption_html : str, optional
+        The caption, already HTML.
+    notice : str, optional
+        The data notice, plain text; shown above the content when non-empty.
+
+    Returns
+    -------
+    str
+    """
+    parts = [
+        "<!DOCTYPE html>",
+        '<html lang="en"><head><meta charset="utf-8">',
+        f"<title>{html.escape(title)}</title><style>{_STYLE}</style></head><body>",
+        f"<h1>{html.escape(title)}</h1>",
+    ]
+    if caption_html:
+        parts.append(f'<div class="caption">{caption_html}</div>')
+    if notice:
+        parts.append(f'<div class="notice">{html.escape(notice)}</div>')
+    parts += [body, "</body></html>", ""]
+    return "\n".join(parts)
+
+
+def _cell(value):
+    """A table cell: numbers right-aligned with up to 6 significant digits, text escaped."""
+    if isinstance(value, bool):
+        return f"<td>{value}</td>"
+    if isinstance(value, (int, float)):
+        if isinstance(value, float) and math.isnan(value):
+            return '<td class="num"></td>'
+        return f'<td class="num">{value:.6g}</td>'
+    return f"<td>{html.escape(str(value))}</td>"
+
+
+def table_page(title, columns, rows, caption_html="", notice=""):
+    """A table as an HTML page.
+
+    Parameters
+    ----------
+    title : str
+    columns : list of str
+        Column headers.
+    rows : iterable of sequence
+        Cell values (numbers or text), one sequence per row.
+    caption_html, notice : str, optional
+        As for :func:`page`.
+
+    Returns
+    -------
+    str
+    """
+    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in columns)
+    body = "".join("<tr>" + "".join(_cell(v) for v in row) + "</tr>" for row in rows)
+    table = f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+    return page(title, table, caption_html, notice)
+
+
+def figure_page(title, png_bytes, caption_html="", notice=""):
+    """A figure (PNG) with its caption, as an HTML page.
+
+    Parameters
+    ----------
+    title : str
+    png_bytes : bytes
+        The figure, embedded as a data URI.
+    caption_html, notice : str, optional
+        As for :func:`page`.
+
+    Returns
+    -------
+    str
+    """
+    data = base64.b64encode(png_bytes).decode("ascii")
+    image = f'<img alt="{html.escape(title)}" src="data:image/png;base64,{data}">'
+    return page(title, image, caption_html, notice)
+
+
+def versions_page(title, rows, caption_html=""):
+    """A two-column page of names and values (software versions, source commit).
+
+    Parameters
+    ----------
+    title : str
+    rows : iterable of (str, str)
+    caption_html : str, optional
+
+    Returns
+    -------
+    str
+    """
+    return table_page(title, ["name", "value"], rows, caption_html)

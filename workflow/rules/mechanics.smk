@@ -1,0 +1,38 @@
+# Stage 2b, mechanics: what the fitted shapes and the optional force readings say
+# about the membrane (pre-tension, stiffness, pre-strain; lineload/mechanics.py).
+
+
+rule mechanics:
+    """Load angle and strain of each trial's exact arc; a subject's forces fitted by N0 + E eps."""
+    input:
+        spec=spec(
+            "mechanics",
+            contact_length_mm=DATASET["contact_length_mm"],
+            force_sd_N=config["mechanics"]["force_sd_N"],
+        ),
+        fits=result("tables", "fits.csv"),
+        forces=FORCES,
+        code=code("fit_mechanics.py"),
+    output:
+        subjects=report_item(
+            result("tables", "mechanics.csv"),
+            caption="../report/mechanics.rst",
+            category="Mechanics",
+            subcategory="CSV files",
+            labels={"table": "membrane per subject"},
+        ),
+        trials=report_item(
+            result("tables", "mechanics_trials.csv"),
+            caption="../report/mechanics_trials.rst",
+            category="Mechanics",
+            subcategory="CSV files",
+            labels={"table": "membrane per trial"},
+        ),
+    log:
+        result("logs", "mechanics.log"),
+    benchmark:
+        result("benchmarks", "mechanics.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/fit_mechanics.py"

@@ -1,0 +1,70 @@
+"""Rule article: the facts of the text from the results tables, then the PDF with Typst.
+
+The Typst source is copied beside the facts into <results>/article/ and compiled
+there with the results folder as Typst's root, so that it reads the tables and
+figures of this build and nothing else; fonts are Typst's own (no system fonts),
+and the document carries no date, so two builds give the same bytes.
+"""
+
+import platform
+import shutil
+from pathlib import Path
+
+import typst
+
+from lineload.article import article_facts
+from lineload.io import (
+    json_text,
+    output_to,
+    read_json,
+    read_results_csv,
+    replaced_atomically,
+    write_text,
+)
+from lineload.provenance import git_state, package_versions
+
+
+def compile_pdf(source, root):
+    """Typst's PDF of ``source``; a warning (an unknown font, say) is an error too."""
+    try:
+        pdf, warnings = typst.compile_with_warnings(
+            str(source), root=str(root), ignore_system_fonts=True
+        )
+    except typst.TypstError as error:
+        raise RuntimeError(f"Typst could not typeset {source}:\n{error.diagnostic}") from None
+    if warnings:
+        raise RuntimeError("\n".join(w.diagnostic for w in warnings))
+    return pdf
+
+
+def write_article(inputs, outputs, settings, subjects, depths_mm, notice, source_dir):
+    """Write facts.json, the copy of the source, and the PDF."""
+    software = {
+        "python": platform.python_version(),
+        "packages": package_versions(),
+        "git": git_state(source_dir),
+    }
+    facts = article_facts(
+        read_results_csv(inputs.fits),
+        read_results_csv(inputs.claims),
+        read_results_csv(inputs.checks),
+        subjects,
+        depths_mm,
+        settings,
+        notice,
+        software,
+        read_results_csv(inputs.mechanics),
+    )
+    write_text(json_text(facts), outputs.facts)
+    with replaced_atomically(outputs.source) as temporary:
+        shutil.copyfile(inputs.source, temporary)
+    root = Path(outputs.pdf).resolve().parents[1]  # the results folder
+    pdf = compile_pdf(Path(outputs.source).resolve(), root)
+    with replaced_atomically(outputs.pdf) as temporary:
+        Path(temporary).write_bytes(pdf)
+    print(f"{outputs.pdf}: {len(pdf)} bytes; {facts['verdicts']['sentence']}")
+
+
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        write_article(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))

@@ -1,0 +1,77 @@
+"""Rule report_pages: the report's HTML pages, a table or a figure each with its caption.
+
+Captions are the workflow's caption files (workflow/report/*.rst), rendered as
+Snakemake renders them (Jinja with the config, then reStructuredText to HTML).
+"""
+
+import platform
+from pathlib import Path
+
+from docutils.core import publish_parts
+from jinja2 import Template
+
+from lineload.figures import registry
+from lineload.io import output_to, read_json, read_results_csv, write_text
+from lineload.provenance import git_state, package_versions
+from lineload.reportpages import figure_page, table_page, versions_page
+
+
+def caption(path, config):
+    """A caption file as HTML."""
+    text = Template(Path(path).read_text(encoding="utf-8")).render(snakemake={"config": config})
+    return publish_parts(text, writer_name="html5")["body"]
+
+
+def write_report_pages(inputs, outputs, tables, config, notice, subjects, depths_mm, source_dir):
+    """Write every page listed in the spec into the folder of the job's outputs."""
+    captions = Path(inputs.captions[0]).parent
+    folder = Path(outputs[0]).parent
+    for name, (title, path) in tables.items():
+        frame = read_results_csv(path)
+        text = table_page(
+            title,
+            list(frame.columns),
+            frame.itertuples(index=False),
+            caption(captions / f"{name}.rst", config),
+            notice,
+        )
+        write_text(text, folder / f"{name}.html")
+    for figure in registry.FIGURES:
+        png = Path(inputs.figures[0]).parent / f"{figure.name}.png"
+        text = figure_page(
+            figure.title,
+            png.read_bytes(),
+            caption(captions / f"{figure.name}.rst", config),
+            notice,
+        )
+        write_text(text, folder / f"{figure.name}.html")
+    by_species = {}
+    for subject, about in subjects.items():
+        by_species.setdefault(about["species"], []).append(subject)
+    rows = [
+        (species, len(members), ", ".join(members),
+         ", ".join(f"{d:g}" for d in sorted({d for s in members for d in depths_mm[s]})))
+        for species, members in by_species.items()
+    ]  # fmt: skip
+    data = table_page(
+        "The data",
+        ["species", "subjects", "ids", "depths (mm)"],
+        rows,
+        caption(captions / "data.rst", config),
+        notice,
+    )
+    write_text(data, folder / "data.html")
+    git = git_state(source_dir)
+    versions = [("python", platform.python_version())]
+    versions += [(n, v) for n, v in package_versions().items() if v]
+    versions += [("commit", git["commit"] or "unknown"), ("uncommitted changes", str(git["dirty"]))]
+    write_text(
+        versions_page("Software", versions, caption(captions / "software.rst", config)),
+        folder / "software.html",
+    )
+    print(f"{len(tables)} tables, {len(registry.FIGURES)} figures, the data and the software")
+
+
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        write_report_pages(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
