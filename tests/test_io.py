@@ -80,3 +80,30 @@ def test_read_trials_names_a_missing_column(tmp_path):
     path.write_text("subject,depth_mm,distance_mm\nA,1,0.1\n", encoding="utf-8")
     with pytest.raises(ValueError, match="deflection_mm"):
         io.read_trials(path)
+
+
+def test_a_job_killed_while_writing_leaves_no_temporary_file(tmp_path):
+    # a job (as the rules run them, inside output_to) killed with SIGTERM in the middle of
+    # replaced_atomically: the temporary file goes, the destination never appears
+    import subprocess
+    import sys
+    import time
+
+    target = tmp_path / "figure.png"
+    code = (
+        "import time\n"
+        "from lineload.io import output_to, replaced_atomically\n"
+        f"with output_to({str(tmp_path / 'job.log')!r}):\n"
+        f"    with replaced_atomically({str(target)!r}) as temporary:\n"
+        "        open(temporary, 'w').write('half')\n"
+        "        print('writing', flush=True)\n"
+        "        time.sleep(30)\n"
+    )
+    job = subprocess.Popen([sys.executable, "-c", code])
+    deadline = time.monotonic() + 20
+    while not list(tmp_path.glob(".figure.png.*.tmp")) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert list(tmp_path.glob(".figure.png.*.tmp")), "the job never started writing"
+    job.terminate()
+    assert job.wait(timeout=10) == 128 + 15
+    assert not list(tmp_path.glob(".*.tmp")) and not target.exists()

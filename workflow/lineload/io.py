@@ -16,6 +16,7 @@ import math
 import numbers
 import os
 import re
+import signal
 import tempfile
 import traceback
 from pathlib import Path
@@ -338,7 +339,12 @@ def read_json(path):
 
 @contextlib.contextmanager
 def output_to(log_path):
-    """Send a job's printed output and any traceback to its log file.
+    """Send a job's printed output and any traceback to its log file; exit cleanly on SIGTERM.
+
+    A job stopped with SIGTERM (as a killed build stops its jobs) would otherwise end
+    at once, without Python's clean-up, and could leave a temporary file of
+    :func:`replaced_atomically` behind; here the signal raises SystemExit instead, so
+    every ``finally`` and ``except`` runs first.
 
     Parameters
     ----------
@@ -351,6 +357,7 @@ def output_to(log_path):
         The open log.
     """
     Path(log_path).parent.mkdir(parents=True, exist_ok=True)
+    signal.signal(signal.SIGTERM, _exit_on_sigterm)
     with (
         open(log_path, "w", encoding="utf-8") as log,
         contextlib.redirect_stdout(log),
@@ -400,6 +407,10 @@ def concatenate_csv(paths, output):
                 n_rows += 1
     write_text(buffer.getvalue(), output)
     return n_rows
+
+
+def _exit_on_sigterm(signum, frame):
+    raise SystemExit(128 + signum)
 
 
 @contextlib.contextmanager

@@ -9,6 +9,7 @@ from snakemake.exceptions import WorkflowError
 from snakemake.utils import min_version, validate
 
 from lineload import checkcache, codedeps, settings
+from lineload.interrupt import stop_on_sigterm
 from lineload.figures import registry
 from lineload.figures.choices import ChoiceError, example_choice, outline_choice
 from lineload.io import load_schema, write_json_if_changed
@@ -24,50 +25,6 @@ ENVIRONMENT = "../../environment.yml"
 # Snakemake's parser reads a line that starts with `report(` as its report keyword,
 # and snakefmt puts the call at a line start: call it by another name.
 report_item = report
-
-
-def descendants(pid):
-    """Process ids of every descendant of a process (Linux /proc; none elsewhere)."""
-    children = {}
-    for entry in os.listdir("/proc") if os.path.isdir("/proc") else []:
-        if entry.isdigit():
-            try:
-                with open(f"/proc/{entry}/stat", encoding="ascii") as handle:
-                    parent = int(handle.read().rsplit(")", 1)[1].split()[1])
-            except (OSError, ValueError, IndexError):
-                continue
-            children.setdefault(parent, []).append(int(entry))
-    found, stack = [], [pid]
-    while stack:
-        for child in children.get(stack.pop(), []):
-            found.append(child)
-            stack.append(child)
-    return found
-
-
-def stop_on_sigterm():
-    """Make `kill` (SIGTERM) stop a build the way Ctrl-C does, jobs included.
-
-    Snakemake's own SIGTERM handler takes a lock that the main thread may already
-    hold (while it selects or finishes jobs), and then the build never returns; and
-    even on its Ctrl-C path it waits for running jobs unless they got the signal too,
-    as a terminal's Ctrl-C gives them.  So the running jobs are sent SIGTERM (whatever
-    process group they are in, and even if SIGINT is ignored), and a KeyboardInterrupt
-    takes Snakemake's Ctrl-C path: outputs of cut jobs are marked incomplete, and the
-    build exits.  Called from `onstart:`, which runs after Snakemake has installed
-    its own handler.
-    """
-    import signal
-
-    def interrupt(signum, frame):
-        for child in descendants(os.getpid()):
-            try:
-                os.kill(child, signal.SIGTERM)
-            except ProcessLookupError:
-                pass
-        raise KeyboardInterrupt(f"signal {signum}")
-
-    signal.signal(signal.SIGTERM, interrupt)
 
 
 def where_to_look():
