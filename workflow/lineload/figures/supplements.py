@@ -743,9 +743,10 @@ def figure_mechanics(mechanics_trials, mechanics, subjects, notice=""):
     absolute = bool(np.isfinite(forces).any())
     fits = {} if mechanics is None else {str(r.subject): r for r in mechanics.itertuples()}
     low_N, high_N = paper.FORCE_RANGE_N
+    # four panels a row; beyond five rows the rows shrink to keep the figure on a page
     n_rows, n_columns = grid_shape(len(members), max_columns=4)
     width_mm = DOUBLE_COLUMN_MM if n_columns > 1 else SINGLE_COLUMN_MM
-    fig = new_figure(width_mm, 24.0 + 44.0 * n_rows)
+    fig = new_figure(width_mm, 24.0 + min(44.0, 212.0 / n_rows) * n_rows)
     axes = fig.subplots(n_rows, n_columns, squeeze=False, sharex=True, sharey=True)
     present = np.zeros(axes.shape, dtype=bool)
     depths_all, values_all = (
@@ -833,6 +834,8 @@ def figure_mechanics(mechanics_trials, mechanics, subjects, notice=""):
     ax0.set_xscale("log")
     ax0.set_yscale("log")
     depth_ticks = sorted(set(depths_all))
+    if len(depth_ticks) > 4:  # a narrow log axis holds about four labels
+        depth_ticks = [depth_ticks[round(i)] for i in np.linspace(0, len(depth_ticks) - 1, 4)]
     ax0.set_xticks(depth_ticks, [f"{d:g}" for d in depth_ticks])
     ax0.xaxis.set_minor_formatter(ticker.NullFormatter())
     ax0.set_xlim(min(depths_all) / 1.15, max(depths_all) * 1.15)
