@@ -40,7 +40,7 @@ def test_environment_pins_match_requirements():
 
 def readme_block_after(marker):
     text = (REPO / "README.md").read_text()
-    after = text[text.index(marker) :]
+    after = text[text.lower().index(marker.lower()) :]
     return re.search(r"```bash\n(.+?)\n```", after, re.S).group(1).strip()
 
 
