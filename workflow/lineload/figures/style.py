@@ -35,6 +35,7 @@ from matplotlib.figure import Figure
 from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.lines import Line2D
 
+from .. import models
 from ..io import replaced_atomically
 
 __all__ = [
@@ -94,12 +95,7 @@ MODEL_COLOURS = {
 }
 #: Legend name of each model of the fit table (the sensitivity refits have their
 #: own names, in :data:`lineload.sensitivity.MODEL_NAMES`).
-MODEL_NAMES = {
-    "waterbed": "waterbed parabola (eq. 19)",
-    "shifted": "parabola in measured coordinates",
-    "arc": "waterbed exact arc",
-    "boussinesq": "modified Boussinesq",
-}
+MODEL_NAMES = {model: models.MODEL_NAMES[model].legend for model in models.TABLE_MODELS}
 #: Line style of each model where several are drawn over each other.
 MODEL_LINESTYLES = {"waterbed": "-", "shifted": "-.", "arc": "--", "boussinesq": "-"}
 DATA_COLOUR = "black"

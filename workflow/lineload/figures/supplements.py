@@ -180,7 +180,7 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
             linestyle=MODEL_LINESTYLES[m],
             label=MODEL_NAMES[m],
         )
-        for m in ("waterbed", "shifted", "arc", "boussinesq")
+        for m in models.TABLE_MODELS
     ]
     handles.append(Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE))
     fig.legend(
