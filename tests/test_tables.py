@@ -14,7 +14,9 @@ from lineload.tables import (
     fits_markdown,
     format_fixed,
     markdown_table,
+    notice_footer,
     sensitivity_markdown,
+    span_text,
     summarise_fits,
     summary_latex,
     summary_markdown,
@@ -84,6 +86,18 @@ def test_format_fixed_rounds_and_marks_missing():
     assert format_fixed(float("nan"), 2) == "–"
     assert format_fixed(None, 2, missing="n/a") == "n/a"
     assert format_fixed(float("inf"), 2, missing="x") == "x"
+
+
+def test_span_text_gives_the_finite_range_once():
+    assert span_text([2.0, np.nan, 1.25, np.inf]) == "1.25 to 2.00 mm"
+    assert span_text([3.0, 3.004], 2) == "3.00 mm"  # ends that print the same
+    assert span_text([0.5, 1.5], 1, "") == "0.5 to 1.5" and span_text([np.nan]) == "none"
+
+
+def test_notice_footer_is_one_line_or_nothing():
+    footer = notice_footer("Synthetic data.\nSee README.\n")
+    assert footer == "\nNote: Synthetic data. See README.\n"
+    assert notice_footer("") == "" and notice_footer(None) == ""
 
 
 def test_escape_latex_covers_the_special_characters():

@@ -28,7 +28,9 @@ __all__ = [
     "format_fixed",
     "latex_table",
     "markdown_table",
+    "notice_footer",
     "sensitivity_markdown",
+    "span_text",
     "summarise_fits",
     "summary_latex",
     "summary_markdown",
@@ -98,6 +100,48 @@ def format_fixed(value, decimals, missing="–"):
     if float(text) == 0.0:
         text = text.lstrip("-")
     return text
+
+
+def span_text(values, decimals=2, unit=" mm"):
+    """The range of the finite values as text, for a sentence.
+
+    Parameters
+    ----------
+    values : array_like
+        Numbers; NaN and infinities are left out.
+    decimals : int, optional
+        Digits after the decimal point (:func:`format_fixed`).
+    unit : str, optional
+        Appended once, after the range (``" mm"``; ``""`` for none).
+
+    Returns
+    -------
+    str
+        ``"1.25 to 2.00 mm"``; one value (``"3.0 mm"``) if both ends print the same;
+        ``"none"`` if no value is finite.
+    """
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return "none"
+    low, high = format_fixed(values.min(), decimals), format_fixed(values.max(), decimals)
+    return f"{low}{unit}" if low == high else f"{low} to {high}{unit}"
+
+
+def notice_footer(notice):
+    """The data notice as the last line of a Markdown summary.
+
+    Parameters
+    ----------
+    notice : str
+        Data notice; its whitespace (line breaks included) collapses to single spaces.
+
+    Returns
+    -------
+    str
+        ``"\\nNote: <notice>\\n"``, to append after a table; empty for an empty notice.
+    """
+    return f"\nNote: {' '.join(notice.split())}\n" if notice else ""
 
 
 def escape_latex(text):
@@ -269,9 +313,7 @@ def fits_markdown(fits, notice=""):
     ]
     text = "# Model fits per subject and depth\n\n" + _fits_caption(fits) + "\n\n"
     text += markdown_table(headers, _fit_rows(fits), "llrrrrrr")
-    if notice:
-        text += f"\nNote: {' '.join(notice.split())}\n"
-    return text
+    return text + notice_footer(notice)
 
 
 def fits_latex(fits, notice=""):
@@ -417,9 +459,7 @@ def summary_markdown(summary, notice=""):
     ]
     text = "# Summary per species and depth\n\n" + _SUMMARY_CAPTION + "\n\n"
     text += markdown_table(headers, _summary_rows(summary), "lrrrrrrrrr")
-    if notice:
-        text += f"\nNote: {' '.join(notice.split())}\n"
-    return text
+    return text + notice_footer(notice)
 
 
 def summary_latex(summary, notice=""):
