@@ -893,3 +893,21 @@ def test_mechanics_figure_without_forces_shows_ratios_against_the_papers_bound()
     # one depth only: nothing to compare, the figure says so
     single = trials[trials["depth_mm"] == 1.0]
     assert len(supplements.figure_mechanics(single, table, subjects).axes) == 1
+
+
+def test_noted_legend_sits_above_with_the_note_as_its_title():
+    from matplotlib.lines import Line2D
+
+    with style.figure_style():
+        fig = style.new_figure(style.SINGLE_COLUMN_MM, 60.0)
+        fig.add_subplot()
+        handles = [Line2D([], [], label=f"entry {k}") for k in range(5)]
+        note = "a note long enough to be wrapped onto more than one line of a narrow figure " * 2
+        legend = style.noted_legend(fig, handles, 3, note)
+        n_columns = style.legend_columns(fig, handles, 3)  # the style's legend font
+    assert fig.legends == [legend]
+    assert legend.get_title().get_text() == style.wrapped_note(fig, note, 7.0)
+    assert "\n" in legend.get_title().get_text()
+    assert legend.get_title().get_fontsize() == 7.0
+    assert legend._ncols == n_columns <= 3
+    assert [t.get_text() for t in legend.get_texts()] == [h.get_label() for h in handles]

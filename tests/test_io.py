@@ -107,3 +107,40 @@ def test_a_job_killed_while_writing_leaves_no_temporary_file(tmp_path):
     job.terminate()
     assert job.wait(timeout=10) == 128 + 15
     assert not list(tmp_path.glob(".*.tmp")) and not target.exists()
+
+
+@pytest.mark.parametrize(
+    "names, cells",
+    [
+        (["a", "b"], [["1", "2.5"], ["x", ""]]),  # plain: joined
+        (["a", "b"], [["1", ""], ['say "hi"', "x,y"]]),  # quotes needed
+        (["a", "b"], [[], []]),  # header only
+        (["only"], [["", "x"]]),  # an empty cell alone on its line is quoted
+        (["a", "b", "c"], [["", ""], ["", ""], ["line\nbreak", "z"]]),
+    ],
+)
+def test_csv_text_writes_the_bytes_of_the_csv_module(names, cells):
+    import csv
+    import io as stdio
+
+    buffer = stdio.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(names)
+    writer.writerows(zip(*cells, strict=True))
+    assert io.csv_text(names, cells) == buffer.getvalue()
+
+
+def test_csv_text_checks_only_the_columns_it_is_told_may_need_quotes():
+    cells = [["1", "2"], ["a,b", "c"]]
+    assert io.csv_text(["n", "t"], cells, may_quote=[cells[1]]) == 'n,t\n1,"a,b"\n2,c\n'
+    # a column left out of the check is trusted to need no quotes (numbers)
+    assert io.csv_text(["n", "t"], cells, may_quote=[cells[0]]) == "n,t\n1,a,b\n2,c\n"
+
+
+def test_row_writer_without_quoted_cells_matches_the_pandas_writer(tmp_path):
+    rows = [{"subject": "M1", "x_mm": 0.25, "n": 3}, {"subject": "H1", "x_mm": float("nan")}]
+    columns = ["subject", "x_mm", "n"]
+    io.write_rows(rows, columns, tmp_path / "rows.csv")
+    io.write_csv(pd.DataFrame(rows, columns=columns).astype({"n": "Int64"}), tmp_path / "f.csv")
+    assert (tmp_path / "rows.csv").read_bytes() == (tmp_path / "f.csv").read_bytes()
+    assert (tmp_path / "rows.csv").read_bytes() == b"subject,x_mm,n\nM1,0.25,3\nH1,,\n"

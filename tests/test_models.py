@@ -186,3 +186,16 @@ class TestBoussinesq:
         assert models.boussinesq_deflection_mm([4.0], 0.3, 4.0)[0] == 0.0
         # equal steps in log distance give equal drops of A ln 10
         assert np.allclose(-np.diff(w), 0.3 * np.log(10.0))
+
+
+def test_every_fitted_model_is_named_once_and_styled():
+    from lineload import fitting, sensitivity, tables
+    from lineload.figures import style, supplements
+
+    assert set(fitting.MODELS) == set(models.MODELS) == set(supplements.REFIT_COLOURS)
+    assert sensitivity.MODELS == models.MODELS
+    assert set(models.TABLE_MODELS) <= set(models.MODELS)
+    assert list(style.MODEL_COLOURS) == list(style.MODEL_NAMES) == list(models.TABLE_MODELS)
+    for model in models.TABLE_MODELS:
+        assert models.MODEL_NAMES[model].legend and style.MODEL_NAMES[model]
+    assert [label for _, label in tables.MODELS] == ["waterbed", "exact arc", "Boussinesq"]

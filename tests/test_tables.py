@@ -14,6 +14,9 @@ from lineload.tables import (
     fits_markdown,
     format_fixed,
     markdown_table,
+    notice_footer,
+    sensitivity_markdown,
+    span_text,
     summarise_fits,
     summary_latex,
     summary_markdown,
@@ -83,6 +86,18 @@ def test_format_fixed_rounds_and_marks_missing():
     assert format_fixed(float("nan"), 2) == "–"
     assert format_fixed(None, 2, missing="n/a") == "n/a"
     assert format_fixed(float("inf"), 2, missing="x") == "x"
+
+
+def test_span_text_gives_the_finite_range_once():
+    assert span_text([2.0, np.nan, 1.25, np.inf]) == "1.25 to 2.00 mm"
+    assert span_text([3.0, 3.004], 2) == "3.00 mm"  # ends that print the same
+    assert span_text([0.5, 1.5], 1, "") == "0.5 to 1.5" and span_text([np.nan]) == "none"
+
+
+def test_notice_footer_is_one_line_or_nothing():
+    footer = notice_footer("Synthetic data.\nSee README.\n")
+    assert footer == "\nNote: Synthetic data. See README.\n"
+    assert notice_footer("") == "" and notice_footer(None) == ""
 
 
 def test_escape_latex_covers_the_special_characters():
@@ -175,3 +190,74 @@ def test_tables_are_deterministic(fits):
     shuffled_columns = fits[list(reversed(FIT_COLUMNS))]
     assert fits_markdown(fits) == fits_markdown(shuffled_columns)
     assert summary_latex(summarise_fits(fits)) == summary_latex(summarise_fits(fits.copy()))
+
+
+def sensitivity_frames():
+    """Refit rows and per-trial checks made here (not the workflow's), species out of order."""
+    refits, checks = [], []
+    models = ("waterbed", "waterbed_free_depth", "shifted", "arc", "boussinesq")
+    trials = [("H1", "human", 1.0), ("X1", "axolotl", 1.0), ("M1", "monkey", 2.0)]
+    for k, (subject, species, depth_mm) in enumerate(trials):
+        for window in ("2 mm", "whole"):
+            for j, model in enumerate(models):
+                refits.append(
+                    {
+                        "subject": subject,
+                        "species": species,
+                        "depth_mm": depth_mm,
+                        "window": window,
+                        "model": model,
+                        "L_mm": np.nan if model == "boussinesq" else 10.0 + k + j / 10,
+                        "delta_aicc": 0.0 if j == k else 1.5,
+                    }
+                )
+        checks.append(
+            {
+                "subject": subject,
+                "depth_mm": depth_mm,
+                **{
+                    name: 0.5
+                    for name in (
+                        "waterbed_L_mm",
+                        "shifted_L_mm",
+                        "arc_L_mm",
+                        "gap_shifted_mm",
+                        "gap_arc_mm",
+                        "shift_fraction_at_third",
+                        "reach_tolerance_mm",
+                        "reach_mm",
+                        "rmse_within_window_mm",
+                    )
+                },
+                "rmse_beyond_window_mm": np.nan,
+            }
+        )
+    return pd.DataFrame(refits), pd.DataFrame(checks)
+
+
+def test_sensitivity_markdown_orders_species_as_the_paper_and_names_every_refit():
+    refits, checks = sensitivity_frames()
+    text = sensitivity_markdown(refits, checks, "Made-up data")
+    tables = [
+        [line for line in block.splitlines() if line.startswith("|")]
+        for block in text.split("\n\n")
+        if block.startswith("|")
+    ]
+    assert len(tables) == 3
+    medians = [[c.strip() for c in ln.strip("|").split(" | ")] for ln in tables[0][2:]]
+    assert [row[0] for row in medians] == ["monkey", "human", "axolotl"]
+    assert "parabola, W0 free, whole" in tables[0][0] and "Boussinesq" not in tables[0][0]
+    assert medians[0][1:3] == ["2", "12.00"]  # M1, the third trial: L = 10 + 2
+    best = [[c.strip() for c in ln.strip("|").split(" | ")] for ln in tables[1]]
+    assert best[0] == [
+        "window",
+        "parabola, W0 = depth",
+        "parabola, W0 free",
+        "parabola in measured coordinates",
+        "exact arc, W0 = depth",
+        "Boussinesq",
+    ]
+    assert best[2] == ["2 mm", "1", "1", "1", "0", "0"]
+    assert len(tables[2]) == 2 + len(checks) and "| – |" in tables[2][2]
+    assert text.rstrip().endswith("*Data: Made-up data*")
+    assert "Data:" not in sensitivity_markdown(refits, checks)

@@ -17,7 +17,7 @@ import numpy as np
 
 from . import paper
 from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
-from .tables import format_fixed
+from .tables import format_fixed, span_text
 
 __all__ = ["article_facts", "join_words", "number_words", "shown", "span_text"]
 
@@ -37,16 +37,6 @@ def join_words(items):
     if len(items) <= 1:
         return "".join(items)
     return ", ".join(items[:-1]) + " and " + items[-1]
-
-
-def span_text(values, decimals=2, unit=" mm"):
-    """``"a to b mm"`` over the finite values; one value if all are equal; ``"none"`` if none."""
-    values = np.asarray(values, dtype=float)
-    values = values[np.isfinite(values)]
-    if values.size == 0:
-        return "none"
-    low, high = format_fixed(values.min(), decimals), format_fixed(values.max(), decimals)
-    return f"{low}{unit}" if low == high else f"{low} to {high}{unit}"
 
 
 def shown(value):

@@ -53,7 +53,8 @@ from .models import (
     waterbed_shift_mm,
 )
 from .sensitivity import curve_gap_mm
-from .tables import format_fixed, markdown_table
+from .tables import format_fixed, markdown_table, notice_footer
+from .tables import span_text as _span
 
 __all__ = [
     "CLAIM_COLUMNS",
@@ -225,16 +226,6 @@ class ClaimSettings:
 
 def _mm(value, decimals=2):
     return f"{format_fixed(value, decimals)} mm"
-
-
-def _span(values, decimals=2, unit=" mm"):
-    """'a to b mm' for the finite values (a single value if they are equal)."""
-    values = np.asarray(values, dtype=float)
-    values = values[np.isfinite(values)]
-    if values.size == 0:
-        return "none"
-    low, high = format_fixed(values.min(), decimals), format_fixed(values.max(), decimals)
-    return f"{low}{unit}" if low == high else f"{low} to {high}{unit}"
 
 
 def _pct(fraction, decimals=1):
@@ -1335,6 +1326,4 @@ def claims_markdown(claims, notice=""):
     text += "".join(
         f"- **{r['claim']}**: {' '.join(r['rule'].split())}\n" for _, r in claims.iterrows()
     )
-    if notice:
-        text += f"\nNote: {' '.join(notice.split())}\n"
-    return text
+    return text + notice_footer(notice)

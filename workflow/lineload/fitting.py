@@ -51,6 +51,7 @@ import numpy as np
 
 from .models import (
     MAX_ONE_TO_ONE_RATIO,
+    TABLE_MODELS,
     arc_deflection_mm,
     arc_geometry,
     boussinesq_deflection_mm,
@@ -99,8 +100,9 @@ BLOCK_ELEMENTS = 1 << 14
 
 _TINY = np.finfo(float).tiny
 
-#: The models :func:`fit_batch` knows, with their parameters (in ``FitResult.params``
-#: order), number of free parameters and the fewest points each needs.
+#: The models :func:`fit_batch` knows (every key of :data:`lineload.models.MODEL_NAMES`),
+#: with their parameters (in ``FitResult.params`` order), number of free parameters and
+#: the fewest points each needs.
 MODELS = {
     "waterbed": (("L_mm", "L_ci_low_mm", "L_ci_high_mm"), 1, 1),
     "shifted": (("L_mm", "L_ci_low_mm", "L_ci_high_mm"), 1, 1),
@@ -1266,9 +1268,6 @@ FIT_COLUMNS = [
     "boussinesq_max_abs_residual_mm",
     "boussinesq_aicc",
 ]
-
-#: The models of the fit table, in column order.
-TABLE_MODELS = ("waterbed", "shifted", "arc", "boussinesq")
 
 
 def window_points(distance_mm, deflection_mm, window_mm):

@@ -1,9 +1,10 @@
 """Reading schemas and writing reproducible, human-readable tables.
 
-Every file the workflow writes goes through :func:`write_csv`, :func:`write_rows`
-or :func:`write_text`: fixed float formatting, ``\\n`` line endings and an atomic
-rename, so two builds give identical bytes and a failed step leaves no
-half-written file behind.
+Every file the workflow writes goes through :func:`write_csv`, :func:`write_rows`,
+:func:`write_columns` or :func:`write_text` (the two without pandas, and the
+synthetic raw data, format their cells and leave the lines to :func:`csv_text`):
+fixed float formatting, ``\\n`` line endings and an atomic rename, so two builds
+give identical bytes and a failed step leaves no half-written file behind.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ __all__ = [
     "FLOAT_FORMAT",
     "SCHEMA_DIR",
     "concatenate_csv",
+    "csv_text",
     "format_cell",
     "json_text",
     "load_schema",
@@ -174,16 +176,51 @@ def write_rows(rows, columns, path):
     path : str or os.PathLike
         Destination.
     """
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(columns)
-    for row in rows:
-        writer.writerow([format_cell(row.get(column)) for column in columns])
-    write_text(buffer.getvalue(), path)
+    rows = list(rows)
+    cells = [[format_cell(row.get(column)) for row in rows] for column in columns]
+    write_text(csv_text(columns, cells), path)
 
 
 #: Characters that make the csv module quote a cell (delimiter, quote, line ends).
 _QUOTED = re.compile(r'[,"\r\n]')
+
+
+def csv_text(names, cells, may_quote=None):
+    """CSV text of cells already formatted, byte for byte as the csv module writes them.
+
+    The one place the workflow's CSV writers (:func:`write_rows`,
+    :func:`write_columns`, the synthetic raw data) turn cells into lines: ``,``
+    between cells, ``\\n`` after every line, a cell quoted only where the csv
+    module quotes it (a comma, quote or line end in it; an empty cell alone on
+    its line).  When no cell needs that, the lines are plain joins, which is
+    much faster for large tables.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The header, one name per column.
+    cells : sequence of sequence of str
+        One sequence of cells per column, all of the same length.
+    may_quote : sequence of sequence of str, optional
+        The columns of ``cells`` that may hold a cell to quote (the caller knows
+        that the others, numbers, never do); default every column.
+
+    Returns
+    -------
+    str
+    """
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(names)
+    may_quote = cells if may_quote is None else may_quote
+    if len(names) > 1 and not any(_QUOTED.search("\x00".join(column)) for column in may_quote):
+        # no cell the csv module would quote (nor is an empty cell in a row of
+        # several): plain joins give its bytes
+        rows = map(",".join, zip(*cells, strict=True))
+        buffer.write("".join(f"{row}\n" for row in rows))
+    else:
+        writer.writerows(zip(*cells, strict=True))
+    return buffer.getvalue()
 
 
 def _column_cells(values):
@@ -225,22 +262,12 @@ def write_columns(columns, path, names=None):
     """
     names = list(columns) if names is None else list(names)
     cells = [_column_cells(columns[name]) for name in names]
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(names)
-    text_cells = [
+    text_cells = [  # numbers are never quoted
         column
         for name, column in zip(names, cells, strict=True)
         if getattr(getattr(columns[name], "dtype", None), "kind", "O") not in "fiub"
     ]
-    if len(names) > 1 and not any(_QUOTED.search("\x00".join(column)) for column in text_cells):
-        # no cell the csv module would quote (numbers never are, nor is an empty cell
-        # in a row of several): plain joins give its bytes
-        rows = map(",".join, zip(*cells, strict=True))
-        buffer.write("".join(f"{row}\n" for row in rows))
-    else:
-        writer.writerows(zip(*cells, strict=True))
-    write_text(buffer.getvalue(), path)
+    write_text(csv_text(names, cells, text_cells), path)
 
 
 def read_trials(path):

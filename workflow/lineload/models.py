@@ -20,10 +20,15 @@ surface does not move, so they return zero there.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 __all__ = [
+    "MODELS",
+    "MODEL_NAMES",
+    "TABLE_MODELS",
+    "ModelNames",
     "arc_deflection_mm",
     "arc_geometry",
     "boussinesq_deflection_mm",
@@ -35,6 +40,45 @@ __all__ = [
     "waterbed_shift_mm",
     "waterbed_strain",
 ]
+
+
+class ModelNames(NamedTuple):
+    """How the outputs name one fitted model.
+
+    Attributes
+    ----------
+    short : str or None
+        Label in the headers of the Markdown and LaTeX fit and summary tables
+        (``RMSE exact arc (mm)``); None for a model whose columns they leave out.
+    refit : str
+        Name in the sensitivity tables and figure, which say how W0 was fixed.
+    legend : str or None
+        Name in the figure legends; None for a model drawn only in the sensitivity
+        figure (which uses ``refit``).
+    """
+
+    short: str | None
+    refit: str
+    legend: str | None
+
+
+#: Every model the workflow fits, keyed as in the tables' column prefixes and
+#: ``model`` cells, in the order of the sensitivity refits, with its names in the outputs.
+MODEL_NAMES = {
+    "waterbed": ModelNames("waterbed", "parabola, W0 = depth", "waterbed parabola (eq. 19)"),
+    "waterbed_free_depth": ModelNames(None, "parabola, W0 free", None),
+    "shifted": ModelNames(
+        None, "parabola in measured coordinates", "parabola in measured coordinates"
+    ),
+    "arc": ModelNames("exact arc", "exact arc, W0 = depth", "waterbed exact arc"),
+    "boussinesq": ModelNames("Boussinesq", "Boussinesq", "modified Boussinesq"),
+}
+
+#: The model keys, in the order of the sensitivity refits.
+MODELS = tuple(MODEL_NAMES)
+
+#: The models of the fit table (one column group each), in column order.
+TABLE_MODELS = ("waterbed", "shifted", "arc", "boussinesq")
 
 
 def waterbed_deflection_mm(distance_mm, depth_mm, L_mm):

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import models
 from .fitting import fit_windowed
 from .models import arc_deflection_mm, shifted_deflection_mm, waterbed_deflection_mm
 
@@ -64,8 +65,11 @@ CHECK_COLUMNS = [
     "n_beyond_window",
 ]
 
-#: The models refitted in every window, in table order.
-MODELS = ("waterbed", "waterbed_free_depth", "shifted", "arc", "boussinesq")
+#: The models refitted in every window, in table order (every model of lineload.models).
+MODELS = models.MODELS
+
+#: Name of each refitted model in the sensitivity tables and figure.
+MODEL_NAMES = {model: names.refit for model, names in models.MODEL_NAMES.items()}
 
 #: The models whose W0 is held at the depth.
 FIXED_DEPTH = ("waterbed", "shifted", "arc")
@@ -353,112 +357,3 @@ def trial_checks_batch(distance_mm, deflection_mm, depth_mm, window_mm, reach_fr
             }
         )
     return checks
-
-
-MODEL_NAMES = {
-    "waterbed": "parabola, W0 = depth",
-    "waterbed_free_depth": "parabola, W0 free",
-    "shifted": "parabola in measured coordinates",
-    "arc": "exact arc, W0 = depth",
-    "boussinesq": "Boussinesq",
-}
-
-
-def summary_markdown(sensitivity, checks, notice=""):
-    """Reviewer's summary of the sensitivity refits and the per-trial checks.
-
-    Parameters
-    ----------
-    sensitivity : pandas.DataFrame
-        Rows of :data:`SENSITIVITY_COLUMNS` for every trial.
-    checks : pandas.DataFrame
-        Rows of :data:`CHECK_COLUMNS` for every trial.
-    notice : str, optional
-        Footer line about the data (empty for none).
-
-    Returns
-    -------
-    str
-        Markdown: median L per species, depth, model and window; how often each
-        model has the lowest AICc in each window; the per-trial U shift and reach.
-    """
-    from .tables import format_fixed, markdown_table
-
-    windows = list(dict.fromkeys(sensitivity["window"]))
-    species_order = {"monkey": 0, "human": 1}
-    parts = [
-        "# Sensitivity of the fits to the analysis choices\n",
-        "Median fitted half-width L (mm) over the subjects of each species, by depth, "
-        "model and fit window.\n",
-    ]
-    with_L = [m for m in MODELS if m != "boussinesq"]
-    headers = ["species", "depth (mm)"] + [
-        f"{MODEL_NAMES[m]}, {w}" for m in with_L for w in windows
-    ]
-    rows = []
-    groups = sensitivity.groupby(["species", "depth_mm"], sort=False)
-    keys = sorted(groups.groups, key=lambda k: (species_order.get(k[0], 2), k[0], k[1]))
-    for species, depth_mm in keys:
-        group = groups.get_group((species, depth_mm))
-        cells = [species, f"{depth_mm:g}"]
-        for model in with_L:
-            for window in windows:
-                values = group[(group["model"] == model) & (group["window"] == window)]["L_mm"]
-                cells.append(format_fixed(values.median(), 2))
-        rows.append(cells)
-    parts.append(markdown_table(headers, rows, "lr" + "r" * (len(headers) - 2)))
-    parts.append(
-        "\nNumber of trials in which each model has the lowest AICc, by fit window "
-        "(all trials of the dataset).\n"
-    )
-    rows = []
-    best = sensitivity[sensitivity["delta_aicc"] == 0]
-    for window in windows:
-        counts = best[best["window"] == window]["model"].value_counts()
-        rows.append([window] + [str(int(counts.get(m, 0))) for m in MODELS])
-    parts.append(
-        markdown_table(["window"] + [MODEL_NAMES[m] for m in MODELS], rows, "l" + "r" * len(MODELS))
-    )
-    parts.append(
-        "\nPer trial: L under the paper's procedure and in measured coordinates (shifted "
-        "parabola, exact arc), and the largest vertical gap between each of those fitted "
-        "curves and the paper's over the fitted range; the largest horizontal shift of the "
-        "small-slope solution, 8 W0^2 / (9 L) at X = L/3, as a fraction of that X; and the "
-        "reach, the distance up to which the waterbed fitted in the main window stays within "
-        "the tolerance of every averaged point.\n"
-    )
-    rows = [
-        [
-            row.subject,
-            f"{row.depth_mm:g}",
-            format_fixed(row.waterbed_L_mm, 2),
-            format_fixed(row.shifted_L_mm, 2),
-            format_fixed(row.arc_L_mm, 2),
-            format_fixed(row.gap_shifted_mm, 4),
-            format_fixed(row.gap_arc_mm, 4),
-            format_fixed(100 * row.shift_fraction_at_third, 1),
-            format_fixed(row.reach_tolerance_mm, 3),
-            format_fixed(row.reach_mm, 2),
-            format_fixed(row.rmse_within_window_mm, 4),
-            format_fixed(row.rmse_beyond_window_mm, 4),
-        ]
-        for row in checks.itertuples()
-    ]
-    headers = [
-        "subject",
-        "depth (mm)",
-        "L paper (mm)",
-        "L shifted (mm)",
-        "L arc (mm)",
-        "gap shifted (mm)",
-        "gap arc (mm)",
-        "U/X at L/3 (%)",
-        "tolerance (mm)",
-        "reach (mm)",
-        "RMSE in window (mm)",
-        "RMSE beyond (mm)",
-    ]
-    parts.append(markdown_table(headers, rows, "l" + "r" * (len(headers) - 1)))
-    if notice:
-        parts.append(f"\n*Data: {notice}*\n")
-    return "\n".join(parts)

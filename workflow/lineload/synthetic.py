@@ -45,6 +45,7 @@ import numpy as np
 import pandas as pd
 
 from . import paper
+from .io import csv_text
 from .tables import markdown_table
 
 __all__ = [
@@ -956,15 +957,14 @@ def force_markdown(subjects, seed=DEFAULT_SEED):
 
 
 def _csv_text(table, formats):
-    """CSV text with one fixed format per column and ``\\n`` line endings."""
+    """CSV text with one fixed format per column (:func:`lineload.io.csv_text` lines)."""
     columns = [column for column in formats if column in table.columns]
     cells = []
     for column in columns:
         fmt = formats[column]
         values = table[column].tolist()
         cells.append([format(v, fmt) if fmt else str(v) for v in values])
-    lines = [",".join(columns)] + [",".join(row) for row in zip(*cells, strict=True)]
-    return "\n".join(lines) + "\n"
+    return csv_text(columns, cells)
 
 
 SUBJECT_FORMATS = {

@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 
 from . import paper
+from .models import MODEL_NAMES
 
 __all__ = [
     "SUMMARY_COLUMNS",
@@ -27,14 +28,17 @@ __all__ = [
     "format_fixed",
     "latex_table",
     "markdown_table",
+    "notice_footer",
+    "sensitivity_markdown",
+    "span_text",
     "summarise_fits",
     "summary_latex",
     "summary_markdown",
 ]
 
 
-#: The three fitted models, as named in the fit-table columns, and their labels.
-MODELS = (("waterbed", "waterbed"), ("arc", "exact arc"), ("boussinesq", "Boussinesq"))
+#: The models whose RMSE the Markdown and LaTeX tables show, as (column prefix, label).
+MODELS = tuple((model, names.short) for model, names in MODEL_NAMES.items() if names.short)
 
 #: Columns of the summary table (one row per species and depth).
 SUMMARY_COLUMNS = [
@@ -96,6 +100,48 @@ def format_fixed(value, decimals, missing="–"):
     if float(text) == 0.0:
         text = text.lstrip("-")
     return text
+
+
+def span_text(values, decimals=2, unit=" mm"):
+    """The range of the finite values as text, for a sentence.
+
+    Parameters
+    ----------
+    values : array_like
+        Numbers; NaN and infinities are left out.
+    decimals : int, optional
+        Digits after the decimal point (:func:`format_fixed`).
+    unit : str, optional
+        Appended once, after the range (``" mm"``; ``""`` for none).
+
+    Returns
+    -------
+    str
+        ``"1.25 to 2.00 mm"``; one value (``"3.0 mm"``) if both ends print the same;
+        ``"none"`` if no value is finite.
+    """
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return "none"
+    low, high = format_fixed(values.min(), decimals), format_fixed(values.max(), decimals)
+    return f"{low}{unit}" if low == high else f"{low} to {high}{unit}"
+
+
+def notice_footer(notice):
+    """The data notice as the last line of a Markdown summary.
+
+    Parameters
+    ----------
+    notice : str
+        Data notice; its whitespace (line breaks included) collapses to single spaces.
+
+    Returns
+    -------
+    str
+        ``"\\nNote: <notice>\\n"``, to append after a table; empty for an empty notice.
+    """
+    return f"\nNote: {' '.join(notice.split())}\n" if notice else ""
 
 
 def escape_latex(text):
@@ -267,9 +313,7 @@ def fits_markdown(fits, notice=""):
     ]
     text = "# Model fits per subject and depth\n\n" + _fits_caption(fits) + "\n\n"
     text += markdown_table(headers, _fit_rows(fits), "llrrrrrr")
-    if notice:
-        text += f"\nNote: {' '.join(notice.split())}\n"
-    return text
+    return text + notice_footer(notice)
 
 
 def fits_latex(fits, notice=""):
@@ -289,7 +333,9 @@ def fits_latex(fits, notice=""):
     head = [
         r" & & & & Waterbed & \multicolumn{3}{c}{RMSE (mm)} \\",
         r"\cmidrule(lr){6-8}",
-        r"Subject & Species & Depth (mm) & $n$ & $L$ (mm) & waterbed & exact arc & Boussinesq \\",
+        r"Subject & Species & Depth (mm) & $n$ & $L$ (mm) & "
+        + " & ".join(escape_latex(label) for _, label in MODELS)
+        + r" \\",
     ]
     caption = escape_latex(_fits_caption(fits))
     return latex_table(head, _fit_rows(fits), "llrrrrrr", caption, "tab:fits", notice)
@@ -413,9 +459,7 @@ def summary_markdown(summary, notice=""):
     ]
     text = "# Summary per species and depth\n\n" + _SUMMARY_CAPTION + "\n\n"
     text += markdown_table(headers, _summary_rows(summary), "lrrrrrrrrr")
-    if notice:
-        text += f"\nNote: {' '.join(notice.split())}\n"
-    return text
+    return text + notice_footer(notice)
 
 
 def summary_latex(summary, notice=""):
@@ -436,10 +480,108 @@ def summary_latex(summary, notice=""):
         r" & & & \multicolumn{2}{c}{Waterbed $L$ (mm)} & \multicolumn{3}{c}{Mean RMSE (mm)}"
         r" & \multicolumn{2}{c}{RMSE ratio B/W} \\",
         r"\cmidrule(lr){4-5} \cmidrule(lr){6-8} \cmidrule(lr){9-10}",
-        r"Species & Depth (mm) & Trials & mean & SD & waterbed & exact arc & Boussinesq"
-        r" & mean & min \\",
+        r"Species & Depth (mm) & Trials & mean & SD & "
+        + " & ".join(escape_latex(label) for _, label in MODELS)
+        + r" & mean & min \\",
     ]
     caption = escape_latex(_SUMMARY_CAPTION)
     return latex_table(
         head, _summary_rows(summary), "lrrrrrrrrr", caption, "tab:fit-summary", notice
     )
+
+
+def sensitivity_markdown(sensitivity, checks, notice=""):
+    """Reviewer's summary of the sensitivity refits and the per-trial checks.
+
+    Parameters
+    ----------
+    sensitivity : pandas.DataFrame
+        Rows of :data:`lineload.sensitivity.SENSITIVITY_COLUMNS` for every trial.
+    checks : pandas.DataFrame
+        Rows of :data:`lineload.sensitivity.CHECK_COLUMNS` for every trial.
+    notice : str, optional
+        Footer line about the data (empty for none).
+
+    Returns
+    -------
+    str
+        Markdown: median L per species, depth, model and window; how often each
+        model has the lowest AICc in each window; the per-trial U shift and reach.
+    """
+    refit_models = tuple(MODEL_NAMES)  # every model, in the order of the refits
+    windows = list(dict.fromkeys(sensitivity["window"]))
+    parts = [
+        "# Sensitivity of the fits to the analysis choices\n",
+        "Median fitted half-width L (mm) over the subjects of each species, by depth, "
+        "model and fit window.\n",
+    ]
+    with_L = [m for m in refit_models if m != "boussinesq"]
+    headers = ["species", "depth (mm)"] + [
+        f"{MODEL_NAMES[m].refit}, {w}" for m in with_L for w in windows
+    ]
+    rows = []
+    groups = sensitivity.groupby(["species", "depth_mm"], sort=False)
+    keys = sorted(groups.groups, key=lambda k: (_species_rank(k[0]), k[1]))
+    for species, depth_mm in keys:
+        group = groups.get_group((species, depth_mm))
+        cells = [species, f"{depth_mm:g}"]
+        for model in with_L:
+            for window in windows:
+                values = group[(group["model"] == model) & (group["window"] == window)]["L_mm"]
+                cells.append(format_fixed(values.median(), 2))
+        rows.append(cells)
+    parts.append(markdown_table(headers, rows, "lr" + "r" * (len(headers) - 2)))
+    parts.append(
+        "\nNumber of trials in which each model has the lowest AICc, by fit window "
+        "(all trials of the dataset).\n"
+    )
+    rows = []
+    best = sensitivity[sensitivity["delta_aicc"] == 0]
+    for window in windows:
+        counts = best[best["window"] == window]["model"].value_counts()
+        rows.append([window] + [str(int(counts.get(m, 0))) for m in refit_models])
+    headers = ["window"] + [MODEL_NAMES[m].refit for m in refit_models]
+    parts.append(markdown_table(headers, rows, "l" + "r" * len(refit_models)))
+    parts.append(
+        "\nPer trial: L under the paper's procedure and in measured coordinates (shifted "
+        "parabola, exact arc), and the largest vertical gap between each of those fitted "
+        "curves and the paper's over the fitted range; the largest horizontal shift of the "
+        "small-slope solution, 8 W0^2 / (9 L) at X = L/3, as a fraction of that X; and the "
+        "reach, the distance up to which the waterbed fitted in the main window stays within "
+        "the tolerance of every averaged point.\n"
+    )
+    rows = [
+        [
+            row.subject,
+            f"{row.depth_mm:g}",
+            format_fixed(row.waterbed_L_mm, 2),
+            format_fixed(row.shifted_L_mm, 2),
+            format_fixed(row.arc_L_mm, 2),
+            format_fixed(row.gap_shifted_mm, 4),
+            format_fixed(row.gap_arc_mm, 4),
+            format_fixed(100 * row.shift_fraction_at_third, 1),
+            format_fixed(row.reach_tolerance_mm, 3),
+            format_fixed(row.reach_mm, 2),
+            format_fixed(row.rmse_within_window_mm, 4),
+            format_fixed(row.rmse_beyond_window_mm, 4),
+        ]
+        for row in checks.itertuples()
+    ]
+    headers = [
+        "subject",
+        "depth (mm)",
+        "L paper (mm)",
+        "L shifted (mm)",
+        "L arc (mm)",
+        "gap shifted (mm)",
+        "gap arc (mm)",
+        "U/X at L/3 (%)",
+        "tolerance (mm)",
+        "reach (mm)",
+        "RMSE in window (mm)",
+        "RMSE beyond (mm)",
+    ]
+    parts.append(markdown_table(headers, rows, "l" + "r" * (len(headers) - 1)))
+    if notice:
+        parts.append(f"\n*Data: {notice}*\n")
+    return "\n".join(parts)

@@ -3,7 +3,8 @@
 import pandas as pd
 
 from lineload.io import output_to, read_json, read_results_csv, write_csv, write_text
-from lineload.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS, summary_markdown
+from lineload.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS
+from lineload.tables import sensitivity_markdown
 
 
 def sensitivity_tables(inputs, outputs, notice):
@@ -12,7 +13,7 @@ def sensitivity_tables(inputs, outputs, notice):
     checks = pd.concat([read_results_csv(p) for p in inputs.checks], ignore_index=True)
     write_csv(sensitivity, outputs.sensitivity, SENSITIVITY_COLUMNS)
     write_csv(checks, outputs.checks, CHECK_COLUMNS)
-    write_text(summary_markdown(sensitivity, checks, notice), outputs.markdown)
+    write_text(sensitivity_markdown(sensitivity, checks, notice), outputs.markdown)
     print(f"{len(sensitivity)} refits and {len(checks)} trial checks collected")
 
 

@@ -152,7 +152,9 @@ class Figure:
         return f"lineload.figures.{self.module}"
 
 
-_SPECIES_FITS = ("averaged", "fits", "subjects", "fit_window_mm", "notice")
+#: Arguments of the figures drawn from the averaged profiles and the fit table
+#: (Figures 6 and 7, the residual supplement).
+_PROFILES_AND_FITS = ("averaged", "fits", "subjects", "fit_window_mm", "notice")
 
 #: Every figure: the paper's in its order, then the supplements.
 FIGURES = (
@@ -210,7 +212,7 @@ FIGURES = (
         "fits",
         "data",
         "figure_species_fits",
-        _SPECIES_FITS,
+        _PROFILES_AND_FITS,
         fixed=(("species", "monkey"),),
         title="Every monkey at every depth, with its waterbed fit",
     ),
@@ -219,7 +221,7 @@ FIGURES = (
         "fits",
         "data",
         "figure_species_fits",
-        _SPECIES_FITS,
+        _PROFILES_AND_FITS,
         fixed=(("species", "human"),),
         title="Every human at every depth, with its waterbed fit",
     ),
@@ -228,7 +230,7 @@ FIGURES = (
         "supplements",
         "supplements",
         "figure_residuals",
-        ("averaged", "fits", "subjects", "fit_window_mm", "notice"),
+        _PROFILES_AND_FITS,
         category="Supplement",
         title="Data minus each fitted model inside the fit window, by species and depth",
     ),

@@ -35,6 +35,7 @@ from matplotlib.figure import Figure
 from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.lines import Line2D
 
+from .. import models
 from ..io import replaced_atomically
 
 __all__ = [
@@ -64,6 +65,7 @@ __all__ = [
     "log_distance_axis",
     "message_figure",
     "new_figure",
+    "noted_legend",
     "padded_limits",
     "panel_title",
     "save_figure",
@@ -94,12 +96,7 @@ MODEL_COLOURS = {
 }
 #: Legend name of each model of the fit table (the sensitivity refits have their
 #: own names, in :data:`lineload.sensitivity.MODEL_NAMES`).
-MODEL_NAMES = {
-    "waterbed": "waterbed parabola (eq. 19)",
-    "shifted": "parabola in measured coordinates",
-    "arc": "waterbed exact arc",
-    "boussinesq": "modified Boussinesq",
-}
+MODEL_NAMES = {model: models.MODEL_NAMES[model].legend for model in models.TABLE_MODELS}
 #: Line style of each model where several are drawn over each other.
 MODEL_LINESTYLES = {"waterbed": "-", "shifted": "-.", "arc": "--", "boussinesq": "-"}
 DATA_COLOUR = "black"
@@ -399,6 +396,35 @@ def legend_columns(fig, handles, max_columns):
             break
         n_columns -= 1
     return n_columns
+
+
+def noted_legend(fig, handles, max_columns, note, note_font_pt=7.0):
+    """The figure's legend above its panels, titled by a note wrapped to the figure's width.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    handles : list of matplotlib.artist.Artist
+        Legend handles with labels.
+    max_columns : int
+        At most this many columns; fewer where the entries would not fit the width
+        (:func:`legend_columns`).
+    note : str
+        Sentence shown as the legend's title (:func:`wrapped_note`); empty for none.
+    note_font_pt : float, optional
+        Size of the note (points).
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+    """
+    return fig.legend(
+        handles=handles,
+        loc="outside upper center",
+        ncols=legend_columns(fig, handles, max_columns),
+        title=wrapped_note(fig, note, note_font_pt),
+        title_fontsize=note_font_pt,
+    )
 
 
 def grid_legend(fig, blocks, max_columns=None):

@@ -37,15 +37,14 @@ from .style import (
     add_footer,
     grid_shape,
     label_outer_axes,
-    legend_columns,
     log_distance_axis,
     message_figure,
     new_figure,
+    noted_legend,
     padded_limits,
     panel_title,
     styled,
     subject_table,
-    wrapped_note,
 )
 
 __all__ = [
@@ -180,17 +179,11 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
             linestyle=MODEL_LINESTYLES[m],
             label=MODEL_NAMES[m],
         )
-        for m in ("waterbed", "shifted", "arc", "boussinesq")
+        for m in models.TABLE_MODELS
     ]
     handles.append(Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE))
-    fig.legend(
-        handles=handles,
-        loc="outside upper center",
-        ncols=legend_columns(fig, handles, 3),
-        title=wrapped_note(
-            fig, "one line per subject and model; positive: skin deeper than the model", 7
-        ),
-        title_fontsize=7,
+    noted_legend(
+        fig, handles, 3, "one line per subject and model; positive: skin deeper than the model"
     )
     add_footer(fig, notice)
     return fig
@@ -361,14 +354,8 @@ def figure_arc_vs_parabola(fits, notice=""):
         ),
         Line2D([], [], color="0.6", linewidth=0.5, label="arc − parabola at each trial's L"),
     ]
-    fig.legend(
-        handles=handles,
-        loc="outside upper center",
-        ncols=legend_columns(fig, handles, 2),
-        title=wrapped_note(
-            fig, "shapes drawn with $W_0$ = depth and the median fitted waterbed L", 7
-        ),
-        title_fontsize=7,
+    noted_legend(
+        fig, handles, 2, "shapes drawn with $W_0$ = depth and the median fitted waterbed L"
     )
     add_footer(fig, notice)
     return fig
