@@ -490,7 +490,7 @@ def test_every_figure_fits_its_journal_width_and_keeps_legends_and_labels_on_the
         width_mm = fig.get_figwidth() * 25.4
         assert min(abs(width_mm - w) for w in (85.0, 175.0)) < 1e-6, name
         canvas = FigureCanvasAgg(fig)
-        canvas.draw()
+        fig.draw_without_rendering()
         renderer = canvas.get_renderer()
         page = fig.bbox
         boxes = [legend.get_window_extent(renderer) for legend in fig.legends]
@@ -585,7 +585,7 @@ def drawn_texts(fig):
     from matplotlib.text import Text
 
     canvas = FigureCanvasAgg(fig)
-    canvas.draw()
+    fig.draw_without_rendering()  # layout and text boxes, without rasterising the artists
     renderer = canvas.get_renderer()
     tick_labels, shown = set(), []
     for ax in fig.axes:
