@@ -667,13 +667,24 @@ def _polynomial_roots(coefficients):
     return roots
 
 
-def _fit_waterbed_chunk(trials, depth_mm):
-    x, y, n = trials.x, trials.y, trials.n
+def _waterbed_quartic(trials, depth_mm):
+    """The paper's parabola's SSE as a quartic in ``u = 1 / L``, per trial.
+
+    With ``W0`` the depth, each residual is ``a + b u + c u^2`` (``a = y - W0``,
+    ``b = 4 W0 x``, ``c = -3 W0 x^2``), so ``SSE(u) = sum (a + b u + c u^2)^2``.
+
+    Returns
+    -------
+    quartic : numpy.ndarray
+        Shape ``(n_trials, 5)``: the coefficients, highest power first.
+    a, b, c : numpy.ndarray
+        The residual's terms, shaped like ``trials.x`` (padding included).
+    """
+    x, n = trials.x, trials.n
     W0 = depth_mm[:, None]
-    a = y - W0
+    a = trials.y - W0
     b = 4.0 * W0 * x
     c = -3.0 * W0 * x**2
-    # S(u) = sum (a + b u + c u^2)^2, coefficients from the highest power down
     quartic = np.column_stack(
         [
             _row_sums(c * c, n),
@@ -683,6 +694,13 @@ def _fit_waterbed_chunk(trials, depth_mm):
             _row_sums(a * a, n),
         ]
     )
+    return quartic, a, b, c
+
+
+def _fit_waterbed_chunk(trials, depth_mm):
+    x, y, n = trials.x, trials.y, trials.n
+    W0 = depth_mm[:, None]
+    quartic = _waterbed_quartic(trials, depth_mm)[0]
     x_max = trials.x_max
     u_max = 1.0 / x_max
     roots = _polynomial_roots(quartic[:, :-1] * np.arange(4, 0, -1))
@@ -819,19 +837,7 @@ def _shifted_lower_bound(trials, depth_mm):
     its rounding error; each value costs a few operations, not one per point.
     """
     x, n = trials.x, trials.n
-    W0 = depth_mm[:, None]
-    a = trials.y - W0
-    b = 4.0 * W0 * x
-    c = -3.0 * W0 * x**2
-    quartic = np.column_stack(
-        [
-            _row_sums(c * c, n),
-            2.0 * _row_sums(b * c, n),
-            _row_sums(b * b + 2.0 * a * c, n),
-            2.0 * _row_sums(a * b, n),
-            _row_sums(a * a, n),
-        ]
-    )
+    quartic, a, b, c = _waterbed_quartic(trials, depth_mm)
     # sums of the terms' sizes: the rounding of the coefficients and of Horner's rule
     # together stay below (n + 10) eps times the polynomial of these
     sizes = np.column_stack(
