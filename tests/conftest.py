@@ -64,18 +64,21 @@ def small_raw(tmp_path):
     return write_small_dataset(tmp_path / "raw")
 
 
-def run_snakemake(*args, raw, results, config=(), cwd=REPO, timeout=600):
-    """Run snakemake on the repository's Snakefile with another raw/results folder.
+def run_snakemake(*args, raw, results, config=(), cwd=REPO, timeout=600, env=None):
+    """Run snakemake on a Snakefile (the repository's, or ``cwd``'s copy) with other folders.
 
     ``args`` (targets and options) go before ``--config``, which takes every
-    word after it as a KEY=VALUE; ``config`` adds more KEY=VALUE settings.
+    word after it as a KEY=VALUE; ``config`` adds more KEY=VALUE settings;
+    ``env`` adds environment variables.
     """
     command = [
         sys.executable,
         "-m",
         "snakemake",
         "--snakefile",
-        str(REPO / "workflow" / "Snakefile"),
+        str(Path(cwd) / "workflow" / "Snakefile")
+        if (Path(cwd) / "workflow" / "Snakefile").is_file()
+        else str(REPO / "workflow" / "Snakefile"),
         "--directory",
         str(cwd),
         "--cores",
@@ -86,7 +89,7 @@ def run_snakemake(*args, raw, results, config=(), cwd=REPO, timeout=600):
         f"results={results}",
         *config,
     ]
-    env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
+    env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1", **(env or {})}
     return subprocess.run(command, capture_output=True, text=True, timeout=timeout, env=env)
 
 

@@ -563,7 +563,8 @@ def claim_c3(fits, averaged, settings):
         "Boussinesq form. Shown beside it, not deciding: the same count for the shifted "
         "parabola."
     )
-    usable = np.isfinite(w_rmse) & np.isfinite(b_rmse) & np.isfinite(w_aicc) & np.isfinite(b_aicc)
+    # an exact fit (zero residuals) has an AICc of -inf: usable, and as good as can be
+    usable = np.isfinite(w_rmse) & np.isfinite(b_rmse) & ~np.isnan(w_aicc) & ~np.isnan(b_aicc)
     if not usable.any():
         return _row(
             "C3",

@@ -22,29 +22,29 @@ fitted:
 ``arc``
     The exact solution, a circular arc in the deformed plane.
 
+Errors
+------
+Without a covariance the fits are ordinary least squares, and the interval on L
+is the profile-likelihood interval for independent errors of unknown variance
+(``n ln(SSE(L) / SSE_min) <= chi2``).  Given the covariance of each trial's
+points (``covariance_mm2``), the fits are generalised least squares: residuals
+are whitened by the inverse Cholesky factor of the covariance, and the interval
+holds the L whose chi-square exceeds the minimum by less than the quantile (the
+covariance is taken as known, measured apart from the fit).
+
 Batches
 -------
 Every algorithm here runs on many trials at once (:func:`fit_trials`,
 :func:`fit_windowed`, :func:`fit_batch`); the single-trial functions
-(:func:`fit_waterbed`, :func:`fit_trial`, :func:`minimise_in_L`, ...) are the
-same code with a batch of one.  The trials' points are padded to a common
-length, and each step (the exact quartic of the parabola, the grid and zoom in
-L, the profile-likelihood interval, the linear regression) is done for all
-trials together, in lockstep where trials need different numbers of steps.  A
-trial's numbers do not depend on its batch, and are those of the earlier
-one-trial code to the last bit (the Boussinesq regression, now in closed form,
-to about 1e-14): a sum over a trial's points is rounded as ``numpy.sum`` of
-those points alone, and the iterative model solves stop per trial exactly as a
-one-trial call stopped them (see ``independent_axes`` in
-:mod:`lineload.models`).  Only the grid, whose best point is all that is used,
-is evaluated more cheaply: to rounding noise, with an exact recheck where its
-two best values nearly tie, and for the shifted parabola only where a lower
-bound from eq. 19 does not prove a point worse.
+(:func:`fit_waterbed`, :func:`fit_trial`, ...) are the same code with a batch
+of one.  The trials' points are padded to a common length and each step is done
+for all trials together by :mod:`lineload.optimize`.  A trial's numbers do not
+depend on its batch beyond rounding: two batchings agree to the tolerance of
+:func:`lineload.optimize.solution_tolerance`, not to the last bit.
 """
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -58,8 +58,10 @@ from .models import (
     shifted_deflection_mm,
     waterbed_deflection_mm,
 )
+from .optimize import CHI2_1DOF_95, likelihood_interval, minimize_bounded
 
 __all__ = [
+    "CHI2_1DOF_95",
     "FIT_COLUMNS",
     "MODELS",
     "BatchFits",
@@ -75,26 +77,20 @@ __all__ = [
     "fit_windowed",
     "goodness_of_fit",
     "in_fit_window",
-    "minimise_in_L",
-    "profile_interval",
     "window_points",
 ]
-
-#: 95 % quantile of the chi-square distribution with one degree of freedom
-#: (``scipy.stats.chi2.ppf(0.95, 1)``; a test checks the value).
-CHI2_1DOF_95 = 3.841458820694124
 
 #: Largest membrane half-width searched by the iterative fits (exact arc, and the
 #: parabola with W0 free), as a multiple of the smallest admissible one. The
 #: fixed-W0 parabola needs no such bound: its minimum is found exactly.
 L_SEARCH_SPAN = 1000.0
 
-#: Trials fitted together in lockstep (after sorting by number of points, so that
-#: little is padded).
+#: Trials fitted together (after sorting by number of points, so that little is
+#: padded).
 CHUNK_TRIALS = 1024
 
 #: Largest number of elements of one temporary array while an objective is evaluated
-#: for many trials and many L at once (2**17 doubles: 1 MiB, about the size of a core's
+#: for many trials and many L at once (2**14 doubles: 128 KiB, within a core's
 #: cache); larger evaluations go in blocks of trials.
 BLOCK_ELEMENTS = 1 << 14
 
@@ -140,6 +136,9 @@ class FitResult:
         :func:`goodness_of_fit`).
     residual_mm : numpy.ndarray
         Data minus model at each point, in input order.
+    chi2 : float
+        Generalised least squares only: the whitened sum of squares at the
+        minimum; NaN for an ordinary fit.
     """
 
     model: str
@@ -151,6 +150,7 @@ class FitResult:
     max_abs_residual_mm: float
     aicc: float
     residual_mm: np.ndarray = field(repr=False)
+    chi2: float = np.nan
 
 
 def in_fit_window(distance_mm, window_mm):
@@ -185,40 +185,42 @@ def _padded_width(n_points):
     return max(8, -(-int(n_points) // 8) * 8)
 
 
-def _row_sums(values, n_points):
-    """Sum over the last axis of the first ``n_points[row]`` entries of each row.
+def _whitening(covariance_mm2, counts, width):
+    """Inverse Cholesky factors of each trial's covariance, padded with the identity.
 
-    Rounded exactly as ``numpy.sum`` of those entries alone would round them (the
-    same pairwise summation over the same count, in C order), so that neither
-    padding nor memory layout changes anything: one call per run of rows with equal
-    counts (rows come sorted by count).
+    Raises
+    ------
+    ValueError
+        If a covariance is not an ``(n, n)`` symmetric positive-definite matrix.
     """
-    n_points = np.asarray(n_points)
-    # numpy sums pairwise along an axis only when that axis is contiguous in memory
-    values = np.ascontiguousarray(values)
-    if n_points.size == 0 or np.all(n_points == n_points[0]):
-        count = n_points[0] if n_points.size else 0
-        return np.sum(values[..., :count], axis=-1)
-    bounds = np.concatenate([[0], np.flatnonzero(np.diff(n_points)) + 1, [n_points.size]])
-    total = np.empty(values.shape[:-1])
-    for start, stop in itertools.pairwise(bounds):
-        total[start:stop] = np.sum(values[start:stop, ..., : n_points[start]], axis=-1)
-    return total
+    padded = np.broadcast_to(np.eye(width), (counts.size, width, width)).copy()
+    for i, (matrix, n) in enumerate(zip(covariance_mm2, counts, strict=True)):
+        matrix = np.asarray(matrix, dtype=float)
+        if matrix.shape != (n, n) or not np.all(np.isfinite(matrix)):
+            raise ValueError(f"trial {i}: the covariance must be a finite {n} x {n} matrix")
+        padded[i, :n, :n] = matrix
+    try:
+        factor = np.linalg.cholesky(padded)
+    except np.linalg.LinAlgError:
+        raise ValueError("every covariance must be symmetric positive definite") from None
+    return np.linalg.inv(factor)
 
 
 class _Trials:
     """Points of many trials padded to a common width (a multiple of 8) with NaN.
 
     Padded entries cost nothing in the iterative solves (a NaN distance is not
-    iterated on) and are left out of every sum (:func:`_row_sums`) and maximum
-    (through ``mask``).
+    iterated on) and are left out of every sum and maximum (through ``mask``).
+    ``whiten`` holds each trial's inverse Cholesky factor for generalised least
+    squares, or is None for ordinary least squares.
     """
 
-    def __init__(self, x, y, mask, n, x_max):
+    def __init__(self, x, y, mask, n, x_max, whiten=None):
         self.x, self.y, self.mask, self.n, self.x_max = x, y, mask, n, x_max
+        self.whiten = whiten
 
     @classmethod
-    def from_flat(cls, x_mm, y_mm, counts, offsets):
+    def from_flat(cls, x_mm, y_mm, counts, offsets, covariance_mm2=None):
         """Trials ``i`` = ``x_mm[offsets[i]:offsets[i] + counts[i]]`` (each with a point)."""
         width = _padded_width(counts.max())
         column = np.arange(width)
@@ -226,14 +228,52 @@ class _Trials:
         index = offsets[:, None] + np.minimum(column, counts[:, None] - 1)
         x = np.where(mask, x_mm[index], np.nan)
         y = np.where(mask, y_mm[index], np.nan)
-        return cls(x, y, mask, counts, np.fmax.reduce(x, axis=1))
+        whiten = None if covariance_mm2 is None else _whitening(covariance_mm2, counts, width)
+        return cls(x, y, mask, counts, np.fmax.reduce(x, axis=1), whiten)
 
     def take(self, rows):
-        return _Trials(self.x[rows], self.y[rows], self.mask[rows], self.n[rows], self.x_max[rows])
+        whiten = None if self.whiten is None else self.whiten[rows]
+        return _Trials(
+            self.x[rows], self.y[rows], self.mask[rows], self.n[rows], self.x_max[rows], whiten
+        )
 
     @property
     def width(self):
         return self.x.shape[1]
+
+    def sum(self, values, rows=slice(None)):
+        """Sum over each trial's points of ``values`` (rows ``rows``, points last)."""
+        mask = self.mask[rows]
+        mask = mask.reshape(mask.shape[:1] + (1,) * (values.ndim - 2) + mask.shape[1:])
+        return np.sum(np.where(mask, values, 0.0), axis=-1)
+
+    def whitened(self, values, rows=slice(None)):
+        """``values`` at each trial's points times its whitening matrix (padding zeroed)."""
+        mask = self.mask[rows]
+        mask = mask.reshape(mask.shape[:1] + (1,) * (values.ndim - 2) + mask.shape[1:])
+        values = np.where(mask, values, 0.0)
+        if self.whiten is None:
+            return values
+        factor = np.swapaxes(self.whiten[rows], -1, -2)
+        if values.ndim == 2:
+            return np.matmul(values[:, None, :], factor)[:, 0, :]
+        return np.matmul(values, factor)
+
+    def chi2(self, residual, rows=slice(None)):
+        """Whitened sum of squares (the plain one without a covariance); NaN -> inf."""
+        total = np.sum(self.whitened(residual, rows) ** 2, axis=-1)
+        return np.where(np.isfinite(total), total, np.inf)
+
+    def threshold(self, chi2_min, rows=slice(None), chi2=CHI2_1DOF_95):
+        """The objective's value at the ends of the 95 % interval.
+
+        Generalised least squares: ``chi2_min + chi2`` (known covariance).
+        Ordinary: ``SSE_min exp(chi2 / n)``, the profile likelihood with the
+        variance unknown.
+        """
+        if self.whiten is not None:
+            return chi2_min + chi2
+        return np.maximum(chi2_min, _TINY) * np.exp(chi2 / self.n[rows])
 
 
 def _in_blocks(evaluate, n_rows, n_L, width):
@@ -248,7 +288,7 @@ def _in_blocks(evaluate, n_rows, n_L, width):
 def _measures(residual_mm, mask, n_params):
     """:func:`goodness_of_fit` for each row of padded residuals."""
     n = np.sum(mask, axis=-1)
-    sse = _row_sums(residual_mm**2, n)
+    sse = np.sum(np.where(mask, residual_mm, 0.0) ** 2, axis=-1)
     k = n_params + 1
     aicc = np.full(n.shape, np.nan)
     rmse = np.full(n.shape, np.nan)
@@ -286,340 +326,10 @@ def goodness_of_fit(residual_mm, n_params):
         ``sse_mm2``, ``rmse_mm``, ``max_abs_residual_mm`` and ``aicc`` (NaN when
         there are too few points for the correction).
     """
-    residual_mm = np.asarray(residual_mm, dtype=float).reshape(-1)
-    width = _padded_width(residual_mm.size)
-    padded = np.zeros((1, width))
-    padded[0, : residual_mm.size] = residual_mm
-    mask = np.arange(width)[None, :] < residual_mm.size
-    measures = _measures(padded, mask, n_params)
+    residual_mm = np.asarray(residual_mm, dtype=float).reshape(1, -1)
+    mask = np.ones(residual_mm.shape, dtype=bool)
+    measures = _measures(residual_mm, mask, n_params)
     return {name: _python_float(values[0]) for name, values in measures.items()}
-
-
-# --------------------------------------------------------------------------- one-parameter search
-
-
-def _single_objective(sse_of_L):
-    """A one-trial ``sse_of_L(1-D L)`` in the batch form ``(L (1, K), rows, mode) -> (1, K)``.
-
-    In mode ``"alone"`` each L goes in a call of its own, as the single-trial
-    interval search has always called it.
-    """
-
-    def objective(L_mm, rows, mode="call"):
-        if mode == "alone":
-            values = [np.asarray(sse_of_L(L_mm[:, j]), dtype=float) for j in range(L_mm.shape[1])]
-            return np.column_stack(values).reshape(L_mm.shape)
-        return np.asarray(sse_of_L(L_mm.reshape(-1)), dtype=float).reshape(L_mm.shape)
-
-    return objective
-
-
-def _grid_values(objective, grid, lower_bound, per_round=4):
-    """The objective on each trial's grid, or enough of it to find its smallest value.
-
-    Only the smallest value is used, so the grid is evaluated in the cheaper "grid"
-    mode (values as accurate, not bit for bit).  With ``lower_bound(grid, rows)``, a
-    valid lower bound of the objective at each point, the points are visited in
-    order of increasing bound, ``per_round`` at a time, until the next bound exceeds
-    the best value found (with a margin of 1e-9 for rounding): the points left are
-    provably worse, and are given as inf.
-    """
-    count, n_grid = grid.shape
-    rows = np.arange(count)
-    if lower_bound is None:
-        return objective(grid, rows, mode="grid")
-    bound = lower_bound(grid, rows)
-    bound = np.where(np.isnan(bound), 0.0, bound)
-    order = np.argsort(bound, axis=1, kind="stable")
-    sse = np.full(grid.shape, np.inf)
-    best = np.full(count, np.inf)
-    spared = np.ones(grid.shape, dtype=bool)
-    steps = np.arange(per_round)
-    first = np.zeros(count, dtype=np.intp)
-    going = rows
-    while going.size:
-        column = first[going, None] + steps
-        inside = column < n_grid
-        point = order[going[:, None], np.minimum(column, n_grid - 1)]
-        with np.errstate(invalid="ignore"):
-            wanted = inside & ~(bound[going[:, None], point] * (1.0 - 1e-9) > best[going, None])
-        r, j = np.nonzero(wanted)
-        r, c = going[r], point[r, j]
-        sse[r, c] = objective(grid[r, c][:, None], r, mode="grid")[:, 0]
-        spared[r, c] = False
-        best[going] = np.min(np.where(spared[going], np.inf, sse[going]), axis=1)
-        first[going] += per_round
-        going = going[wanted[:, -1]]  # the points after a refused one have larger bounds
-    return sse
-
-
-def _minimise_batch(objective, L_min, L_max, n_grid=200, rtol=1e-9, lower_bound=None):
-    """:func:`minimise_in_L` for many trials in lockstep.
-
-    ``objective(L_mm, rows, mode)`` gives the SSE of trials ``rows`` (R,) at ``L_mm``
-    (R, K), each row as one call of a single-trial objective would give it (mode
-    ``"call"``).  ``lower_bound`` (see :func:`_grid_values`) spares grid points that
-    cannot be the best.  Returns the minimising L (NaN where the grid holds no finite
-    value) and a mask of the trials that have one.
-    """
-    count = L_min.size
-    L_mm = np.full(count, np.nan)
-    if count == 0:
-        return L_mm, np.zeros(0, dtype=bool)
-    rows = np.arange(count)
-    grid = np.geomspace(L_min, L_max, n_grid, axis=-1)
-    sse = _grid_values(objective, grid, lower_bound)
-    # where the two best values are within 1e-9 of each other, or a value is unknown
-    # (NaN), the grid is evaluated again as one call would: its best point is then
-    # exactly the one-call best
-    two_best = np.partition(sse, 1, axis=1)[:, :2] if n_grid > 1 else sse[:, :1]
-    with np.errstate(invalid="ignore"):
-        clear = two_best[:, -1] - two_best[:, 0] > 1e-9 * np.abs(two_best[:, 0])
-    recheck = np.flatnonzero((~clear & np.isfinite(two_best[:, 0])) | np.isnan(sse).any(axis=1))
-    if recheck.size:
-        sse[recheck] = objective(grid[recheck], recheck)
-    found = np.any(np.isfinite(sse), axis=1)
-    best = np.argmin(sse, axis=1)
-    lo = grid[rows, np.maximum(best - 1, 0)]
-    hi = grid[rows, np.minimum(best + 1, n_grid - 1)]
-    fractions = np.arange(17.0)
-    zooming = found & (hi - lo > rtol * hi)
-    while zooming.any():
-        active = np.flatnonzero(zooming)
-        a, b = lo[active], hi[active]
-        # 17 even steps from a to b, rounded as numpy.linspace rounds them
-        points = fractions * ((b - a) / 16)[:, None] + a[:, None]
-        points[:, -1] = b
-        k = np.argmin(objective(points, active), axis=1)
-        j = np.arange(active.size)
-        lo[active] = points[j, np.maximum(k - 1, 0)]
-        hi[active] = points[j, np.minimum(k + 1, 16)]
-        zooming[active] = hi[active] - lo[active] > rtol * hi[active]
-    if found.any():
-        active = np.flatnonzero(found)
-        candidates = np.column_stack([grid[active, best[active]], 0.5 * (lo[active] + hi[active])])
-        choice = np.argmin(objective(candidates, active), axis=1)
-        L_mm[active] = candidates[np.arange(active.size), choice]
-    return L_mm, found
-
-
-def minimise_in_L(sse_of_L, L_min, L_max, n_grid=200, rtol=1e-9):
-    """Minimise a least-squares objective over one length, ``L_min <= L <= L_max``.
-
-    A dense log-spaced grid finds the basin of the global minimum; a zoom then
-    refines it inside the two grid cells around the best grid point (17 evenly
-    spaced values per step, keeping the two cells around the best each time)
-    until the bracket is ``rtol`` wide.  (The fits run the same steps for many
-    trials at once.)
-
-    Parameters
-    ----------
-    sse_of_L : callable
-        Objective for a 1-D array of L (mm); ``inf`` marks inadmissible values.
-    L_min, L_max : float
-        Search range (mm).
-    n_grid : int, optional
-        Number of grid points.
-    rtol : float, optional
-        Relative width of the final bracket.
-
-    Returns
-    -------
-    float
-        The minimising L (mm).
-
-    Raises
-    ------
-    ValueError
-        If the objective is infinite over the whole grid.
-    """
-    L_mm, found = _minimise_batch(
-        _single_objective(sse_of_L),
-        np.array([float(L_min)]),
-        np.array([float(L_max)]),
-        n_grid=n_grid,
-        rtol=rtol,
-    )
-    if not found[0]:
-        raise ValueError(f"no admissible L between {L_min:g} and {L_max:g} mm")
-    return float(L_mm[0])
-
-
-def _illinois(g, a, b, fa, fb, rtol=1e-10):
-    """Roots of ``g(c, which)`` between ``a`` (g <= 0) and ``b`` (g > 0), one per entry.
-
-    The Illinois variant of regula falsi, in lockstep over the entries (each stops on
-    its own): superlinear on smooth functions and, unlike Newton's method, never
-    leaves the bracket.  ``fa`` and ``fb`` are ``g`` at ``a`` and ``b``.
-    """
-    a, b, fa, fb = (np.array(v, dtype=float) for v in (a, b, fa, fb))
-    c = np.full(a.size, np.nan)
-    last = np.zeros(a.size, dtype=int)
-    active = np.arange(a.size)
-    for _ in range(100):
-        if active.size == 0:
-            break
-        a_, b_, fa_, fb_ = a[active], b[active], fa[active], fb[active]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            # an infinite objective outside (an arc folded past the load) gives NaN,
-            # as the one-trial search always has
-            c_ = (a_ * fb_ - b_ * fa_) / (fb_ - fa_)
-        fc = g(c_, active)
-        right = fc > 0
-        previous = last[active]
-        a[active] = np.where(right, a_, c_)
-        fa[active] = np.where(right, np.where(previous == -1, fa_ / 2.0, fa_), fc)
-        b[active] = np.where(right, c_, b_)
-        fb[active] = np.where(right, fc, np.where(previous == 1, fb_ / 2.0, fb_))
-        last[active] = np.where(right, -1, 1)
-        c[active] = c_
-        done = (np.abs(b[active] - a[active]) <= rtol * np.abs(c_)) | (np.abs(fc) <= 1e-14)
-        active = active[~done]
-    return c
-
-
-def _profile_batch(objective, L_best, L_min, L_max, sse_min, n_points, chi2=CHI2_1DOF_95):
-    """:func:`profile_interval` for many trials; both ends of all trials in lockstep.
-
-    Stepping out by the factor 1.05 is done a block of steps at a time (4, then 8,
-    16, ... values per trial, each the previous one times the factor, as a loop
-    would make them), so that a trial that needs thousands of steps costs a few
-    rounds only.  The SSE at the last value inside and the first outside are kept
-    for the regula falsi.  The objective is called in mode ``"alone"``: each value
-    as if evaluated by itself, as the one-at-a-time search evaluates it.
-    """
-    count = L_best.size
-    low, high = np.full(count, np.nan), np.full(count, np.nan)
-    valid = np.isfinite(L_best) & (n_points >= 2)
-    if not valid.any():
-        return low, high
-    rows = np.flatnonzero(valid)
-    threshold = np.maximum(sse_min[rows], _TINY) * np.exp(chi2 / n_points[rows])
-    # one problem per end: first the lower ends of all rows, then the upper ends
-    problem_rows = np.concatenate([rows, rows])
-    problem_threshold = np.concatenate([threshold, threshold])
-    upper = np.repeat([False, True], rows.size)
-    bound = np.concatenate([L_min[rows], L_max[rows]])
-    factor = np.where(upper, 1.05, 1 / 1.05)
-    n_problems = problem_rows.size
-    end = np.full(n_problems, np.nan)
-    inside = L_best[problem_rows].astype(float)
-    outside = np.full(n_problems, np.nan)
-    sse_inside = np.full(n_problems, np.nan)
-    sse_outside = np.full(n_problems, np.nan)
-    crossed = np.zeros(n_problems, dtype=bool)
-    following = inside.copy()  # the next value to test
-    pending = np.arange(n_problems)
-    length = 4
-    while pending.size:
-        sequence = np.empty((pending.size, length))
-        sequence[:, 0] = following[pending]
-        sequence[:, 1:] = factor[pending, None]
-        with np.errstate(over="ignore"):
-            sequence = np.cumprod(sequence, axis=1)
-        limit = bound[pending, None]
-        sequence[:, 1:] = np.where(
-            upper[pending, None],
-            np.minimum(sequence[:, 1:], limit),
-            np.maximum(sequence[:, 1:], limit),
-        )
-        sse = objective(sequence, problem_rows[pending], mode="alone")
-        too_far = sse > problem_threshold[pending, None]
-        stop = too_far | (sequence == limit)
-        stops = stop.any(axis=1)
-        first = np.argmax(stop, axis=1)
-        # problems that crossed, or reached their bound, in this block
-        j = np.flatnonzero(stops)
-        done, f = pending[j], first[j]
-        crossed[done] = too_far[j, f]
-        earlier = f > 0
-        inside[done[earlier]] = sequence[j[earlier], f[earlier] - 1]
-        sse_inside[done[earlier]] = sse[j[earlier], f[earlier] - 1]
-        outside[done] = sequence[j, f]
-        sse_outside[done] = sse[j, f]
-        at_bound = done[~crossed[done]]
-        end[at_bound] = np.where(upper[at_bound], np.inf, bound[at_bound])
-        # the others go on from their last value
-        j = np.flatnonzero(~stops)
-        going = pending[j]
-        inside[going] = sequence[j, -1]
-        sse_inside[going] = sse[j, -1]
-        with np.errstate(over="ignore"):
-            following[going] = sequence[j, -1] * factor[going]
-        following[going] = np.where(
-            upper[going],
-            np.minimum(following[going], bound[going]),
-            np.maximum(following[going], bound[going]),
-        )
-        pending = going
-        length = min(2 * length, 4096)
-    same = crossed & (inside == outside)  # the best fit itself is past the threshold (no noise)
-    end[same] = inside[same]
-    bracketed = np.flatnonzero(crossed & ~same)
-    if bracketed.size:
-
-        def log_ratio(sse, which):
-            # an exact quartic can round to 0 or a hair below at a perfect fit
-            return np.log(np.maximum(sse, _TINY) / problem_threshold[bracketed[which]])
-
-        end[bracketed] = _illinois(
-            lambda L_mm, which: log_ratio(
-                objective(L_mm[:, None], problem_rows[bracketed[which]], mode="alone")[:, 0],
-                which,
-            ),
-            inside[bracketed],
-            outside[bracketed],
-            log_ratio(sse_inside[bracketed], slice(None)),
-            log_ratio(sse_outside[bracketed], slice(None)),
-        )
-    low[rows] = end[: rows.size]
-    high[rows] = end[rows.size :]
-    return low, high
-
-
-def profile_interval(sse_of_L, L_best, L_min, L_max, sse_min, n_points, chi2=CHI2_1DOF_95):
-    """Profile-likelihood confidence interval of a one-parameter fit in L.
-
-    With Gaussian errors of unknown variance, the likelihood-ratio statistic
-    of a value L is ``n ln(SSE(L) / SSE_min)``; the interval holds the L where
-    it stays below the chi-square quantile.  Each end is found by stepping out
-    from the best fit by factors of 1.05 until the statistic exceeds the
-    quantile, then by regula falsi (Illinois) between the last step inside and
-    the first outside.  An end that reaches the admissible range without
-    crossing is reported as that bound (``L_min``) or as infinity (``L_max``).
-    (The fits run the same steps for many trials at once.)
-
-    The interval assumes independent errors; where the model misfits
-    systematically, neighbouring residuals are correlated and the interval is
-    too narrow.
-
-    Parameters
-    ----------
-    sse_of_L : callable
-        Sum of squared residuals as a function of L (mm), for a 1-D array of L.
-    L_best : float
-        Best-fit L (mm).
-    L_min, L_max : float
-        Admissible range of L (mm).
-    sse_min : float
-        ``SSE(L_best)``.
-    n_points : int
-        Number of fitted points.
-    chi2 : float, optional
-        Chi-square quantile (one degree of freedom); the default gives 95 %.
-
-    Returns
-    -------
-    tuple of float
-        ``(L_low_mm, L_high_mm)``.
-    """
-    low, high = _profile_batch(
-        _single_objective(sse_of_L),
-        *(np.array([float(value)]) for value in (L_best, L_min, L_max, sse_min)),
-        np.array([int(n_points)]),
-        chi2=chi2,
-    )
-    return (_python_float(low[0]), _python_float(high[0]))
 
 
 # --------------------------------------------------------------------------- the fits of a chunk
@@ -635,6 +345,9 @@ class _ChunkFit:
         self.residual_mm = residual_mm
         self.errors = errors or {}
         self.measures = _measures(residual_mm, trials.mask, MODELS[model][1])
+        self.chi2 = (
+            np.full(trials.n.size, np.nan) if trials.whiten is None else trials.chi2(residual_mm)
+        )
 
 
 def _polyval(coefficients, u):
@@ -668,37 +381,36 @@ def _polynomial_roots(coefficients):
 
 
 def _waterbed_quartic(trials, depth_mm):
-    """The paper's parabola's SSE as a quartic in ``u = 1 / L``, per trial.
+    """The paper's parabola's (whitened) sum of squares as a quartic in ``u = 1 / L``.
 
     With ``W0`` the depth, each residual is ``a + b u + c u^2`` (``a = y - W0``,
-    ``b = 4 W0 x``, ``c = -3 W0 x^2``), so ``SSE(u) = sum (a + b u + c u^2)^2``.
+    ``b = 4 W0 x``, ``c = -3 W0 x^2``); whitening is linear, so the whitened
+    residuals keep that form and ``chi2(u) = sum (a + b u + c u^2)^2`` over them.
 
     Returns
     -------
     quartic : numpy.ndarray
         Shape ``(n_trials, 5)``: the coefficients, highest power first.
     a, b, c : numpy.ndarray
-        The residual's terms, shaped like ``trials.x`` (padding included).
+        The (whitened) residual's terms, shaped like ``trials.x``, zero in padding.
     """
-    x, n = trials.x, trials.n
+    x = trials.x
     W0 = depth_mm[:, None]
-    a = trials.y - W0
-    b = 4.0 * W0 * x
-    c = -3.0 * W0 * x**2
+    a, b, c = (trials.whitened(v) for v in (trials.y - W0, 4.0 * W0 * x, -3.0 * W0 * x**2))
     quartic = np.column_stack(
         [
-            _row_sums(c * c, n),
-            2.0 * _row_sums(b * c, n),
-            _row_sums(b * b + 2.0 * a * c, n),
-            2.0 * _row_sums(a * b, n),
-            _row_sums(a * a, n),
+            np.sum(c * c, axis=-1),
+            2.0 * np.sum(b * c, axis=-1),
+            np.sum(b * b + 2.0 * a * c, axis=-1),
+            2.0 * np.sum(a * b, axis=-1),
+            np.sum(a * a, axis=-1),
         ]
     )
     return quartic, a, b, c
 
 
 def _fit_waterbed_chunk(trials, depth_mm):
-    x, y, n = trials.x, trials.y, trials.n
+    x, y = trials.x, trials.y
     W0 = depth_mm[:, None]
     quartic = _waterbed_quartic(trials, depth_mm)[0]
     x_max = trials.x_max
@@ -709,53 +421,43 @@ def _fit_waterbed_chunk(trials, depth_mm):
     real = roots.real
     usable = (np.abs(roots.imag) <= 1e-9 * scale[:, None]) & (real > 0) & (real < u_max[:, None])
     candidates = np.column_stack([np.zeros(x_max.size), u_max, np.where(usable, real, 0.0)])
-    sse = _polyval(quartic, candidates)
-    sse[:, 2:][~usable] = np.inf
-    u_best = candidates[np.arange(x_max.size), np.argmin(sse, axis=1)]
+    values = _polyval(quartic, candidates)
+    values[:, 2:][~usable] = np.inf
+    u_best = candidates[np.arange(x_max.size), np.argmin(values, axis=1)]
     with np.errstate(divide="ignore"):
         L_mm = np.where(u_best == 0.0, np.inf, 1.0 / u_best)
     residual = y - waterbed_deflection_mm(x, W0, L_mm[:, None])
-    low, high = _profile_batch(
-        lambda L, rows, mode="call": _polyval(quartic[rows], 1.0 / L),
+    low, high = _interval(
+        lambda L, rows: _polyval(quartic[rows], 1.0 / L),
+        trials,
         L_mm,
         x_max,
         np.full(x_max.size, np.inf),
-        _row_sums(residual**2, n),
-        n,
+        trials.chi2(residual),
     )
     params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
     return _ChunkFit("waterbed", trials, params, residual)
 
 
-def _points_sse(model_mm, trials, rows):
-    """SSE of a model at the points of trials ``rows`` (R, K, width); not finite -> inf."""
-    sse = _row_sums((trials.y[rows, None, :] - model_mm) ** 2, trials.n[rows])
-    return np.where(np.isfinite(sse), sse, np.inf)
+def _interval(objective, trials, L_best, L_min, L_max, chi2_min):
+    """The 95 % interval on L of each trial (NaN where it cannot be had).
 
-
-#: How an objective solves its iterative model, by mode: ``call`` as one call per
-#: trial (row) would, ``alone`` as one call per value of L would, ``grid`` each value
-#: alone and only to its rounding noise (see :func:`lineload.models.resting_position_mm`).
-_SOLVE = {
-    "call": {"independent_axes": 1},
-    "alone": {"independent_axes": 2},
-    "grid": {"independent_axes": 2, "settle": True},
-}
+    An ordinary fit needs two points for its variance; a generalised one, whose
+    variance is given, one.
+    """
+    valid = np.isfinite(L_best) & (trials.n >= (1 if trials.whiten is not None else 2))
+    best = np.where(valid, L_best, np.nan)
+    return likelihood_interval(objective, best, L_min, L_max, trials.threshold(chi2_min))
 
 
 def _curve_objective(curve, trials, depth_mm):
-    """SSE of ``curve(x, W0, L, ...)`` for trials ``rows`` at L (R, K), solved per ``mode``."""
+    """Chi-square of ``curve(x, W0, L)`` for trials ``rows`` at L (R, K)."""
 
-    def objective(L_mm, rows, mode="call"):
+    def objective(L_mm, rows):
         def evaluate(part):
             r = rows[part]
-            model = curve(
-                trials.x[r, None, :],
-                depth_mm[r, None, None],
-                L_mm[part, :, None],
-                **_SOLVE[mode],
-            )
-            return _points_sse(model, trials, r)
+            model = curve(trials.x[r, None, :], depth_mm[r, None, None], L_mm[part, :, None])
+            return trials.chi2(trials.y[r, None, :] - model, r)
 
         return _in_blocks(evaluate, rows.size, L_mm.shape[1], trials.width)
 
@@ -765,9 +467,8 @@ def _curve_objective(curve, trials, depth_mm):
 def _arc_objective(trials, depth_mm):
     """:func:`_curve_objective` of the arc, its circle solved once per (W0, L)."""
 
-    def objective(L_mm, rows, mode="call"):
-        W0 = depth_mm[rows, None]
-        geometry = arc_geometry(W0, L_mm, **_SOLVE[mode])
+    def objective(L_mm, rows):
+        geometry = arc_geometry(depth_mm[rows, None], L_mm)
 
         def evaluate(part):
             r = rows[part]
@@ -777,15 +478,9 @@ def _arc_objective(trials, depth_mm):
                 L_mm[part, :, None],
                 geometry={name: values[part, :, None] for name, values in geometry.items()},
             )
-            return _points_sse(model, trials, r)
+            return trials.chi2(trials.y[r, None, :] - model, r)
 
-        sse = _in_blocks(evaluate, rows.size, L_mm.shape[1], trials.width)
-        if mode == "grid":
-            # whether the arc folds (no SSE) could come out the other way with the exact
-            # half-angle only at the border itself: there the value is unknown (NaN)
-            border = np.abs(np.tan(geometry["phi_rad"]) * W0 - L_mm) <= 1e-12 * L_mm
-            sse[border] = np.nan
-        return sse
+        return _in_blocks(evaluate, rows.size, L_mm.shape[1], trials.width)
 
     return objective
 
@@ -798,13 +493,11 @@ def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None
     ``residual_at(rows, L_mm)`` gives the residuals of trials ``rows`` at L (R,).
     """
     L_hi = L_SEARCH_SPAN * trials.x_max
-    L_mm, found = _minimise_batch(objective, L_lo, L_hi, lower_bound=lower_bound)
+    L_mm, found = minimize_bounded(objective, L_lo, L_hi, lower_bound=lower_bound)
     residual = np.full(trials.x.shape, np.nan)
     rows = np.flatnonzero(found)
     residual[rows] = residual_at(rows, L_mm[rows])
-    low, high = _profile_batch(
-        objective, L_mm, L_lo, L_hi, _row_sums(residual**2, trials.n), trials.n
-    )
+    low, high = _interval(objective, trials, L_mm, L_lo, L_hi, trials.chi2(residual))
     errors = {
         int(i): f"no valid {model} curve: no admissible L between {L_lo[i]:g} and {L_hi[i]:g} mm"
         for i in np.flatnonzero(~found)
@@ -813,28 +506,25 @@ def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None
     return _ChunkFit(model, trials, params, residual, errors), L_mm
 
 
-def _fit_curve_chunk(model, curve, objective, trials, depth_mm, L_lo, lower_bound=None, **how):
+def _fit_curve_chunk(model, curve, objective, trials, depth_mm, L_lo, lower_bound=None):
     def residual_at(rows, L_mm):
-        # one problem per trial, as a call with that trial's points and a scalar L
-        fitted = curve(
-            trials.x[rows], depth_mm[rows, None], L_mm[:, None], independent_axes=1, **how
-        )
-        return trials.y[rows] - fitted
+        return trials.y[rows] - curve(trials.x[rows], depth_mm[rows, None], L_mm[:, None])
 
     return _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound)[0]
 
 
 def _shifted_lower_bound(trials, depth_mm):
-    """A lower bound of the shifted parabola's SSE, from the paper's parabola read at x.
+    """A lower bound of the shifted parabola's chi-square, from the paper's parabola read at x.
 
     The shifted curve is ``W(X)`` at ``x = X + U(X)`` with ``X <= x``, so at each
     point it differs from ``W(x)`` by at most ``max |W'| |U(X)|``, where
     ``|W'| <= 4 W0 / L`` on the membrane and ``|U(X)| = (6 W0^2 / L) g(X / L)``,
     ``g(s) = s (1 - s)^2 <= min(s, 4/27)``.  The gaps' root sum of squares is then
     at most ``D = min(sqrt(n) 32 W0^3 / (9 L^2), 24 W0^3 sqrt(sum x^2) / L^3)``, and
-    by the triangle inequality ``SSE_shifted >= (sqrt(SSE_parabola) - D)^2``.  The
-    parabola's SSE is the quartic in ``1 / L`` of the waterbed fit, less a bound on
-    its rounding error; each value costs a few operations, not one per point.
+    by the triangle inequality ``chi2_shifted >= (sqrt(chi2_parabola) - |K| D)^2``,
+    with ``|K|`` the spectral norm of the whitening matrix (1 without one).  The
+    parabola's value is the quartic in ``1 / L`` of the waterbed fit, less a bound
+    on its rounding error; each value costs a few operations, not one per point.
     """
     x, n = trials.x, trials.n
     quartic, a, b, c = _waterbed_quartic(trials, depth_mm)
@@ -842,16 +532,21 @@ def _shifted_lower_bound(trials, depth_mm):
     # together stay below (n + 10) eps times the polynomial of these
     sizes = np.column_stack(
         [
-            _row_sums(c * c, n),
-            2.0 * _row_sums(np.abs(b * c), n),
-            _row_sums(b * b + 2.0 * np.abs(a * c), n),
-            2.0 * _row_sums(np.abs(a * b), n),
-            _row_sums(a * a, n),
+            np.sum(c * c, axis=-1),
+            2.0 * np.sum(np.abs(b * c), axis=-1),
+            np.sum(b * b + 2.0 * np.abs(a * c), axis=-1),
+            2.0 * np.sum(np.abs(a * b), axis=-1),
+            np.sum(a * a, axis=-1),
         ]
     )
     rounding = 4.0 * (n + 10) * np.finfo(float).eps
     W0_cubed = np.abs(depth_mm) ** 3
-    root_sum_x2 = np.sqrt(_row_sums(x**2, n))
+    root_sum_x2 = np.sqrt(trials.sum(x**2))
+    norm = (
+        np.ones(n.size)
+        if trials.whiten is None
+        else np.linalg.norm(trials.whiten, ord=2, axis=(-2, -1))
+    )
 
     def lower_bound(L_mm, rows):
         u = 1.0 / L_mm
@@ -860,6 +555,7 @@ def _shifted_lower_bound(trials, depth_mm):
             np.sqrt(n[rows, None]) * 32.0 * W0_cubed[rows, None] / (9.0 * L_mm**2),
             24.0 * W0_cubed[rows, None] * root_sum_x2[rows, None] / L_mm**3,
         )
+        gap = gap * norm[rows, None]
         return np.maximum(np.sqrt(np.maximum(parabola, 0.0)) - gap * (1.0 + 1e-9), 0.0) ** 2
 
     return lower_bound
@@ -867,9 +563,7 @@ def _shifted_lower_bound(trials, depth_mm):
 
 def _fit_arc_chunk(trials, depth_mm):
     objective = _arc_objective(trials, depth_mm)
-    return _fit_curve_chunk(
-        "arc", arc_deflection_mm, objective, trials, depth_mm, trials.x_max, as_scalars=True
-    )
+    return _fit_curve_chunk("arc", arc_deflection_mm, objective, trials, depth_mm, trials.x_max)
 
 
 def _fit_shifted_chunk(trials, depth_mm):
@@ -889,17 +583,18 @@ def _fit_shifted_chunk(trials, depth_mm):
 
 def _fit_free_depth_chunk(trials, depth_mm=None):
     def shape_and_depth(L_mm, rows):
-        # for a given L the best W0 of W0 g(x) is linear least squares
-        s = trials.x[rows, None, :] / L_mm[:, :, None]
-        g = 3.0 * s**2 - 4.0 * s + 1.0
-        n = trials.n[rows]
-        return g, _row_sums(trials.y[rows, None, :] * g, n) / _row_sums(g * g, n)
+        # for a given L the best W0 of W0 g(x) is linear (generalised) least squares
+        g = 3.0 * (trials.x[rows, None, :] / L_mm[:, :, None]) ** 2
+        g = g - 4.0 * trials.x[rows, None, :] / L_mm[:, :, None] + 1.0
+        g_white = trials.whitened(g, rows)
+        y_white = trials.whitened(trials.y[rows], rows)[:, None, :]
+        return g, np.sum(y_white * g_white, axis=-1) / np.sum(g_white * g_white, axis=-1)
 
-    def objective(L_mm, rows, mode="call"):
+    def objective(L_mm, rows):
         def evaluate(part):
             r = rows[part]
             g, W0 = shape_and_depth(L_mm[part], r)
-            return _row_sums((trials.y[r, None, :] - W0[:, :, None] * g) ** 2, trials.n[r])
+            return trials.chi2(trials.y[r, None, :] - W0[:, :, None] * g, r)
 
         return _in_blocks(evaluate, rows.size, L_mm.shape[1], trials.width)
 
@@ -919,16 +614,30 @@ def _fit_free_depth_chunk(trials, depth_mm=None):
 def _fit_boussinesq_chunk(trials, depth_mm=None):
     x, y, n = trials.x, trials.y, trials.n
     log_x = np.log(x)
-    # w = A ln x0 - A ln x is a straight line in ln x: centred linear least squares
-    mean_log_x = _row_sums(log_x, n) / n
-    mean_y = _row_sums(y, n) / n
-    centred = log_x - mean_log_x[:, None]
-    spread = _row_sums(centred**2, n)
-    single = spread == 0.0  # one distinct distance: the minimum-norm solution, as lstsq
-    with np.errstate(divide="ignore", invalid="ignore"):
-        slope = _row_sums(centred * (y - mean_y[:, None]), n) / spread
-    A_mm = np.where(single, -mean_log_x * mean_y / (1.0 + mean_log_x**2), -slope)
-    intercept = np.where(single, mean_y / (1.0 + mean_log_x**2), mean_y + A_mm * mean_log_x)
+    # w = A ln x0 - A ln x is a straight line in ln x: linear least squares, centred
+    # (ordinary) or on whitened columns (generalised)
+    if trials.whiten is None:
+        mean_log_x = trials.sum(log_x) / n
+        mean_y = trials.sum(y) / n
+        centred = log_x - mean_log_x[:, None]
+        spread = trials.sum(centred**2)
+        single = spread == 0.0  # one distinct distance: the minimum-norm solution
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope = trials.sum(centred * (y - mean_y[:, None])) / spread
+        A_mm = np.where(single, -mean_log_x * mean_y / (1.0 + mean_log_x**2), -slope)
+        intercept = np.where(single, mean_y / (1.0 + mean_log_x**2), mean_y + A_mm * mean_log_x)
+    else:
+        ones = trials.whitened(np.ones(x.shape))
+        logs = trials.whitened(-log_x)
+        values = trials.whitened(y)
+        s11, s12, s22 = (
+            np.sum(p * q, axis=-1) for p, q in ((ones, ones), (ones, logs), (logs, logs))
+        )
+        t1, t2 = np.sum(ones * values, axis=-1), np.sum(logs * values, axis=-1)
+        determinant = s11 * s22 - s12**2
+        with np.errstate(divide="ignore", invalid="ignore"):
+            intercept = (s22 * t1 - s12 * t2) / determinant
+            A_mm = (s11 * t2 - s12 * t1) / determinant
     rising = A_mm > 0
     x0_mm = np.full(n.size, np.nan)
     x0_mm[rising] = np.exp(intercept[rising] / A_mm[rising])
@@ -964,6 +673,9 @@ class BatchFits:
     measures : dict of str to numpy.ndarray
         ``sse_mm2``, ``rmse_mm``, ``max_abs_residual_mm`` and ``aicc``, NaN where
         the trial has no fit.
+    chi2 : numpy.ndarray
+        The whitened sum of squares at the minimum (generalised least squares;
+        NaN for ordinary fits).
     n_points : numpy.ndarray of int
         Points of each trial.
     fitted : numpy.ndarray of bool
@@ -977,6 +689,7 @@ class BatchFits:
         self.model = model
         self.params = {name: np.full(count, np.nan) for name in MODELS[model][0]}
         self.measures = {name: np.full(count, np.nan) for name in _MEASURES}
+        self.chi2 = np.full(count, np.nan)
         self.n_points = n_points
         self.fitted = np.zeros(count, dtype=bool)
         self.errors = {}
@@ -993,6 +706,7 @@ class BatchFits:
             self.params[name][fitted] = values[ok]
         for name, values in chunk.measures.items():
             self.measures[name][fitted] = values[ok]
+        self.chi2[fitted] = chunk.chi2[ok]
         self.fitted[fitted] = True
         self._where[trial_index, 0] = len(self._chunks)
         self._where[trial_index, 1] = np.arange(trial_index.size)
@@ -1020,6 +734,7 @@ class BatchFits:
             n_points=n,
             n_params=MODELS[self.model][1],
             residual_mm=chunk.residual_mm[row, :n].copy(),
+            chi2=_python_float(self.chi2[i]),
             **{name: _python_float(values[i]) for name, values in self.measures.items()},
         )
 
@@ -1041,7 +756,7 @@ def _as_trials(distance_mm, deflection_mm):
     return np.concatenate(distance_mm), np.concatenate(deflection_mm), counts
 
 
-def _fit_flat(x_mm, y_mm, counts, depth_mm, models):
+def _fit_flat(x_mm, y_mm, counts, depth_mm, models, covariance_mm2=None):
     """Fit ``models`` to trials given as concatenated points and counts."""
     offsets = np.cumsum(counts) - counts
     fits = {model: BatchFits(model, counts) for model in models}
@@ -1055,7 +770,8 @@ def _fit_flat(x_mm, y_mm, counts, depth_mm, models):
     order = order[counts[order] >= 1]
     for start in range(0, order.size, CHUNK_TRIALS):
         chunk = order[start : start + CHUNK_TRIALS]
-        trials = _Trials.from_flat(x_mm, y_mm, counts[chunk], offsets[chunk])
+        covariance = None if covariance_mm2 is None else [covariance_mm2[i] for i in chunk]
+        trials = _Trials.from_flat(x_mm, y_mm, counts[chunk], offsets[chunk], covariance)
         for model in models:
             enough = counts[chunk] >= MODELS[model][2]
             if not enough.any():
@@ -1065,7 +781,7 @@ def _fit_flat(x_mm, y_mm, counts, depth_mm, models):
     return fits
 
 
-def fit_batch(distance_mm, deflection_mm, depth_mm=None, models=tuple(MODELS)):
+def fit_batch(distance_mm, deflection_mm, depth_mm=None, models=tuple(MODELS), covariance_mm2=None):
     """Fit models to many trials at once, each on all of its points.
 
     Parameters
@@ -1078,6 +794,10 @@ def fit_batch(distance_mm, deflection_mm, depth_mm=None, models=tuple(MODELS)):
         fits; needed for those.
     models : iterable of str, optional
         Keys of :data:`MODELS`.
+    covariance_mm2 : sequence of array_like, optional
+        The covariance of each trial's deflections (mm^2), an ``(n, n)`` matrix
+        for a trial of ``n`` points: the fits are then generalised least
+        squares and the intervals take the covariance as known.
 
     Returns
     -------
@@ -1089,8 +809,9 @@ def fit_batch(distance_mm, deflection_mm, depth_mm=None, models=tuple(MODELS)):
     Raises
     ------
     ValueError
-        For a trial whose arrays differ in shape, a distance <= 0 or a value
-        that is not finite.
+        For a trial whose arrays differ in shape, a distance <= 0, a value that
+        is not finite, or a covariance of the wrong shape or not positive
+        definite.
     """
     models = tuple(models)
     x_mm, y_mm, counts = _as_trials(distance_mm, deflection_mm)
@@ -1098,12 +819,14 @@ def fit_batch(distance_mm, deflection_mm, depth_mm=None, models=tuple(MODELS)):
         raise ValueError("distances and deflections must be finite")
     if np.any(x_mm <= 0):
         raise ValueError("distances must be > 0 (the load point itself is not fitted)")
+    if covariance_mm2 is not None and len(covariance_mm2) != counts.size:
+        raise ValueError("covariance_mm2 must hold one matrix per trial")
     if depth_mm is None:
         if set(models) & {"waterbed", "shifted", "arc"}:
             raise ValueError("the fixed-depth fits need depth_mm")
         depth_mm = np.nan
     depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), counts.shape)
-    return _fit_flat(x_mm, y_mm, counts, depth_mm, models)
+    return _fit_flat(x_mm, y_mm, counts, depth_mm, models, covariance_mm2)
 
 
 def _as_points(distance_mm, deflection_mm, minimum):
@@ -1120,19 +843,20 @@ def _as_points(distance_mm, deflection_mm, minimum):
     return distance_mm, deflection_mm
 
 
-def _fit_one(model, distance_mm, deflection_mm, depth_mm=np.nan):
+def _fit_one(model, distance_mm, deflection_mm, depth_mm=np.nan, covariance_mm2=None):
     x, y = _as_points(distance_mm, deflection_mm, minimum=MODELS[model][2])
-    fits = _fit_flat(x, y, np.array([x.size]), np.array([float(depth_mm)]), (model,))
+    covariance = None if covariance_mm2 is None else [covariance_mm2]
+    fits = _fit_flat(x, y, np.array([x.size]), np.array([float(depth_mm)]), (model,), covariance)
     return fits[model].result(0)
 
 
-def fit_waterbed(distance_mm, deflection_mm, depth_mm):
+def fit_waterbed(distance_mm, deflection_mm, depth_mm, covariance_mm2=None):
     """Fit the small-slope waterbed (eq. 19) with W0 fixed: exact global least squares.
 
     With ``u = 1 / L`` the model ``W0 (3 u**2 x**2 - 4 u x + 1)`` is quadratic
-    in ``u``, so the sum of squared residuals is a quartic in ``u``.  Its global
-    minimum over ``0 <= u <= 1 / max(x)`` is at a real root of the cubic
-    derivative or at an end of that interval; all candidates are compared
+    in ``u``, so the sum of squared (whitened) residuals is a quartic in ``u``.
+    Its global minimum over ``0 <= u <= 1 / max(x)`` is at a real root of the
+    cubic derivative or at an end of that interval; all candidates are compared
     exactly, so no start value or iterative optimiser is involved.  ``u = 0``
     means a flat membrane (``L`` infinite).
 
@@ -1142,21 +866,23 @@ def fit_waterbed(distance_mm, deflection_mm, depth_mm):
         Averaged profile points (mm); distances > 0.
     depth_mm : float
         Indentation depth, used as W0 (mm).
+    covariance_mm2 : array_like, optional
+        Covariance of the deflections (mm^2): generalised least squares.
 
     Returns
     -------
     FitResult
         ``params = {"L_mm": L, "L_ci_low_mm": ..., "L_ci_high_mm": ...}``, the
-        last two the 95 % profile-likelihood interval (:func:`profile_interval`).
+        last two the 95 % likelihood interval (see the module's notes).
     """
-    return _fit_one("waterbed", distance_mm, deflection_mm, depth_mm)
+    return _fit_one("waterbed", distance_mm, deflection_mm, depth_mm, covariance_mm2)
 
 
-def fit_arc(distance_mm, deflection_mm, depth_mm):
+def fit_arc(distance_mm, deflection_mm, depth_mm, covariance_mm2=None):
     """Fit the exact circular-arc waterbed with W0 fixed and L free.
 
     The one-dimensional least-squares problem in ``L`` over
-    ``[max(x), 1000 max(x)]`` is solved by :func:`minimise_in_L`.
+    ``[max(x), 1000 max(x)]`` is solved by :func:`lineload.optimize.minimize_bounded`.
 
     Parameters
     ----------
@@ -1164,25 +890,27 @@ def fit_arc(distance_mm, deflection_mm, depth_mm):
         Averaged profile points (mm); distances > 0.
     depth_mm : float
         Indentation depth, used as W0 (mm).
+    covariance_mm2 : array_like, optional
+        Covariance of the deflections (mm^2): generalised least squares.
 
     Returns
     -------
     FitResult
         ``params = {"L_mm": L, "L_ci_low_mm": ..., "L_ci_high_mm": ...}`` with
-        the 95 % profile-likelihood interval (:func:`profile_interval`).
+        the 95 % likelihood interval.
     """
-    return _fit_one("arc", distance_mm, deflection_mm, depth_mm)
+    return _fit_one("arc", distance_mm, deflection_mm, depth_mm, covariance_mm2)
 
 
-def fit_shifted(distance_mm, deflection_mm, depth_mm):
+def fit_shifted(distance_mm, deflection_mm, depth_mm, covariance_mm2=None):
     """Fit the small-slope waterbed in measured coordinates, W0 fixed and L free.
 
     The model is eq. 19's ``W(X)`` at ``x = X + U(X)`` (eq. 20), i.e.
     :func:`lineload.models.shifted_deflection_mm`.  It is defined for
     ``L > sqrt(6) W0`` only (where ``x(X)`` is one-to-one), so the search runs
-    over ``[max(max(x), sqrt(6) W0 (1 + 1e-9)), 1000 max(x)]`` with
-    :func:`minimise_in_L`.  A fit that ends on the lower bound means the data
-    want a membrane too narrow for the small-slope solution.
+    over ``[max(max(x), sqrt(6) W0 (1 + 1e-9)), 1000 max(x)]``.  A fit that ends
+    on the lower bound means the data want a membrane too narrow for the
+    small-slope solution.
 
     Parameters
     ----------
@@ -1190,56 +918,62 @@ def fit_shifted(distance_mm, deflection_mm, depth_mm):
         Averaged profile points (mm); distances > 0.
     depth_mm : float
         Indentation depth, used as W0 (mm).
+    covariance_mm2 : array_like, optional
+        Covariance of the deflections (mm^2): generalised least squares.
 
     Returns
     -------
     FitResult
         ``params = {"L_mm": L, "L_ci_low_mm": ..., "L_ci_high_mm": ...}`` with
-        the 95 % profile-likelihood interval (:func:`profile_interval`).
+        the 95 % likelihood interval.
     """
-    return _fit_one("shifted", distance_mm, deflection_mm, depth_mm)
+    return _fit_one("shifted", distance_mm, deflection_mm, depth_mm, covariance_mm2)
 
 
-def fit_waterbed_free_depth(distance_mm, deflection_mm):
+def fit_waterbed_free_depth(distance_mm, deflection_mm, covariance_mm2=None):
     """Fit the small-slope waterbed with both W0 and L free.
 
     For a given L the model ``W0 g(x)``, ``g = 3 s**2 - 4 s + 1``, is linear in
-    W0, whose best value is ``sum(y g) / sum(g**2)``; what remains is a
-    one-dimensional problem in L (:func:`minimise_in_L`, ``L >= max(x)``).
-    The interval on L profiles W0 out.
+    W0, whose best value is ``sum(y g) / sum(g**2)`` (on whitened values with a
+    covariance); what remains is a one-dimensional problem in L
+    (``L >= max(x)``).  The interval on L profiles W0 out.
 
     Parameters
     ----------
     distance_mm, deflection_mm : array_like
         Averaged profile points (mm); distances > 0, at least two.
+    covariance_mm2 : array_like, optional
+        Covariance of the deflections (mm^2): generalised least squares.
 
     Returns
     -------
     FitResult
         ``params = {"L_mm", "L_ci_low_mm", "L_ci_high_mm", "W0_mm"}``.
     """
-    return _fit_one("waterbed_free_depth", distance_mm, deflection_mm)
+    return _fit_one("waterbed_free_depth", distance_mm, deflection_mm, np.nan, covariance_mm2)
 
 
-def fit_boussinesq(distance_mm, deflection_mm):
+def fit_boussinesq(distance_mm, deflection_mm, covariance_mm2=None):
     """Fit the modified Boussinesq profile ``A ln(x0 / x)``: linear least squares.
 
     The model is a straight line in ``ln x``: ``w = A ln x0 - A ln x``, so the
-    fit is an exact linear regression (centred, in closed form).  ``x0`` is
-    reported as NaN when the slope has the wrong sign (``A <= 0``), where the
-    form has no zero crossing.
+    fit is an exact linear regression (centred, in closed form; on whitened
+    columns with a covariance).  ``x0`` is reported as NaN when the slope has
+    the wrong sign (``A <= 0``), where the form has no zero crossing.
 
     Parameters
     ----------
     distance_mm, deflection_mm : array_like
         Averaged profile points (mm); distances > 0, at least two distinct.
+    covariance_mm2 : array_like, optional
+        Covariance of the deflections (mm^2): generalised least squares.
 
     Returns
     -------
     FitResult
         ``params = {"A_mm": A, "x0_mm": x0}``.
     """
-    return _fit_one("boussinesq", distance_mm, deflection_mm)
+    return _fit_one("boussinesq", distance_mm, deflection_mm, np.nan, covariance_mm2)
 
 
 #: Columns of the fit table, in order (one row per subject and depth).

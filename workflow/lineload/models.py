@@ -159,80 +159,42 @@ def shift_is_one_to_one(depth_mm, L_mm):
     return 6.0 * (np.asarray(depth_mm, dtype=float) / np.asarray(L_mm, dtype=float)) ** 2 < 1.0
 
 
-def _problem_labels(index, shape, independent_axes):
-    """Which problem each element ``index`` (flat, C order) of an array of ``shape`` is in.
-
-    The leading ``independent_axes`` axes index separate problems (0: the whole
-    array is one).  Returns the labels (None when every element is a problem of its
-    own) and the number of problems.
-    """
-    shape = tuple(shape)
-    inner = math.prod(shape[independent_axes:])
-    if inner <= 1:
-        return None, max(1, math.prod(shape))
-    return index // inner, math.prod(shape) // inner
-
-
-def _clipped_newton(start, params, step_of, converged, bounds, labels, n_problems, settle):
-    """Newton's method, each step clipped to ``bounds``, for many elements at once.
+def _clipped_newton(start, params, step_of, converged, bounds):
+    """Newton's method, each step clipped to ``bounds``, for many independent elements.
 
     ``step_of(value, *params)`` gives the step of each element (``params``: arrays
-    of per-element data).  Each problem (``labels``; None: each element alone)
-    iterates, all of its elements together, until every element of it meets
-    ``converged(step, new_value)`` after a step, or 50 steps: the same steps,
-    element by element, as one loop per problem would take.  Two things only save
-    work, without changing any value: an element that a step left unchanged is at a
-    fixed point of its own iteration and is set aside (its test stays what it was),
-    and so is every element of a finished problem.
-
-    With ``settle``, an element also counts as converged once its step no longer
-    shrinks: it has reached the rounding noise of its equation, and further steps
-    would move it at random within that noise.  The values are then as accurate,
-    but not bit for bit those of the full iteration.
+    of per-element data).  Each element iterates on its own until it meets
+    ``converged(step, new_value)``, or its steps, already below 1e-10 of its size,
+    stop shrinking (it has reached the rounding noise of its equation, where further
+    steps would move it at random within that noise), or after 50 steps.  Finished
+    elements are set aside, so a batch costs what its slowest element costs.
     """
     value = np.array(start, dtype=float)
     position = np.arange(value.size)
-    current, labels_left = value, labels
-    aside = None if labels is None else np.zeros(n_problems, dtype=np.intp)
-    previous = None
+    current = value
+    previous = np.full(value.size, np.inf)
     for _ in range(50):
         if position.size == 0:
             break
         step = step_of(current, *params)
         new = current - step
         np.clip(new, *bounds, out=new)
-        ok = converged(step, new)
-        if settle:
-            size = np.abs(step)
-            if previous is not None:
-                ok |= size >= previous
-        fixed = new == current
-        if labels is None:
-            going = ~(fixed | ok)
-        else:
-            stuck = fixed & ~ok
-            if stuck.any():
-                aside += np.bincount(labels_left[stuck], minlength=n_problems)
-            open_ = (np.bincount(labels_left[~ok], minlength=n_problems) + aside) > 0
-            going = ~fixed & open_[labels_left]
-        if going.all():
-            current = new
-        else:
-            leaving = ~going
-            value[position[leaving]] = new[leaving]
+        size = np.abs(step)
+        done = converged(step, new) | (new == current)
+        done |= (size >= previous) & (size <= 1e-10 * np.maximum(np.abs(new), 1.0))
+        if done.any():
+            value[position[done]] = new[done]
+            going = ~done
             position, current = position[going], new[going]
             params = tuple(values[going] for values in params)
-            if labels is not None:
-                labels_left = labels_left[going]
-            if settle:
-                size = size[going]
-        if settle:
-            previous = size
+            previous = size[going]
+        else:
+            current, previous = new, size
     value[position] = current
     return value
 
 
-def resting_position_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settle=False):
+def resting_position_mm(distance_mm, depth_mm, L_mm):
     """Resting position X of the membrane point seen at deformed position x (inverse of eq. 20).
 
     Solves ``X + U(X) = x`` on ``0 <= x <= L``; with ``s = X / L``,
@@ -241,8 +203,8 @@ def resting_position_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settle=
     (see :func:`shift_is_one_to_one`).  Newton's method from the first-order
     inverse ``s = t + k t (t - 1)**2``, each step clipped to ``[0, 1]``, reaches
     rounding in under 10 steps for ``k <= 0.999`` and slows only near the fold
-    (about 20 steps at ``k = 1 - 1e-9``); the loop stops when every step is below
-    1e-15, or at 50 (see ``independent_axes`` for what "every" covers).  The tests check
+    (about 20 steps at ``k = 1 - 1e-9``); each point stops when its step is below
+    1e-15 or has reached rounding noise (see ``_clipped_newton``).  The tests check
     the residual of the cubic on a dense grid of ``k`` and ``t`` up to
     ``1 - 1e-9``.  Beyond the wall (``x > L``), and for a flat membrane
     (``L`` infinite), ``X = x``.
@@ -255,15 +217,6 @@ def resting_position_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settle=
         W0 (mm).
     L_mm : float or array_like
         Half-width L (mm); broadcast against ``distance_mm``.
-    independent_axes : int, optional
-        How many leading axes (of the broadcast shape) index separate problems,
-        each iterated until its own elements have converged, as a separate call
-        would; 0 (the default) iterates the whole array together.  The values
-        differ between the two only at rounding level.
-    settle : bool, optional
-        Stop each element as soon as its steps stop shrinking (rounding noise
-        reached): as accurate, fewer steps, but not bit for bit the values of the
-        full iteration.
 
     Returns
     -------
@@ -281,17 +234,9 @@ def resting_position_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settle=
     t_c, k_c = np.broadcast_to(t, shape)[curved], np.broadcast_to(k, shape)[curved]
 
     def step_of(s, t, k):
-        # s - k s (s - 1)^2 - t over 1 - k (s - 1)(3 s - 1), rounded as written
+        # s - k s (s - 1)^2 - t over its derivative 1 - k (s - 1)(3 s - 1)
         u = s - 1.0
-        residual = k * s
-        residual *= u**2
-        np.subtract(s, residual, out=residual)
-        residual -= t
-        slope = k * u
-        slope *= 3.0 * s - 1.0
-        np.subtract(1.0, slope, out=slope)
-        residual /= slope
-        return residual
+        return (s - k * s * u**2 - t) / (1.0 - k * u * (3.0 * s - 1.0))
 
     s = _clipped_newton(
         np.clip(t_c + k_c * t_c * (t_c - 1.0) ** 2, 0.0, 1.0),
@@ -299,8 +244,6 @@ def resting_position_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settle=
         step_of,
         lambda step, s: np.abs(step) <= 1e-15,
         (0.0, 1.0),
-        *_problem_labels(np.flatnonzero(curved), shape, independent_axes),
-        settle,
     )
     X_mm = np.array(np.broadcast_to(distance_mm, shape), order="C")
     X_mm[curved] = s * np.broadcast_to(L_mm, shape)[curved]
@@ -308,7 +251,7 @@ def resting_position_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settle=
     return np.where(folded, np.nan, X_mm) if folded.any() else X_mm
 
 
-def shifted_deflection_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settle=False):
+def shifted_deflection_mm(distance_mm, depth_mm, L_mm):
     """Small-slope waterbed seen in measured coordinates: W(X) at ``x = X + U(X)``.
 
     A photograph shows each point of the skin where it is after the load, at
@@ -328,8 +271,6 @@ def shifted_deflection_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settl
         W0 (mm).
     L_mm : float or array_like
         Half-width L (mm); broadcast against ``distance_mm``.
-    independent_axes, settle : optional
-        See :func:`resting_position_mm`.
 
     Returns
     -------
@@ -337,7 +278,7 @@ def shifted_deflection_mm(distance_mm, depth_mm, L_mm, independent_axes=0, settl
         Downward deflection (mm); zero beyond the wall; NaN where the map
         ``X -> x`` is not one-to-one (``L <= sqrt(6) W0``).
     """
-    X_mm = resting_position_mm(distance_mm, depth_mm, L_mm, independent_axes, settle)
+    X_mm = resting_position_mm(distance_mm, depth_mm, L_mm)
     return waterbed_deflection_mm(X_mm, depth_mm, L_mm)
 
 
@@ -380,38 +321,18 @@ def waterbed_load_angle_rad(depth_mm, L_mm):
     return np.arctan(4.0 * np.asarray(depth_mm, dtype=float) / np.asarray(L_mm, dtype=float))
 
 
-def _shape_and_slope(phi, as_scalars=False):
+def _shape_and_slope(phi):
     """Shape function ``f = (2 phi - sin 2 phi) / (4 sin**2 phi)`` and its slope, phi >= 1e-3.
 
     The slope is ``1 - (2 phi - sin 2 phi) sin 2 phi / (4 sin**4 phi)``; both
     share their trigonometry.  (Near zero, ``f = phi/3 + 2 phi**3/45 + ...``.)
-    With ``as_scalars``, ``sin**2`` is rounded as Python rounds it for a float
-    (``pow``, not numpy's ``x * x``), so that each value is the one
-    :func:`_solve_half_angle_scalar` computes.
     """
     sin, sin2 = np.sin(phi), np.sin(2.0 * phi)
     numerator = 2.0 * phi - sin2
-    square = np.power(sin, np.full(sin.shape, 2.0)) if as_scalars else sin**2
-    shape = numerator / (4.0 * square)
-    return shape, 1.0 - numerator * sin2 / (4.0 * sin**4)
+    return numerator / (4.0 * sin**2), 1.0 - numerator * sin2 / (4.0 * sin**4)
 
 
-def _solve_half_angle_scalar(target):
-    """:func:`_solve_half_angle` for one value, in plain floats (no array overhead)."""
-    phi = min(3.0 * target - 3.6 * target**3, math.pi / 2)
-    if phi < 1e-3:  # the series is exact to rounding here
-        return phi
-    for _ in range(50):
-        sin, sin2 = math.sin(phi), math.sin(2.0 * phi)
-        numerator = 2.0 * phi - sin2
-        step = (numerator / (4.0 * sin**2) - target) / (1.0 - numerator * sin2 / (4.0 * sin**4))
-        phi = min(max(phi - step, 1e-3), math.pi / 2)
-        if abs(step) <= 1e-15 + 1e-13 * phi:
-            break
-    return phi
-
-
-def _solve_half_angle(target, independent_axes=0, settle=False):
+def _solve_half_angle(target):
     """Solve ``(2 phi - sin 2 phi) / (4 sin**2 phi) = target`` for ``0 <= target <= 1/2``.
 
     The shape function rises from 0 with slope 1/3 and is convex on
@@ -420,21 +341,15 @@ def _solve_half_angle(target, independent_axes=0, settle=False):
     root, and from a start left of it the first step lands on the right.  The
     start is the inverted small-angle series ``phi = 3t - 3.6 t^3`` (from
     ``f = phi/3 + 2 phi^3/45 + ...``), already close, so a few steps suffice.
-    Below ``phi = 1e-3`` the series itself is exact to rounding.  The leading
-    ``independent_axes`` axes index separate problems, and ``settle`` stops at
-    the rounding noise (see :func:`resting_position_mm`).
+    Below ``phi = 1e-3`` the series itself is exact to rounding.
     """
     target = np.asarray(target, dtype=float)
-    if target.size == 1:
-        return np.full(target.shape, _solve_half_angle_scalar(float(target.reshape(-1)[0])))
+    shape, target = target.shape, target.reshape(-1)
     start = np.minimum(3.0 * target - 3.6 * target**3, np.pi / 2)
     iterated = ~(start < 1e-3)  # below, the start is kept
 
-    labels, n_problems = _problem_labels(np.flatnonzero(iterated), target.shape, independent_axes)
-
     def step_of(phi, target):
-        # a problem of one value is solved as a separate call solves it: with floats
-        shape, slope = _shape_and_slope(phi, as_scalars=labels is None)
+        shape, slope = _shape_and_slope(phi)
         return (shape - target) / slope
 
     phi = start.copy()
@@ -444,14 +359,11 @@ def _solve_half_angle(target, independent_axes=0, settle=False):
         step_of,
         lambda step, phi: np.abs(step) <= 1e-15 + 1e-13 * phi,
         (1e-3, np.pi / 2),
-        labels,
-        n_problems,
-        settle,
     )
-    return phi
+    return phi.reshape(shape)
 
 
-def arc_geometry(depth_mm, L_mm, independent_axes=0, settle=False):
+def arc_geometry(depth_mm, L_mm):
     """Circle through the load point and the wall that encloses zero net area.
 
     The arc runs from ``(0, -W0)`` to ``(L, 0)`` (z upward).  With
@@ -465,8 +377,6 @@ def arc_geometry(depth_mm, L_mm, independent_axes=0, settle=False):
         Deflection under the load, W0 (mm, > 0).
     L_mm : float or array_like
         Half-width of the membrane (mm, > 0); broadcast against ``depth_mm``.
-    independent_axes, settle : optional
-        How the half-angle is iterated (see :func:`resting_position_mm`).
 
     Returns
     -------
@@ -479,7 +389,7 @@ def arc_geometry(depth_mm, L_mm, independent_axes=0, settle=False):
         np.asarray(depth_mm, dtype=float), np.asarray(L_mm, dtype=float)
     )
     target = depth_mm * L_mm / (L_mm**2 + depth_mm**2)  # delta / (1 + delta**2) <= 1/2
-    phi = _solve_half_angle(target, independent_axes, settle)
+    phi = _solve_half_angle(target)
     chord_mm = np.hypot(L_mm, depth_mm)
     with np.errstate(divide="ignore", invalid="ignore"):
         radius_mm = chord_mm / (2.0 * np.sin(phi))
@@ -497,9 +407,7 @@ def arc_geometry(depth_mm, L_mm, independent_axes=0, settle=False):
     }
 
 
-def arc_deflection_mm(
-    distance_mm, depth_mm, L_mm, geometry=None, independent_axes=0, as_scalars=False
-):
+def arc_deflection_mm(distance_mm, depth_mm, L_mm, geometry=None):
     """Exact waterbed profile: the zero-area circular arc, as downward deflection.
 
     Parameters
@@ -515,12 +423,6 @@ def arc_deflection_mm(
     geometry : dict, optional
         ``arc_geometry(depth_mm, L_mm)`` if already at hand (a fit evaluates
         many distances for each (W0, L)); its arrays broadcast like ``L_mm``.
-    independent_axes : int, optional
-        Passed to :func:`arc_geometry` when it is called here.
-    as_scalars : bool, optional
-        Square the radius as numpy squares a scalar (``pow``, not ``x * x``), so
-        that each (W0, L) gives the values of a call with scalar W0 and L, to the
-        last bit.
 
     Returns
     -------
@@ -531,15 +433,11 @@ def arc_deflection_mm(
     distance_mm = np.asarray(distance_mm, dtype=float)
     L_mm = np.asarray(L_mm, dtype=float)
     if geometry is None:
-        geometry = arc_geometry(depth_mm, L_mm, independent_axes)
+        geometry = arc_geometry(depth_mm, L_mm)
     is_graph = np.asarray(geometry["is_graph"])
     if is_graph.ndim == 0 and not bool(is_graph):
         return np.full(distance_mm.shape, np.nan)
-    radius_mm = np.asarray(geometry["radius_mm"])
-    if as_scalars:
-        radius_squared = np.power(radius_mm, np.full(radius_mm.shape, 2.0))
-    else:
-        radius_squared = geometry["radius_mm"] ** 2
+    radius_squared = np.asarray(geometry["radius_mm"]) ** 2
     dx = distance_mm - geometry["centre_x_mm"]
     z_mm = geometry["centre_z_mm"] + np.sqrt(np.maximum(radius_squared - dx**2, 0.0))
     w_mm = np.where(distance_mm <= L_mm, -z_mm, 0.0)

@@ -77,13 +77,6 @@ FIXED_DEPTH = ("waterbed", "shifted", "arc")
 #: The waterbed curves in measured coordinates, by model name.
 CONSISTENT_CURVES = {"shifted": shifted_deflection_mm, "arc": arc_deflection_mm}
 
-#: How each curve is evaluated for many trials at once so that every row is what a
-#: call with that trial's scalar W0 and L gives (see lineload.models).
-_ONE_CALL_PER_ROW = {
-    "shifted": {"independent_axes": 1},
-    "arc": {"independent_axes": 1, "as_scalars": True},
-}
-
 
 def _nan_is_nan(value):
     """A float for the tables; NaN is always the ``numpy.nan`` object."""
@@ -101,9 +94,7 @@ def _curve_gaps_mm(depth_mm, waterbed_L_mm, other_L_mm, max_distance_mm, model, 
     if rows.size:
         x = np.linspace(0.0, max_distance_mm[rows], n_points, axis=-1)
         paper = waterbed_deflection_mm(x, depth_mm[rows, None], waterbed_L_mm[rows, None])
-        other = CONSISTENT_CURVES[model](
-            x, depth_mm[rows, None], other_L_mm[rows, None], **_ONE_CALL_PER_ROW[model]
-        )
+        other = CONSISTENT_CURVES[model](x, depth_mm[rows, None], other_L_mm[rows, None])
         gaps[rows] = np.max(np.abs(paper - other), axis=1)
     return gaps.reshape(values[0].shape)
 

@@ -1,0 +1,174 @@
+"""How closely two fits of the same points must agree, derived from rounding.
+
+Two code paths (a trial alone or in a batch, one CPU's vector kernels or
+another's) evaluate the same least-squares objective with different rounding.
+The objective's rounding error is bounded here from the sizes of the numbers it
+is made of; :func:`lineload.optimize.solution_tolerance` turns that bound into how
+far the minimiser and the interval's ends may move.  Nothing here is tuned to
+make a comparison pass: every term has its reason in a docstring.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from lineload import fitting, models
+from lineload.optimize import CHI2_1DOF_95, solution_tolerance
+
+EPS = np.finfo(float).eps
+
+#: Floating-point operations that round between a reading and its residual (model
+#: evaluation included: a handful for the parabola, a few more through the circle's
+#: geometry); a bound, used as the factor of machine epsilon per point.
+OPERATIONS_PER_POINT = 16
+
+#: Relative width of the final bracket of the grid-and-zoom search
+#: (``minimize_bounded``'s ``rtol``) and of the root finder (``find_roots``).
+SEARCH_RTOL = 1e-9
+ROOT_RTOL = 1e-10
+#: The root finder also stops when ``|ln(S / S_threshold)|`` is below this.
+ROOT_FTOL = 1e-14
+
+CURVES = {
+    "waterbed": models.waterbed_deflection_mm,
+    "shifted": models.shifted_deflection_mm,
+    "arc": models.arc_deflection_mm,
+}
+
+
+def fit_rounding_mm2(y_mm, model_mm, scale_mm=None):
+    """A bound on the rounding error of ``sum((y - model)**2)``.
+
+    Each residual is off by at most ``OPERATIONS_PER_POINT eps S`` (``S`` the
+    largest magnitude in its computation, at least ``|y|`` and ``|model|``; the
+    arc's circle adds its radius), which changes the sum by twice that times
+    ``|r|``; the summation itself adds ``(n + 2) eps`` of the sum.
+    """
+    y_mm, model_mm = np.asarray(y_mm, dtype=float), np.asarray(model_mm, dtype=float)
+    residual = y_mm - model_mm
+    size = np.maximum(np.abs(y_mm), np.abs(model_mm))
+    if scale_mm is not None:
+        size = np.maximum(size, scale_mm)
+    per_point = OPERATIONS_PER_POINT * EPS * size
+    sse = float(np.sum(residual**2))
+    return (
+        float(np.sum(2.0 * np.abs(residual) * per_point + per_point**2))
+        + (y_mm.size + 2) * EPS * sse
+    )
+
+
+def _one_parameter_tolerances(row, model, x, y, rounding):
+    """Tolerances of L, its interval's ends and the fit measures of one model."""
+    n = x.size
+    L_mm = row[f"{model}_L_mm"]
+    low, high = row[f"{model}_L_ci_low_mm"], row[f"{model}_L_ci_high_mm"]
+    sse_min = n * row[f"{model}_rmse_mm"] ** 2
+    threshold = max(sse_min, np.finfo(float).tiny) * math.exp(CHI2_1DOF_95 / max(n, 1))
+    half = (high - low) / 2.0
+    if not np.isfinite(half):
+        half = abs(L_mm) if np.isfinite(L_mm) else 1.0
+    # both paths round: twice the bound; the root finder's own stop adds its share
+    both = 2.0 * rounding
+    tol_L, tol_end = solution_tolerance(sse_min, threshold, half, both + ROOT_FTOL * threshold)
+    tol_L = float(tol_L) + 2.0 * SEARCH_RTOL * abs(L_mm)
+    rise = max(threshold - sse_min, np.finfo(float).tiny)
+    d_sse = both + rise * min((tol_L / half) ** 2, 1.0)
+    rmse = row[f"{model}_rmse_mm"]
+    return {
+        f"{model}_L_mm": tol_L,
+        f"{model}_L_ci_low_mm": float(tol_end) + 2.0 * ROOT_RTOL * abs(low),
+        f"{model}_L_ci_high_mm": float(tol_end) + 2.0 * ROOT_RTOL * abs(high),
+        f"{model}_rmse_mm": d_sse / (2.0 * n * rmse) if rmse > 0 else math.sqrt(d_sse / n),
+        f"{model}_max_abs_residual_mm": math.sqrt(d_sse) + OPERATIONS_PER_POINT * EPS,
+        f"{model}_aicc": n * d_sse / sse_min if sse_min > 0 else math.inf,
+    }
+
+
+def _boussinesq_tolerances(row, x, y, rounding):
+    """Tolerances of the log-linear regression's parameters and measures."""
+    n = x.size
+    log_x = -np.log(x)
+    hessian = 2.0 * np.array([[n, log_x.sum()], [log_x.sum(), np.sum(log_x**2)]])
+    eigenvalues = np.linalg.eigvalsh(hessian)
+    A, x0 = row["boussinesq_A_mm"], row["boussinesq_x0_mm"]
+    intercept = A * math.log(x0) if np.isfinite(x0) else float(np.mean(y))
+    size = abs(A) + abs(intercept)
+    # a change of the objective by `rounding` moves the minimum by sqrt(2 rounding /
+    # lambda_min); the closed form's sums add n eps times the condition number
+    condition = eigenvalues[-1] / max(eigenvalues[0], np.finfo(float).tiny)
+    shift = math.sqrt(4.0 * rounding / max(eigenvalues[0], np.finfo(float).tiny))
+    shift += (n + 2) * EPS * condition * size
+    sse = n * row["boussinesq_rmse_mm"] ** 2
+    d_sse = 4.0 * rounding
+    rmse = row["boussinesq_rmse_mm"]
+    tolerances = {
+        "boussinesq_A_mm": shift,
+        "boussinesq_rmse_mm": d_sse / (2.0 * n * rmse) if rmse > 0 else math.sqrt(d_sse / n),
+        "boussinesq_max_abs_residual_mm": math.sqrt(d_sse) + OPERATIONS_PER_POINT * EPS * size,
+        "boussinesq_aicc": n * d_sse / sse if sse > 0 else math.inf,
+    }
+    if np.isfinite(x0) and A > 0:
+        # x0 = exp(intercept / A): relative error of the ratio's change
+        tolerances["boussinesq_x0_mm"] = x0 * (shift + abs(intercept / A) * shift) / A
+    return tolerances
+
+
+def fit_row_tolerances(row, x_mm, y_mm):
+    """Absolute tolerance of each numeric column of a fit-table row.
+
+    Parameters
+    ----------
+    row : dict
+        A row of :func:`lineload.fitting.fit_trials` (the reference).
+    x_mm, y_mm : array_like
+        The trial's averaged profile (all of its points).
+
+    Returns
+    -------
+    dict
+        Column name to tolerance (0 for counts and settings).
+    """
+    x_mm, y_mm = np.asarray(x_mm, dtype=float), np.asarray(y_mm, dtype=float)
+    keep = fitting.in_fit_window(x_mm, row["fit_window_mm"]) & np.isfinite(y_mm)
+    x, y = x_mm[keep], y_mm[keep]
+    tolerances = {name: 0.0 for name in row}
+    if x.size == 0:
+        return tolerances
+    depth = row["depth_mm"]
+    for model, curve in CURVES.items():
+        L_mm = row[f"{model}_L_mm"]
+        if not np.isfinite(L_mm):
+            continue
+        model_mm = curve(x, depth, L_mm)
+        rounding = fit_rounding_mm2(y, model_mm, L_mm**2 / depth)
+        tolerances.update(_one_parameter_tolerances(row, model, x, y, rounding))
+    if np.isfinite(row["boussinesq_A_mm"]):
+        A, x0 = row["boussinesq_A_mm"], row["boussinesq_x0_mm"]
+        # without a zero crossing (A <= 0) the row has no intercept: size from the data
+        model_mm = A * np.log(x0 / x) if np.isfinite(x0) else y.copy()
+        tolerances.update(_boussinesq_tolerances(row, x, y, fit_rounding_mm2(y, model_mm)))
+    return tolerances
+
+
+def assert_rows_agree(rows, expected_rows, distance_mm, deflection_mm):
+    """Rows of two fits of the same trials agree within :func:`fit_row_tolerances`.
+
+    NaN must meet NaN and an infinity the same infinity.
+    """
+    assert len(rows) == len(expected_rows)
+    for i, (row, expected) in enumerate(zip(rows, expected_rows, strict=True)):
+        assert list(row) == list(expected)
+        tolerances = fit_row_tolerances(expected, distance_mm[i], deflection_mm[i])
+        for name, value in expected.items():
+            actual = row[name]
+            if isinstance(value, str):
+                assert actual == value, (i, name)
+                continue
+            if not np.isfinite(value) or not np.isfinite(actual):
+                same = (np.isnan(value) and np.isnan(actual)) or actual == value
+                assert same, (i, name, actual, value)
+                continue
+            gap = abs(actual - value)
+            assert gap <= tolerances[name], (i, name, actual, value, gap, tolerances[name])
