@@ -1,8 +1,16 @@
 """Rule claims_table: recompute the paper's claims with verdicts."""
 
+import sys
+
 import pandas as pd
 
-from lineload.claims import CLAIM_COLUMNS, ClaimSettings, claims_markdown, compute_claims
+from lineload.claims import (
+    CLAIM_COLUMNS,
+    ClaimSettings,
+    InternalError,
+    claims_markdown,
+    compute_claims,
+)
 from lineload.io import output_to, read_json, read_results_csv, write_csv, write_text
 from lineload.validation import read_forces
 
@@ -21,10 +29,16 @@ def make_claims(fits_path, averaged_paths, forces_paths, outputs, settings, noti
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        make_claims(
-            snakemake.input.fits,
-            snakemake.input.averaged,
-            list(snakemake.input.forces),
-            snakemake.output,
-            **read_json(snakemake.input.spec),
-        )
+        try:
+            make_claims(
+                snakemake.input.fits,
+                snakemake.input.averaged,
+                list(snakemake.input.forces),
+                snakemake.output,
+                **read_json(snakemake.input.spec),
+            )
+        except InternalError as error:
+            # a bug, not a finding: one sentence where the user looks, no claims written
+            print(f"Error: {error}")
+            print(f"Error: {error}", file=sys.__stderr__)
+            sys.exit(1)
