@@ -456,7 +456,7 @@ def test_mechanics_tables_and_c11_with_and_without_forces(tmp_path, snakemake_av
     trials = pd.read_csv(out / "tables" / "mechanics_trials.csv")
     assert len(trials) == 3 and trials["force_N"].isna().all()
     claims = pd.read_csv(out / "tables" / "claims.csv").set_index("claim")
-    assert "measured forces" not in claims.loc["C11", "our_value"]
+    assert "forces of forces.csv" not in claims.loc["C11", "our_value"]
     # adding forces (no contact lengths) reruns the mechanics and the claims
     write_forces(raw, GOOD)
     process = run_snakemake(*targets, raw=str(raw), results=str(out))
@@ -465,7 +465,7 @@ def test_mechanics_tables_and_c11_with_and_without_forces(tmp_path, snakemake_av
     assert list(table["subject"]) == ["MK"]
     assert table["prestrain"].notna().all() and table["pretension_N_per_mm"].isna().all()
     claims = pd.read_csv(out / "tables" / "claims.csv").set_index("claim")
-    assert "measured forces, 1 subject" in claims.loc["C11", "our_value"]
+    assert "forces of forces.csv, 1 subject" in claims.loc["C11", "our_value"]
 
 
 @pytest.mark.e2e

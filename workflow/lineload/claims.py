@@ -1231,8 +1231,6 @@ def claim_c11(fits, averaged, settings, forces=None):
         )
     parts, too_steep, all_within = [], [], True
     if shapes:
-        fitted = [c["stress_free"] for c in shapes.values()]
-        lowest = [c["stress_free_low"] for c in shapes.values()]
         tension = [c["tension_only"] for c in shapes.values()]
         too_steep = [s for s, c in shapes.items() if c["stress_free_low"] > allowed]
         all_within = all(c["stress_free_high"] <= allowed for c in shapes.values())
@@ -1240,7 +1238,6 @@ def claim_c11(fits, averaged, settings, forces=None):
         finite = {s: p for s, p in prestrains.items() if math.isfinite(p)}
         none = [s for s, p in prestrains.items() if p == math.inf]
         spans = sorted({c["depths_mm"] for c in shapes.values()})
-        depth_text = ", ".join(f"{a:g} to {b:g} mm" for a, b in spans)
         if len(shapes) <= 8:
             reconcile = "per subject, stress-free ratio / pre-strain that reconciles: " + ", ".join(
                 f"{s} {format_fixed(c['stress_free'], 1)} / "
@@ -1252,12 +1249,18 @@ def claim_c11(fits, averaged, settings, forces=None):
                 f"{_span(list(finite.values()), 2, '')} in {len(finite)}" if finite else "none"
             )
             reconcile += f", none can in {len(none)} ({_list(none)})" if none else ""
+        by_pair = []
+        for pair in spans:
+            members = [c for c in shapes.values() if c["depths_mm"] == pair]
+            by_pair.append(
+                f"{pair[0]:g} to {pair[1]:g} mm ({_n(len(members), 'subject')}): "
+                f"{_span([c['stress_free'] for c in members], 1, '')}, lowest within the L "
+                f"intervals {_span([c['stress_free_low'] for c in members], 1, '')}"
+            )
         parts.append(
-            f"shapes, {_n(len(shapes), 'subject')} (depths {depth_text}): stress-free force "
-            f"ratio {_span(fitted, 1, '')} (median {format_fixed(np.median(fitted), 1)}), "
-            f"lowest within the L intervals {_span(lowest, 1, '')}; allowed by "
-            f"{low_N:g}-{high_N:g} N at most {allowed:.2f}; tension alone "
-            f"{_span(tension, 2, '')}; {reconcile}"
+            f"shapes: stress-free force ratio, largest over smallest depth, "
+            f"{'; '.join(by_pair)}; allowed by {low_N:g}-{high_N:g} N at most "
+            f"{allowed:.2f}; tension alone {_span(tension, 2, '')}; {reconcile}"
         )
     rejected = []
     if measured:
@@ -1266,7 +1269,7 @@ def claim_c11(fits, averaged, settings, forces=None):
         rejected = [s for s, pv in p_values.items() if math.isfinite(pv) and pv < critical]
         fitted_prestrain = [c["tensioned"].prestrain for c in measured.values()]
         parts.append(
-            f"measured forces, {_n(len(measured), 'subject')}: ratio "
+            f"forces of forces.csv, {_n(len(measured), 'subject')}: ratio "
             f"{_span([c['ratio'] for c in measured.values()], 2, '')}; stress-free rejected in "
             f"{len(rejected)} of {len(measured)} (p < {critical:.2g}); fitted pre-strain "
             f"{_span(fitted_prestrain, 2, '')}"
@@ -1275,18 +1278,21 @@ def claim_c11(fits, averaged, settings, forces=None):
     if too_steep or rejected:
         reasons = []
         if too_steep:
-            steep = [shapes[s]["stress_free"] for s in too_steep]
-            steep_low = [shapes[s]["stress_free_low"] for s in too_steep]
-            reasons.append(
-                f"with the fitted shapes a stress-free membrane needs {_span(steep, 0, '')} "
-                f"times more force at the largest depth than at the smallest (at least "
-                f"{_span(steep_low, 0, '')} anywhere in the L intervals) in {_list(too_steep)}, "
-                f"where the paper's {low_N:g}-{high_N:g} N allows {allowed:.1f}"
-            )
+            for pair in sorted({shapes[s]["depths_mm"] for s in too_steep}):
+                members = [s for s in too_steep if shapes[s]["depths_mm"] == pair]
+                steep = [shapes[s]["stress_free"] for s in members]
+                steep_low = [shapes[s]["stress_free_low"] for s in members]
+                reasons.append(
+                    f"from {pair[0]:g} to {pair[1]:g} mm the fitted shapes need a stress-free "
+                    f"membrane to push {_span(steep, 0, '')} times harder (at least "
+                    f"{_span(steep_low, 0, '')} anywhere in the L intervals) in "
+                    f"{_list(members, limit=len(members))}"
+                )
+            reasons[-1] += f", where the paper's {low_N:g}-{high_N:g} N allows {allowed:.1f}"
         if rejected:
             reasons.append(
-                f"the measured forces reject it in {_list(rejected)}, which they fit with a "
-                "tension at rest"
+                f"the forces in forces.csv reject it in {_list(rejected, limit=len(rejected))}, "
+                "which they fit with a tension at rest"
             )
         tension_over = [s for s, c in shapes.items() if c["prestrain"] == math.inf]
         text = "; ".join(reasons)
@@ -1303,14 +1309,14 @@ def claim_c11(fits, averaged, settings, forces=None):
             f"a force ratio within the {allowed:.1f} the paper's range allows, even at the "
             "least favourable ends of the L intervals"
         )
-        reason += "; the measured forces do not reject it." if measured else "."
+        reason += "; the forces in forces.csv do not reject it." if measured else "."
         return _row("C11", our, HOLDS, reason, rule)
     reason = (
         "The fitted shapes neither rule out a stress-free membrane nor confirm it: the L "
         f"intervals straddle the ratio of {allowed:.1f} the paper's range allows"
         if shapes
-        else "Only measured forces were tested and they do not reject it, but no subject's "
-        "shapes span two depths"
+        else "Only the forces of forces.csv were tested and they do not reject it, but no "
+        "subject's shapes span two depths"
     )
     return _row("C11", our, UNTESTABLE, reason + ".", rule)
 
