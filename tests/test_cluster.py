@@ -50,10 +50,11 @@ def test_fits_through_a_cluster_executor_equal_a_local_run(tmp_path):
 
 def outputs(results):
     """Every output but logs and timings, with the folder's own name (which the provenance
-    record and its spec hold) written as <results>, so builds in two folders compare."""
+    record and its spec hold, as the folder lies outside the working folder) written as
+    <results>, so builds in two folders compare."""
     return {
         path.relative_to(results).as_posix(): path.read_bytes().replace(
-            str(results).encode(), b"<results>"
+            f'"{results.name}"'.encode(), b'"<results>"'
         )
         for path in sorted(results.rglob("*"))
         if path.is_file() and path.relative_to(results).parts[0] not in ("logs", "benchmarks")

@@ -25,9 +25,23 @@ def test_record_hashes_every_raw_file(tmp_path):
 def test_a_changed_byte_changes_the_hash(tmp_path):
     raw = write_small_dataset(tmp_path / "raw")
     path = raw / "profiles" / "MK.csv"
+    files = [str(p) for p in raw.rglob("*.csv")]
     before = provenance.file_sha256(path)
+    folder = provenance.provenance_record(str(raw), files, {}, str(tmp_path))["raw_data"]
     path.write_bytes(path.read_bytes().replace(b"left", b"right", 1))
     assert provenance.file_sha256(path) != before
+    # the folder's own hash, its name where it lies outside the working folder, follows
+    after = provenance.provenance_record(str(raw), files, {}, str(tmp_path))["raw_data"]
+    assert after["folder"] == folder["folder"] == "raw"
+    assert after["folder_sha256"] != folder["folder_sha256"]
+
+
+def test_folder_inside_the_working_folder_is_named_relative_to_it(tmp_path, monkeypatch):
+    raw = write_small_dataset(tmp_path / "lab" / "raw")
+    monkeypatch.chdir(tmp_path)
+    files = [str(p) for p in raw.rglob("*.csv")]
+    record = provenance.provenance_record(str(raw), files, {}, str(tmp_path))
+    assert record["raw_data"]["folder"] == "lab/raw"
 
 
 def test_json_is_stable_and_has_no_time(tmp_path):
@@ -38,5 +52,7 @@ def test_json_is_stable_and_has_no_time(tmp_path):
         for order in (files, files[::-1])
     ]
     assert texts[0] == texts[1]
-    assert json.loads(texts[0])["raw_data"]["folder"] == str(raw)
+    # a folder outside the working folder is named, not located: no absolute path
+    assert json.loads(texts[0])["raw_data"]["folder"] == "raw"
+    assert str(tmp_path) not in texts[0]
     assert not re.search(r"\d{4}-\d{2}-\d{2}|\d{2}:\d{2}:\d{2}", texts[0])

@@ -74,8 +74,11 @@ def test_verify_lists_raw_files_that_differ_from_the_record(tmp_path):
     check_ok(run_snakemake("provenance", raw=raw, results=results))
     record_path = results / "provenance.json"
     record = json.loads(record_path.read_text())
-    assert verify(record) == []
+    # the raw folder lies outside the working folder: the record names it, so say where
+    assert record["raw_data"]["folder"] == "raw"
+    assert verify(record, raw) == []
     command = [str(Path(sys.executable).parent / "lineload-verify"), str(record_path)]
+    command += ["--raw", str(raw)]
     clean = subprocess.run(command, capture_output=True, text=True)
     assert clean.returncode == 0 and "raw files match" in clean.stdout
     # a changed reading, a removed file and an added one are each named
@@ -83,11 +86,13 @@ def test_verify_lists_raw_files_that_differ_from_the_record(tmp_path):
     profile.write_text(profile.read_text().replace("0.", "1.", 1))
     (raw / "profiles" / "HU.csv").unlink()
     (raw / "profiles" / "XX.csv").write_text("depth_mm\n")
-    problems = verify(record)
+    problems = verify(record, raw)
     assert f"differs from the record: {profile}" in problems
     assert f"missing: {raw / 'profiles' / 'HU.csv'}" in problems
     assert f"not in the record: {raw / 'profiles' / 'XX.csv'}" in problems
     changed = subprocess.run(command, capture_output=True, text=True)
     assert changed.returncode == 1 and "MK.csv" in changed.stdout
-    elsewhere = subprocess.run([*command, "--raw", str(tmp_path)], capture_output=True, text=True)
+    elsewhere = subprocess.run(
+        [*command[:-2], "--raw", str(tmp_path)], capture_output=True, text=True
+    )
     assert elsewhere.returncode == 1 and "missing" in elsewhere.stdout

@@ -103,7 +103,13 @@ def test_the_workflow_runs_from_another_folder_with_s(tmp_path, snakemake_availa
     provenance = json.loads(
         (elsewhere / "results" / "specs" / "provenance" / "all.json").read_text()
     )
-    assert provenance["raw_dir"] == str(REPO / "data" / "raw")
+    # the shipped data lie outside the working folder: named, never by absolute path
+    assert provenance["config"]["raw_data"] == "raw"
+    assert provenance["config"]["results"] == "results"
+    check = json.loads(
+        (elsewhere / "results" / "specs" / "check_raw_data" / "all.json").read_text()
+    )
+    assert str(REPO) not in json.dumps([provenance, check])
 
 
 def readme_lab_config():
@@ -146,7 +152,7 @@ def test_the_readme_lab_config_runs(tmp_path, how, snakemake_available):
     assert process.returncode == 0, process.stderr[-3000:]
     assert (lab / "results" / "tables" / "fits.csv").is_file()
     spec = json.loads((lab / "results" / "specs" / "provenance" / "all.json").read_text())
-    assert spec["raw_dir"] == "raw"
+    assert spec["config"]["raw_data"] == "raw"  # relative to the lab folder, where it runs
     config = spec["config"]
     assert config["figures"]["example_subjects"] == ["S-01", "S-02"]
     assert config["input_checks"]["depth_max_mm"] == 3.0

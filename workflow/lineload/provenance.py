@@ -13,6 +13,8 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
+from .startup import portable_path
+
 __all__ = [
     "PACKAGES",
     "file_sha256",
@@ -81,19 +83,28 @@ def provenance_record(raw_dir, raw_files, config, source_dir):
     config : dict
         The configuration in force (after defaults).
     source_dir : str
-        Folder of the workflow's source (for the git state).
+        Folder of the workflow's source (for the git state; not recorded).
 
     Returns
     -------
     dict
-        ``raw_data`` (folder and SHA-256 per file, keyed by path relative to the
-        folder), ``config``, ``python``, ``packages`` and ``git``.
+        ``raw_data``: the folder (relative to the working folder when inside it,
+        else its name: no absolute path), ``folder_sha256`` (over every file's
+        name and hash, so a folder outside the working folder is still named by
+        its content) and ``sha256`` per file, keyed by path relative to the
+        folder; ``config``, ``python``, ``packages`` and ``git``.
     """
     hashes = {
         Path(path).relative_to(raw_dir).as_posix(): file_sha256(path) for path in sorted(raw_files)
     }
+    hashes = dict(sorted(hashes.items()))
+    listing = "".join(f"{digest}  {name}\n" for name, digest in hashes.items())
     return {
-        "raw_data": {"folder": str(raw_dir), "sha256": dict(sorted(hashes.items()))},
+        "raw_data": {
+            "folder": portable_path(raw_dir),
+            "folder_sha256": hashlib.sha256(listing.encode()).hexdigest(),
+            "sha256": hashes,
+        },
         "config": config,
         "python": platform.python_version(),
         "packages": package_versions(),
@@ -114,7 +125,9 @@ def verify(record, raw_dir=None):
     record : dict
         A provenance record (:func:`provenance_record`, as read from the JSON file).
     raw_dir : str or os.PathLike, optional
-        Where the raw files are now; defaults to the folder the record names.
+        Where the raw files are now; defaults to the folder the record names
+        (relative to the current folder; a folder that was outside the
+        working folder is recorded by name only, so give it here).
 
     Returns
     -------

@@ -4,7 +4,26 @@
 rule article:
     """Typeset the reproduction article (Typst) from the results tables and figures."""
     input:
-        **article_inputs(),
+        spec=spec(
+            "article",
+            settings={
+                "fit_window_mm": config["fit_window_mm"],
+                "claims": config["claims"],
+                "sensitivity": config["sensitivity"],
+                # as configured; the job chooses those left unset, as the figure jobs do
+                "figures": {key: config["figures"][key] for key in CHOICE_KEYS},
+            },
+            subjects=SUBJECTS,
+            notice=NOTICE,
+        ),
+        source=os.path.relpath(Path(workflow.basedir, "article", "reproduction.typ")),
+        checked=checked_raw_data,
+        fits=rules.fits_table.output[0],
+        claims=rules.claims_table.output.csv,
+        checks=rules.sensitivity_tables.output.checks,
+        mechanics=rules.mechanics.output.subjects,
+        figures=[f for f in FIGURE_FILES if f.endswith(".pdf")],
+        code=code("write_article.py"),
     output:
         pdf=report_item(
             result("article", "reproduction.pdf"),

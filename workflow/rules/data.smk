@@ -1,13 +1,34 @@
-# Stage 1, data: raw image-unit readings -> tissue mm -> left/right mean.
+# Stage 1, data: every raw file checked; raw image-unit readings -> tissue mm ->
+# left/right mean.  Every job that reads raw data waits for the check
+# (checked_raw_data, common.smk), so a refused folder leaves nothing but its log.
+
+
+checkpoint check_raw_data:
+    """Check every raw file against the data contract: every problem at once, one line each."""
+    input:
+        spec=spec("check_raw_data", input_checks=config["input_checks"]),
+        sheet=f"{RAW}/subjects.csv",
+        # every file of the folder, a stray one too (the check warns about it)
+        files=RAW_FILES["all"],
+        code=code("check_raw_data.py"),
+    output:
+        result("data", "raw_check.json"),
+    log:
+        result("logs", "check_raw_data.log"),
+    benchmark:
+        result("benchmarks", "check_raw_data.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/check_raw_data.py"
 
 
 rule prepare_profiles:
     """Convert a batch of subjects' readings to tissue mm and average the two sides."""
     input:
-        spec=batch_specs("prepare_profiles"),
-        profiles=lambda wildcards: [
-            f"{RAW}/profiles/{s}.csv" for s in BATCHES[wildcards.batch]
-        ],
+        checked=checked_raw_data,
+        spec=spec("prepare_profiles", subjects=batch_subjects),
+        profiles=profile_files,
         code=code("prepare_profiles.py"),
     output:
         converted=report_item(
@@ -37,7 +58,14 @@ rule prepare_profiles:
 rule prepare_outline:
     """Convert one subject's traced outlines (Figure 1) to tissue mm."""
     input:
-        spec=subject_specs("prepare_outline", DATASET["outlines"]),
+        checked=checked_raw_data,
+        spec=spec(
+            "prepare_outline",
+            subject=lambda wildcards: wildcards.subject,
+            magnification=lambda wildcards: SUBJECTS[wildcards.subject][
+                "magnification"
+            ],
+        ),
         outline=f"{RAW}/outlines/{{subject}}.csv",
         code=code("prepare_outline.py"),
     output:

@@ -2,14 +2,85 @@
 # lineload/figures/registry.py lists every figure once: the group (job) that draws
 # it, its function and the arguments it takes.  One job per group, each drawing
 # several figures in one Python process; every figure is written as PDF and PNG.
+from lineload.figures import registry
+from lineload.figures.choices import CHOICE_KEYS
+
+# The settings a figure function may take (registry kind "setting").  The subjects and
+# depths of Figures 1 and 2 are as configured here; the job chooses those left unset
+# from the depths the raw-data check found, and logs what it chose and why.
+FIGURE_SETTINGS = {
+    "notice": NOTICE,
+    "fit_window_mm": config["fit_window_mm"],
+    **{key: config["figures"][key] for key in CHOICE_KEYS},
+    "schematic_depth_ratio": config["figures"]["schematic_depth_ratio"],
+    "noise_mm": config["claims"]["noise_mm"],
+}
+# The results tables a figure function may take (registry kind "file"), each a list:
+# the job reads the files of one name as one table.
+FIGURE_TABLES = {
+    "averaged": expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
+    "fits": [rules.fits_table.output[0]],
+    "outlines": expand(rules.prepare_outline.output[0], subject=OUTLINED),
+    "sensitivity": [rules.sensitivity_tables.output.sensitivity],
+    "checks": [rules.sensitivity_tables.output.checks],
+    "mechanics": [rules.mechanics.output.subjects],
+    "mechanics_trials": [rules.mechanics.output.trials],
+}
+# Per group: the settings its figures take; the subject sheet ([subject, species,
+# label] in sheet order) if they take it; its named inputs (the raw-data check, the
+# tables, the code); its files (PDF and PNG of each figure).
+GROUP_SETTINGS = {
+    group: {
+        a: FIGURE_SETTINGS[a]
+        for a in registry.arguments_of_group(group, "setting")
+        if a in FIGURE_SETTINGS
+    }
+    for group in registry.GROUPS
+}
+GROUP_SUBJECTS = {
+    group: (
+        [[s, SUBJECTS[s]["species"], SUBJECTS[s]["label"]] for s in SUBJECT_IDS]
+        if "subjects" in registry.arguments_of_group(group)
+        else []
+    )
+    for group in registry.GROUPS
+}
+GROUP_INPUTS = {
+    group: {
+        "checked": checked_raw_data,
+        **{name: FIGURE_TABLES[name] for name in registry.file_arguments(group)},
+        "code": code(
+            "draw_figures.py",
+            sorted({f.import_path for f in registry.figures_in_group(group)}),
+        ),
+    }
+    for group in registry.GROUPS
+}
+GROUP_FILES = {
+    group: [
+        result("figures", f"{figure.name}.{ext}")
+        for figure in registry.figures_in_group(group)
+        for ext in ("pdf", "png")
+    ]
+    for group in registry.GROUPS
+}
+# Every figure file the default target builds.
+FIGURE_FILES = [f for group in registry.GROUPS for f in GROUP_FILES[group]]
 
 
 rule figure_outlines:
     """Figure 1: resting and deformed outlines, to scale (a note if there are none)."""
     input:
-        **figure_inputs("outlines"),
+        **GROUP_INPUTS["outlines"],
+        spec=spec(
+            "figure_outlines",
+            group="outlines",
+            dpi=config["figures"]["png_dpi"],
+            subjects=GROUP_SUBJECTS["outlines"],
+            settings=GROUP_SETTINGS["outlines"],
+        ),
     output:
-        figure_files("outlines"),
+        GROUP_FILES["outlines"],
     log:
         result("logs", "figure_outlines.log"),
     benchmark:
@@ -23,9 +94,16 @@ rule figure_outlines:
 rule figure_schematics:
     """Figures 3-5: the waterbed model, material point and free-body diagrams, from eq. 19."""
     input:
-        **figure_inputs("schematics"),
+        **GROUP_INPUTS["schematics"],
+        spec=spec(
+            "figure_schematics",
+            group="schematics",
+            dpi=config["figures"]["png_dpi"],
+            subjects=GROUP_SUBJECTS["schematics"],
+            settings=GROUP_SETTINGS["schematics"],
+        ),
     output:
-        figure_files("schematics"),
+        GROUP_FILES["schematics"],
     log:
         result("logs", "figure_schematics.log"),
     benchmark:
@@ -39,9 +117,16 @@ rule figure_schematics:
 rule figure_fits:
     """Figures 2, 6 and 7: averaged profiles against the fitted models."""
     input:
-        **figure_inputs("fits"),
+        **GROUP_INPUTS["fits"],
+        spec=spec(
+            "figure_fits",
+            group="fits",
+            dpi=config["figures"]["png_dpi"],
+            subjects=GROUP_SUBJECTS["fits"],
+            settings=GROUP_SETTINGS["fits"],
+        ),
     output:
-        figure_files("fits"),
+        GROUP_FILES["fits"],
     log:
         result("logs", "figure_fits.log"),
     benchmark:
@@ -55,9 +140,16 @@ rule figure_fits:
 rule figure_supplements:
     """Supplementary figures: residuals, parabola against arc, sensitivity, coordinates."""
     input:
-        **figure_inputs("supplements"),
+        **GROUP_INPUTS["supplements"],
+        spec=spec(
+            "figure_supplements",
+            group="supplements",
+            dpi=config["figures"]["png_dpi"],
+            subjects=GROUP_SUBJECTS["supplements"],
+            settings=GROUP_SETTINGS["supplements"],
+        ),
     output:
-        figure_files("supplements"),
+        GROUP_FILES["supplements"],
     log:
         result("logs", "figure_supplements.log"),
     benchmark:

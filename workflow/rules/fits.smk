@@ -5,8 +5,10 @@
 rule fit_models:
     """Fit the waterbed (paper's, shifted, exact arc) and Boussinesq to each trial of a batch."""
     input:
-        spec=batch_specs("fit_models", window_mm=config["fit_window_mm"]),
-        averaged=result("data", "averaged", "{batch}.csv"),
+        spec=spec(
+            "fit_models", subjects=batch_subjects, window_mm=config["fit_window_mm"]
+        ),
+        averaged=rules.prepare_profiles.output.averaged,
         code=code("fit_models.py"),
     output:
         result("fits", "{batch}.csv"),
@@ -23,7 +25,7 @@ rule fit_models:
 rule fits_table:
     """Collect every batch's fits into results/tables/fits.csv (subject-sheet order)."""
     input:
-        tables=expand(result("fits", "{batch}.csv"), batch=BATCH_IDS),
+        tables=expand(rules.fit_models.output[0], batch=BATCH_IDS),
         code=code("concat_tables.py"),
     output:
         report_item(
@@ -46,13 +48,14 @@ rule fits_table:
 rule fit_sensitivity:
     """Refit a batch with other windows, W0 free, in measured coordinates; U shift and reach."""
     input:
-        spec=batch_specs(
+        spec=spec(
             "fit_sensitivity",
+            subjects=batch_subjects,
             window_mm=config["fit_window_mm"],
             windows_mm=config["sensitivity"]["windows_mm"],
             reach_fraction=config["sensitivity"]["reach_fraction"],
         ),
-        averaged=result("data", "averaged", "{batch}.csv"),
+        averaged=rules.prepare_profiles.output.averaged,
         code=code("fit_sensitivity.py"),
     output:
         sensitivity=result("fits", "sensitivity", "{batch}.csv"),
@@ -72,10 +75,8 @@ rule sensitivity_tables:
     """Collect the refits and per-trial checks; summarise them in Markdown."""
     input:
         spec=spec("sensitivity_tables", notice=NOTICE),
-        sensitivity=expand(
-            result("fits", "sensitivity", "{batch}.csv"), batch=BATCH_IDS
-        ),
-        checks=expand(result("fits", "checks", "{batch}.csv"), batch=BATCH_IDS),
+        sensitivity=expand(rules.fit_sensitivity.output.sensitivity, batch=BATCH_IDS),
+        checks=expand(rules.fit_sensitivity.output.checks, batch=BATCH_IDS),
         code=code("sensitivity_tables.py"),
     output:
         sensitivity=report_item(

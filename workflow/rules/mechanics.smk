@@ -7,10 +7,10 @@ rule mechanics:
     input:
         spec=spec(
             "mechanics",
-            contact_length_mm=DATASET["contact_length_mm"],
+            contact_length_mm=CONTACT_LENGTH_MM,
             force_sd_N=config["mechanics"]["force_sd_N"],
         ),
-        fits=result("tables", "fits.csv"),
+        fits=rules.fits_table.output[0],
         forces=FORCES,
         code=code("fit_mechanics.py"),
     output:

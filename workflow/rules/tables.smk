@@ -5,7 +5,7 @@ rule fit_tables:
     """Fit table as Markdown and LaTeX; summary per species and depth (CSV, Markdown, LaTeX)."""
     input:
         spec=spec("fit_tables", notice=NOTICE),
-        fits=result("tables", "fits.csv"),
+        fits=rules.fits_table.output[0],
         code=code("make_tables.py"),
     output:
         fits_md=result("tables", "fits.md"),
@@ -40,8 +40,8 @@ rule claims_table:
             },
             notice=NOTICE,
         ),
-        fits=result("tables", "fits.csv"),
-        averaged=expand(result("data", "averaged", "{batch}.csv"), batch=BATCH_IDS),
+        fits=rules.fits_table.output[0],
+        averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
         # C11 checks the measured forces too when there are any
         forces=FORCES,
         code=code("make_claims.py"),

@@ -13,6 +13,7 @@ from pathlib import Path
 import typst
 
 from lineload.article import article_facts
+from lineload.figures.choices import figure_settings
 from lineload.io import (
     json_text,
     output_to,
@@ -37,13 +38,20 @@ def compile_pdf(source, root):
     return pdf
 
 
-def write_article(inputs, outputs, settings, subjects, depths_mm, notice, source_dir):
+def write_article(inputs, outputs, settings, subjects, notice, repository):
     """Write facts.json, the copy of the source, and the PDF."""
     software = {
         "python": platform.python_version(),
         "packages": package_versions(),
-        "git": git_state(source_dir),
+        "git": git_state(repository),
     }
+    found = read_json(inputs.checked)
+    depths_mm = found["depths_mm"]
+    species_of = {subject: about["species"] for subject, about in subjects.items()}
+    chosen, logs = figure_settings(species_of, depths_mm, found["outlines_mm"], settings["figures"])
+    for line in logs["outlines"] + logs["fits"]:  # as the figure jobs chose
+        print(line)
+    settings = {**settings, "figures": {k: v for k, v in chosen.items() if k != "example_note"}}
     facts = article_facts(
         read_results_csv(inputs.fits),
         read_results_csv(inputs.claims),
@@ -67,4 +75,9 @@ def write_article(inputs, outputs, settings, subjects, depths_mm, notice, source
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        write_article(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
+        write_article(
+            snakemake.input,
+            snakemake.output,
+            **read_json(snakemake.input.spec),
+            repository=Path(snakemake.scriptdir).parents[1],  # for its git commit
+        )

@@ -1,12 +1,16 @@
 """Rule provenance: hashes of the raw inputs, config, versions, commit."""
 
+import os
+from pathlib import Path
+
 from lineload.io import output_to, read_json, write_text
 from lineload.provenance import provenance_record, to_json
 
 
-def write_provenance(raw_files, output, raw_dir, config, source_dir):
+def write_provenance(raw_files, output, config, repository):
     """Write the provenance record of this build."""
-    record = provenance_record(raw_dir, raw_files, config, source_dir)
+    raw_dir = os.path.dirname(raw_files[0])  # the first is the subject sheet
+    record = provenance_record(raw_dir, raw_files, config, repository)
     write_text(to_json(record), output)
     print(
         f"{output}: {len(record['raw_data']['sha256'])} raw files hashed, "
@@ -17,5 +21,8 @@ def write_provenance(raw_files, output, raw_dir, config, source_dir):
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
         write_provenance(
-            snakemake.input.raw, snakemake.output[0], **read_json(snakemake.input.spec)
+            snakemake.input.raw,
+            snakemake.output[0],
+            **read_json(snakemake.input.spec),
+            repository=Path(snakemake.scriptdir).parents[1],  # for its git commit
         )

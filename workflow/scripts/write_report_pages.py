@@ -22,11 +22,12 @@ def caption(path, config):
     return publish_parts(text, writer_name="html5")["body"]
 
 
-def write_report_pages(inputs, outputs, tables, config, notice, subjects, depths_mm, source_dir):
+def write_report_pages(inputs, outputs, tables, config, notice, subjects, repository):
     """Write every page listed in the spec into the folder of the job's outputs."""
     captions = Path(inputs.captions[0]).parent
     folder = Path(outputs[0]).parent
-    for name, (title, path) in tables.items():
+    depths_mm = read_json(inputs.checked)["depths_mm"]
+    for (name, title), path in zip(tables, inputs.tables, strict=True):
         frame = read_results_csv(path)
         text = table_page(
             title,
@@ -61,7 +62,7 @@ def write_report_pages(inputs, outputs, tables, config, notice, subjects, depths
         notice,
     )
     write_text(data, folder / "data.html")
-    git = git_state(source_dir)
+    git = git_state(repository)
     versions = [("python", platform.python_version())]
     versions += [(n, v) for n, v in package_versions().items() if v]
     versions += [("commit", git["commit"] or "unknown"), ("uncommitted changes", str(git["dirty"]))]
@@ -74,4 +75,9 @@ def write_report_pages(inputs, outputs, tables, config, notice, subjects, depths
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        write_report_pages(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
+        write_report_pages(
+            snakemake.input,
+            snakemake.output,
+            **read_json(snakemake.input.spec),
+            repository=Path(snakemake.scriptdir).parents[1],  # for its git commit
+        )

@@ -6,9 +6,10 @@ dataset need not have that depth, nor those subjects, so an unset choice
 ``outline_*`` keys) is made here from what was measured, and said in words for
 the figure job's log and, when it departs from the paper, in the figure.
 
-Snakemake calls these functions while it parses the workflow, so this module
-imports only the standard library.  A choice the data cannot satisfy raises a
-:class:`ChoiceError` whose message names the config key.
+The figure jobs and the article job make these choices (:func:`figure_settings`)
+from the depths the raw-data check found; this module imports only the standard
+library.  A choice the data cannot satisfy raises a :class:`ChoiceError` whose
+message names the config key.
 """
 
 from __future__ import annotations
@@ -17,7 +18,18 @@ from dataclasses import dataclass
 
 from ..paper import EXAMPLE_DEPTH_MM, SPECIES
 
-__all__ = ["Choice", "ChoiceError", "example_choice", "nearest_depth", "outline_choice"]
+__all__ = [
+    "CHOICE_KEYS",
+    "Choice",
+    "ChoiceError",
+    "example_choice",
+    "figure_settings",
+    "nearest_depth",
+    "outline_choice",
+]
+
+#: The ``figures:`` config keys that name what Figures 1 and 2 show (unset: chosen here).
+CHOICE_KEYS = ("example_subjects", "example_depth_mm", "outline_subjects", "outline_depth_mm")
 
 
 class ChoiceError(ValueError):
@@ -263,3 +275,48 @@ def outline_choice(species_of, outlines_mm, subjects=(), depth_mm=None):
     return Choice(
         chosen, depth, f"figure1: {', '.join(chosen)} ({how}) at {depth:g} mm ({depth_how})"
     )
+
+
+def figure_settings(species_of, depths_mm, outlines_mm, configured):
+    """The subjects and depths of Figures 1 and 2 as figure settings, and why.
+
+    Parameters
+    ----------
+    species_of : dict of str to str
+        Subject id -> species, in subject-sheet order.
+    depths_mm : dict of str to list of float
+        Depths measured per subject (the raw-data check's ``depths_mm``).
+    outlines_mm : dict of str to list of float
+        Depths outlined per subject with an outline file (its ``outlines_mm``).
+    configured : dict
+        The config's ``figures`` keys of :data:`CHOICE_KEYS` (unset: ``[]``
+        or None).
+
+    Returns
+    -------
+    settings : dict
+        ``example_subjects``, ``example_depth_mm``, ``example_note``,
+        ``outline_subjects``, ``outline_depth_mm`` (the figure functions'
+        arguments of these names).
+    logs : dict of str to list of str
+        Per figure group (``outlines``, ``fits``), what was chosen and why.
+
+    Raises
+    ------
+    ChoiceError
+        As :func:`outline_choice` and :func:`example_choice`.
+    """
+    outline = outline_choice(
+        species_of, outlines_mm, configured["outline_subjects"], configured["outline_depth_mm"]
+    )
+    example = example_choice(
+        species_of, depths_mm, configured["example_subjects"], configured["example_depth_mm"]
+    )
+    settings = {
+        "example_subjects": example.subjects,
+        "example_depth_mm": example.depth_mm,
+        "example_note": example.note,
+        "outline_subjects": outline.subjects,
+        "outline_depth_mm": outline.depth_mm,
+    }
+    return settings, {"outlines": [outline.log], "fits": [example.log]}

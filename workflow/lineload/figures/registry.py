@@ -28,6 +28,7 @@ __all__ = [
     "figure_named",
     "figures_in_group",
     "file_arguments",
+    "report_label",
 ]
 
 #: Kinds of figure argument: a results table a job reads, the subject sheet, a setting.
@@ -285,6 +286,23 @@ def figure_named(name):
         if figure.name == name:
             return figure
     raise KeyError(f"no figure named {name!r}; known: {', '.join(f.name for f in FIGURES)}")
+
+
+def report_label(figure):
+    """How the report numbers a figure: ``Figure 2`` as in the paper, ``Supplement 1`` after.
+
+    Parameters
+    ----------
+    figure : Figure
+
+    Returns
+    -------
+    str
+    """
+    supplements = [f for f in FIGURES if f.category == "Supplement"]
+    if figure in supplements:
+        return f"Supplement {supplements.index(figure) + 1}"
+    return figure.name.replace("figure", "Figure ")
 
 
 def figures_in_group(group):

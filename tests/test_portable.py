@@ -1,0 +1,85 @@
+"""A checkout can move: specs and outputs hold values, never the checkout's absolute path."""
+
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from conftest import REPO, write_small_dataset
+
+
+def copy_checkout(destination):
+    """The repository's files as git sees them (tracked and new, not ignored) copied to
+    ``destination``, as a clone would have them."""
+    listed = subprocess.run(
+        ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+        cwd=REPO,
+        capture_output=True,
+        check=True,
+    ).stdout.split(b"\0")
+    for name in filter(None, (n.decode() for n in listed)):
+        source = REPO / name
+        if source.is_file():
+            target = destination / name
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(source, target)
+    return destination
+
+
+def snakemake_in(checkout, *args):
+    """Snakemake run in ``checkout`` with the science package of that checkout."""
+    env = {
+        **os.environ,
+        "PYTHONPATH": str(checkout / "workflow"),
+        "PYTHONDONTWRITEBYTECODE": "1",
+    }
+    command = [sys.executable, "-m", "snakemake", "--cores", "2", *args]
+    return subprocess.run(command, cwd=checkout, capture_output=True, text=True, env=env)
+
+
+CONFIG = ("--config", "raw_data=lab/raw", "results=results")
+
+
+@pytest.mark.e2e
+def test_a_moved_or_copied_checkout_has_nothing_to_rerun(tmp_path, snakemake_available):
+    first = copy_checkout(tmp_path / "first")
+    write_small_dataset(first / "lab" / "raw")
+    build = snakemake_in(first, *CONFIG)
+    assert build.returncode == 0, build.stderr[-3000:]
+    # no spec and no output names the checkout: folders are relative to the working folder
+    for path in (first / "results").rglob("*"):
+        if path.is_file():
+            assert str(first).encode() not in path.read_bytes(), path
+
+    # the whole checkout, build state included, copied with its times, and moved
+    copied = tmp_path / "elsewhere" / "deeper" / "copy"
+    shutil.copytree(first, copied, symlinks=True)
+    moved = tmp_path / "moved"
+    first.rename(moved)
+    for checkout in (copied, moved):
+        dry = snakemake_in(checkout, "--dry-run", *CONFIG)
+        assert dry.returncode == 0, dry.stderr[-3000:]
+        assert "Nothing to be done" in dry.stdout + dry.stderr, dry.stdout[-3000:]
+
+
+@pytest.mark.e2e
+def test_lint_writes_nothing(tmp_path, snakemake_available):
+    fresh = copy_checkout(tmp_path / "fresh")
+
+    def files():
+        return {
+            p.relative_to(fresh).as_posix()
+            for p in fresh.rglob("*")
+            if ".snakemake" not in p.relative_to(fresh).parts
+        }
+
+    before = files()
+    lint = snakemake_in(fresh, "--lint")
+    assert lint.returncode == 0, lint.stdout + lint.stderr
+    assert files() == before
+    # a dry run, by contrast, writes the job specs: the check above could see them
+    dry = snakemake_in(fresh, "--dry-run")
+    assert dry.returncode == 0, dry.stderr[-3000:]
+    assert any(name.startswith("results/specs/") for name in files() - before)

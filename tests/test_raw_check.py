@@ -1,0 +1,174 @@
+"""The raw-data check as a job: what start-up reads, what a refusal leaves, when it reruns."""
+
+import json
+import re
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from conftest import REPO, run_snakemake, write_small_dataset
+
+CHECK_LOG = ("logs", "check_raw_data.log")
+
+
+def files_under(folder):
+    return {
+        p.relative_to(folder).as_posix(): p.read_bytes() for p in folder.rglob("*") if p.is_file()
+    }
+
+
+def set_cell(path, line, column, value):
+    lines = path.read_text(encoding="utf-8").splitlines()
+    header = lines[0].split(",")
+    cells = lines[line - 1].split(",")
+    cells[header.index(column)] = value
+    lines[line - 1] = ",".join(cells)
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+@pytest.mark.e2e
+def test_a_refused_folder_leaves_only_the_checks_log(tmp_path, snakemake_available):
+    raw = write_small_dataset(tmp_path / "raw")
+    set_cell(raw / "profiles" / "MK.csv", 3, "side", "middle")
+    set_cell(raw / "profiles" / "HU.csv", 4, "deflection_image_mm", "abc")
+    results = tmp_path / "out"
+    process = run_snakemake(raw=str(raw), results=str(results))
+    assert process.returncode != 0, process.stdout + process.stderr
+    errors = [line for line in process.stderr.splitlines() if line.startswith("Error: ")]
+    # both files' problems in one run, one line each, naming file, line and column
+    assert errors == [
+        f"Error: {raw}/profiles/MK.csv, line 3, column 'side': " + errors[0].split("'side': ")[1],
+        f"Error: {raw}/profiles/HU.csv, line 4, column 'deflection_image_mm': "
+        + errors[1].split("'deflection_image_mm': ")[1],
+    ], process.stderr
+    assert "Traceback" not in process.stdout + process.stderr
+    # nothing under the results but the check's log, which says the same
+    assert sorted(files_under(results)) == ["/".join(CHECK_LOG)]
+    assert [e.removeprefix("Error: ") for e in errors] == [
+        line.removeprefix("Error: ")
+        for line in results.joinpath(*CHECK_LOG).read_text().splitlines()
+        if line.startswith("Error: ")
+    ]
+    assert [p for p in results.rglob("*") if p.is_dir()] == [results / "logs"]
+
+
+@pytest.mark.e2e
+def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_available):
+    """Snakemake's timestamps remember a passed check; an edit reruns it and only the
+    jobs of the edited file; a later corruption is still caught, leaving the rest alone."""
+    raw = write_small_dataset(tmp_path / "raw")
+    results = tmp_path / "out"
+    first = run_snakemake("fits", raw=str(raw), results=str(results))
+    assert first.returncode == 0, first.stderr[-3000:]
+    summary = json.loads((results / "data" / "raw_check.json").read_text())
+    assert summary == {
+        "raw_data": "raw",
+        "depths_mm": {"MK": [1.0, 2.0], "HU": [1.0]},
+        "outlines_mm": {},
+        "warnings": [],
+    }
+
+    again = run_snakemake("fits", "--dry-run", raw=str(raw), results=str(results))
+    assert "Nothing to be done" in again.stdout + again.stderr, again.stdout
+
+    profile = raw / "profiles" / "MK.csv"
+    lines = profile.read_text().splitlines()
+    cells = lines[5].split(",")
+    cells[3] = f"{float(cells[3]) + 0.001:.3f}"  # a valid edit of one reading
+    lines[5] = ",".join(cells)
+    profile.write_text("\n".join(lines) + "\n")
+    edited = run_snakemake("fits", raw=str(raw), results=str(results))
+    assert edited.returncode == 0, edited.stderr[-3000:]
+    ran = re.findall(r"^local(?:rule|checkpoint) (\w+):", edited.stderr, re.M)
+    assert ran == ["check_raw_data", "prepare_profiles", "fit_models", "fits_table", "fits"], ran
+    # the batches are one subject each here: of the two, only MK's jobs ran
+    assert set(re.findall(r"^\s+wildcards: batch=(\S+)$", edited.stderr, re.M)) == {"MK"}
+
+    (raw / "profiles" / "notes.txt").write_text("a stray file\n")  # the check warns, alone
+    stray = run_snakemake("fits", raw=str(raw), results=str(results))
+    ran = re.findall(r"^local(?:rule|checkpoint) (\w+):", stray.stderr, re.M)
+    assert ran == ["check_raw_data"], stray.stderr[-3000:]
+    assert "Warning: " in stray.stderr and "notes.txt" in stray.stderr
+
+    set_cell(profile, 3, "depth_mm", "deep")
+    before = files_under(results)
+    broken = run_snakemake("fits", raw=str(raw), results=str(results))
+    assert broken.returncode != 0
+    errors = [line for line in broken.stderr.splitlines() if line.startswith("Error: ")]
+    assert len(errors) == 1 and f"{raw}/profiles/MK.csv, line 3" in errors[0], broken.stderr
+    after = files_under(results)
+    # the failed check's output is removed (the next run checks again); nothing else changed
+    changed = {k for k in before.keys() | after.keys() if before.get(k) != after.get(k)}
+    assert changed == {"data/raw_check.json", "/".join(CHECK_LOG)}, changed
+
+
+# Run Snakemake in this process with an audit hook: which raw files does start-up open?
+START_UP = textwrap.dedent(
+    """
+    import json, sys
+    opened = []
+    def hook(event, args):
+        if event == "open" and isinstance(args[0], str) and {raw!r} in args[0]:
+            opened.append(args[0])
+    sys.addaudithook(hook)
+    from snakemake.cli import main
+    sys.argv = ["snakemake", "-s", {snakefile!r}, "-n", "--cores", "1", "fits",
+                "--config", "raw_data={raw}", "results={results}"]
+    try:
+        main()
+    except SystemExit as end:
+        status = end.code
+    print(json.dumps({{"status": status, "opened": sorted(set(opened))}}))
+    """
+)
+
+
+@pytest.mark.e2e
+def test_start_up_reads_the_sheet_and_no_profile(tmp_path, snakemake_available):
+    raw = write_small_dataset(tmp_path / "raw")
+    (raw / "outlines").mkdir()
+    (raw / "outlines" / "MK.csv").write_text("depth_mm,state,x_image_mm,z_image_mm\n")
+    code = START_UP.format(
+        raw=str(raw),
+        snakefile=str(REPO / "workflow" / "Snakefile"),
+        results=str(tmp_path / "out"),
+    )
+    process = subprocess.run(
+        [sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True, timeout=300
+    )
+    report = json.loads(process.stdout.strip().splitlines()[-1])
+    assert report["status"] == 0, process.stderr[-3000:]
+    assert report["opened"] == [f"{raw}/subjects.csv"]
+
+
+def test_what_start_up_imports_leaves_pandas_out(tmp_path):
+    """Every lineload import of the Snakefile and rules, and the start-up reading, in a
+    fresh interpreter: pandas stays unimported (Snakemake's plugins may import it)."""
+    sources = [
+        REPO / "workflow" / "Snakefile",
+        *sorted((REPO / "workflow" / "rules").glob("*.smk")),
+    ]
+    imports = sorted(
+        {
+            line.strip()
+            for path in sources
+            for line in path.read_text().splitlines()
+            if re.match(r"\s*(from lineload\b|import lineload\b)", line)
+        }
+    )
+    assert any("startup" in line for line in imports), imports
+    raw = write_small_dataset(tmp_path / "raw")
+    code = "\n".join(
+        [
+            *imports,
+            "import sys",
+            "from lineload.io import load_schema",
+            f"startup.list_raw_files({str(raw)!r})",
+            f"startup.read_subject_sheet({str(raw)!r}, load_schema('subjects'))",
+            "print('pandas' in sys.modules)",
+        ]
+    )
+    process = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert process.stdout.strip() == "False", process.stderr

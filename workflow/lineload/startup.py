@@ -1,0 +1,321 @@
+"""What the workflow needs when Snakemake starts: the config, the subject sheet, the file list.
+
+Snakemake reads the Snakefile on every start (a dry run, a rerun with nothing to
+do, every cluster job), so what runs then must stay cheap: this module reads the
+config and the subject sheet, and lists the raw folder, but never reads a
+profile's bytes and never imports pandas.  Checking every raw file is the job of
+the rule ``check_raw_data`` (``workflow/scripts/check_raw_data.py``).
+
+It also says how a folder is named in what the workflow writes: relative to the
+working folder when it lies inside it, else by its name alone
+(:func:`portable_path`), so that moving or re-cloning the checkout changes no
+job spec and no output.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+from pathlib import Path
+
+__all__ = [
+    "RAW_SUBFOLDERS",
+    "abort",
+    "abort_inputs",
+    "data_folder",
+    "list_raw_files",
+    "notice_text",
+    "portable_config",
+    "portable_path",
+    "read_subject_sheet",
+    "remove_written",
+    "schema_message",
+    "where_to_look",
+]
+
+#: Sub-folders of the raw-data folder whose files the check reads ("" is the top level).
+RAW_SUBFOLDERS = ("", "profiles", "outlines")
+
+
+def abort(message):
+    """Print one line for the user and stop with a non-zero exit, no traceback.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong and where; printed after ``Error: ``.
+
+    Raises
+    ------
+    SystemExit
+        Always, with status 1.
+    """
+    sys.stderr.write(f"Error: {message}\n")
+    raise SystemExit(1)
+
+
+def abort_inputs(error):
+    """Print every problem of an :class:`~lineload.validation.InputError` (one line each) and stop.
+
+    Parameters
+    ----------
+    error : lineload.validation.InputError
+
+    Raises
+    ------
+    SystemExit
+        Always, with status 1.
+    """
+    from .validation import report_lines
+
+    sys.stderr.write("".join(f"{line}\n" for line in report_lines(error)))
+    raise SystemExit(1)
+
+
+def schema_message(error, what):
+    """One line from a ``snakemake.utils.validate`` failure (a jsonschema error inside).
+
+    Parameters
+    ----------
+    error : Exception
+        The WorkflowError raised by ``validate``; its ``__context__`` is
+        jsonschema's ValidationError when the data broke the schema.
+    what : str
+        How to name the validated thing (``config``).
+
+    Returns
+    -------
+    str
+        ``<what>, key '<path>': <message>``, with the allowed keys for an
+        unknown key and the schema's description where there is one.
+    """
+    inner = error.__context__
+    if not hasattr(inner, "absolute_path"):
+        return f"{what}: {error}"
+    where = "/".join(str(p) for p in inner.absolute_path)
+    message = inner.message
+    if inner.validator == "additionalProperties":
+        allowed = ", ".join(sorted(inner.schema.get("properties", {})))
+        message = f"{message}; expected only the keys {allowed}"
+    elif "description" in inner.schema:
+        message = f"{message} ({inner.schema['description'].rstrip('.')})"
+    return f"{what}, key '{where}': {message}" if where else f"{what}: {message}"
+
+
+def data_folder(path, repository):
+    """The raw-data folder: as given, or the same relative path inside the workflow's repository.
+
+    Parameters
+    ----------
+    path : str
+        ``raw_data`` from the config.
+    repository : str or os.PathLike
+        The folder that holds ``workflow/`` (for a run with ``-s`` or
+        ``--directory`` elsewhere, where the relative path is not found).
+
+    Returns
+    -------
+    str
+        ``path`` when it is absolute, exists, or has no counterpart in the
+        repository; else the counterpart.
+    """
+    own = Path(repository) / path
+    if Path(path).is_absolute() or Path(path).exists() or not own.is_dir():
+        return path
+    return str(own)
+
+
+def read_subject_sheet(raw_dir, schema):
+    """The subject sheet, checked against its row schema, as plain values.
+
+    Only ``subjects.csv`` is read (numpy, no pandas).  Rules that span files
+    (a profile for each subject, unique ids) are the raw-data check's.
+
+    Parameters
+    ----------
+    raw_dir : str
+        The raw-data folder, as the messages should name it.
+    schema : dict
+        The row schema of ``subjects.csv``.
+
+    Returns
+    -------
+    dict of str to dict
+        Subject id -> ``species``, ``magnification``, ``label`` (the optional
+        ``label`` column, else the id) and ``contact_length_mm`` (None without
+        that column), in sheet order; of ids listed twice, the first.
+
+    Raises
+    ------
+    lineload.validation.InputError
+        Every problem of the sheet, one line each naming line and column.
+    """
+    from .validation import read_columns
+
+    path = f"{raw_dir.rstrip('/')}/subjects.csv"
+    columns, _ = read_columns(path, schema)
+    rows = len(columns["subject"])
+    labels = columns.get("label", [None] * rows)
+    contact = columns.get("contact_length_mm", [None] * rows)
+    subjects = {}
+    for subject, species, magnification, label, length in zip(
+        columns["subject"],
+        columns["species"],
+        columns["magnification"],
+        labels,
+        contact,
+        strict=True,
+    ):
+        label = label.strip() if isinstance(label, str) else ""
+        subjects.setdefault(
+            str(subject),
+            {
+                "species": str(species),
+                "magnification": float(magnification),
+                "label": label or str(subject),
+                "contact_length_mm": None if length is None else float(length),
+            },
+        )
+    return subjects
+
+
+def list_raw_files(raw_dir):
+    """Every regular file the raw-data check reads, by name; no file is opened.
+
+    Parameters
+    ----------
+    raw_dir : str
+        The raw-data folder.
+
+    Returns
+    -------
+    dict
+        ``all``: the path of every file at the top level, in ``profiles/`` and
+        in ``outlines/`` (sorted; a stray file is there too, so that its
+        appearance reruns the check that warns about it); ``profiles`` and
+        ``outlines``: file name -> path of the ``.csv`` files of each folder;
+        ``forces`` and ``notice``: the path of ``forces.csv`` and
+        ``NOTICE.txt``, or None.
+    """
+    found = {"all": []}
+    for sub in RAW_SUBFOLDERS:
+        folder = os.path.join(raw_dir, sub) if sub else raw_dir
+        try:
+            names = sorted(e.name for e in os.scandir(folder) if e.is_file())
+        except (FileNotFoundError, NotADirectoryError):
+            names = []
+        paths = {name: "/".join(p for p in (raw_dir.rstrip("/"), sub, name) if p) for name in names}
+        found["all"] += paths.values()
+        if sub:
+            found[sub] = {n: p for n, p in paths.items() if n.endswith(".csv")}
+        else:
+            found["forces"] = paths.get("forces.csv")
+            found["notice"] = paths.get("NOTICE.txt")
+    return found
+
+
+def notice_text(configured, notice_path):
+    """The footer of figures and tables: as configured, else the first line of NOTICE.txt.
+
+    Parameters
+    ----------
+    configured : str or None
+        ``data_notice`` from the config.
+    notice_path : str or None
+        The raw folder's ``NOTICE.txt``, None without one.
+
+    Returns
+    -------
+    str
+        Empty for no footer.
+    """
+    if configured is not None:
+        return configured
+    if notice_path is None:
+        return ""
+    lines = Path(notice_path).read_text(encoding="utf-8").splitlines()
+    return lines[0].strip() if lines else ""
+
+
+def portable_path(path, workdir="."):
+    """How the workflow names a folder in what it writes: no absolute path.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    workdir : str or os.PathLike, optional
+        The working folder (the current folder by default).
+
+    Returns
+    -------
+    str
+        The path relative to ``workdir`` when it lies inside it (``.`` for the
+        folder itself), else the folder's name alone; what is in it is named by
+        content hashes where it matters (the provenance record).
+    """
+    absolute = Path(os.path.abspath(path))
+    base = Path(os.path.abspath(workdir))
+    if absolute == base or base in absolute.parents:
+        return absolute.relative_to(base).as_posix() or "."
+    return absolute.name
+
+
+def portable_config(config, workdir="."):
+    """The config with its folders named by :func:`portable_path`, for specs and outputs.
+
+    Parameters
+    ----------
+    config : dict
+    workdir : str or os.PathLike, optional
+
+    Returns
+    -------
+    dict
+        A copy; ``raw_data`` and ``results`` portable, every other key as given.
+    """
+    portable = dict(config)
+    for key in ("raw_data", "results"):
+        if isinstance(portable.get(key), str):
+            portable[key] = portable_path(portable[key], workdir)
+    return portable
+
+
+def remove_written(paths, root):
+    """Remove files a refused run wrote, then every empty folder under ``root`` (and ``root``).
+
+    Parameters
+    ----------
+    paths : iterable of str
+        Files written by this run (the job specs it created).
+    root : str or os.PathLike
+        The results folder.
+    """
+    for path in paths:
+        Path(path).unlink(missing_ok=True)
+    if not os.path.isdir(root):
+        return
+    for folder, _, _ in sorted(os.walk(root), key=lambda entry: -len(entry[0])):
+        with contextlib.suppress(OSError):  # not empty: kept
+            os.rmdir(folder)
+
+
+def where_to_look(documents, report):
+    """After a build: where the reader's documents are.
+
+    Parameters
+    ----------
+    documents : list of (str, str)
+        What each is and its path; only those that exist are named.
+    report : str
+        Path of the HTML report ``snakemake --report`` would write.
+
+    Returns
+    -------
+    str
+        Lines to print.
+    """
+    lines = ["", "Where to look:"]
+    lines += [f"  {what}: {path}" for what, path in documents if Path(path).is_file()]
+    lines.append(f"  the HTML report: snakemake --report {report}")
+    return "\n".join(lines)

@@ -1,0 +1,58 @@
+"""Rule check_raw_data: every raw file against the data contract, every problem at once.
+
+Reads the raw folder (lineload.validation.check_dataset) and writes what the
+later jobs need to know of it: the depths per subject, the outline depths and
+the warnings.  A refused folder prints one line per problem on stderr (and into
+the log), writes nothing else and exits with 1; every job that reads raw data
+waits for this one.
+"""
+
+import os
+import sys
+
+from lineload.io import json_text, load_schema, output_to, read_json, write_text
+from lineload.startup import portable_path
+from lineload.validation import InputError, check_dataset, report_lines
+
+#: The tables of the data contract, each with its row schema.
+TABLES = ("subjects", "profiles", "outlines", "forces")
+
+
+def check_raw_data(sheet, output, input_checks):
+    """Check the folder of ``sheet``; write the summary. Returns the lines for the user."""
+    raw_dir = os.path.dirname(sheet)  # as configured: the messages name it so
+    schemas = {name: load_schema(name) for name in TABLES}
+    try:
+        dataset = check_dataset(raw_dir, schemas, plausibility=input_checks)
+    except InputError as error:
+        lines = report_lines(error)
+        for line in lines:
+            print(line)
+        return lines, 1
+    name = portable_path(raw_dir)
+    summary = {
+        "raw_data": name,
+        "depths_mm": dataset["depths_mm"],
+        "outlines_mm": dataset["outlines"],
+        # the folder named as in every output: no absolute path
+        "warnings": [w.replace(f"{raw_dir}/", f"{name}/") for w in dataset["warnings"]],
+    }
+    write_text(json_text(summary), output)
+    trials = sum(len(d) for d in dataset["depths_mm"].values())
+    print(
+        f"{raw_dir}: {len(dataset['depths_mm'])} subjects, {trials} profiles, "
+        f"{len(dataset['outlines'])} with outlines; no problem -> {output}"
+    )
+    lines = [f"Warning: {w}" for w in dataset["warnings"]]
+    for line in lines:
+        print(line)
+    return lines, 0
+
+
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        said, status = check_raw_data(
+            snakemake.input.sheet, snakemake.output[0], **read_json(snakemake.input.spec)
+        )
+    sys.stderr.write("".join(f"{line}\n" for line in said))  # the user sees them too
+    sys.exit(status)
