@@ -104,7 +104,11 @@ MODELS = {
     "shifted": (("L_mm", "L_ci_low_mm", "L_ci_high_mm"), 1, 1),
     "arc": (("L_mm", "L_ci_low_mm", "L_ci_high_mm"), 1, 1),
     "waterbed_free_depth": (("L_mm", "L_ci_low_mm", "L_ci_high_mm", "W0_mm"), 2, 2),
-    "boussinesq": (("A_mm", "x0_mm"), 2, 2),
+    "boussinesq": (
+        ("A_mm", "x0_mm", "A_ci_low_mm", "A_ci_high_mm", "x0_ci_low_mm", "x0_ci_high_mm"),
+        2,
+        2,
+    ),
 }
 
 _MEASURES = ("sse_mm2", "rmse_mm", "max_abs_residual_mm", "aicc")
@@ -611,6 +615,46 @@ def _fit_free_depth_chunk(trials, depth_mm=None):
     return fit
 
 
+def _boussinesq_intervals(trials, intercept, A_mm):
+    """95 % profile-likelihood intervals on A and x0 of the straight line in ``ln x``.
+
+    On whitened columns ``u = W 1``, ``v = -W ln x`` and values ``y = W w`` the
+    model is ``a u + A v`` (``a = A ln x0``).  Profiling ``a`` out, the objective
+    is quadratic in A: ``A +- sqrt(delta / (s22 - s12**2 / s11))``.  For x0, the
+    model is ``A (ln x0 u + v)``; profiling A out, the interval's ends solve a
+    quadratic in ``ln x0`` (a ratio of quadratics set to the threshold), bounded
+    when its leading coefficient is negative, else unbounded (NaN ends).
+    ``delta`` is 3.84 with a covariance, else the profile likelihood's
+    ``SSE_min (exp(3.84 / n) - 1)``.
+    """
+    x, y = trials.x, trials.y
+    ones = trials.whitened(np.ones(x.shape))
+    logs = trials.whitened(-np.log(x))
+    values = trials.whitened(y)
+    s11, s12, s22 = (np.sum(p * q, axis=-1) for p, q in ((ones, ones), (ones, logs), (logs, logs)))
+    t1, t2 = np.sum(ones * values, axis=-1), np.sum(logs * values, axis=-1)
+    total = np.sum(values**2, axis=-1)
+    chi2_min = np.sum((values - intercept[:, None] * ones - A_mm[:, None] * logs) ** 2, axis=-1)
+    delta = trials.threshold(chi2_min) - chi2_min
+    with np.errstate(divide="ignore", invalid="ignore"):
+        half = np.sqrt(delta / (s22 - s12**2 / s11))
+        c = total - chi2_min - delta
+        a2 = t1**2 - c * s11
+        a1 = t1 * t2 - c * s12
+        a0 = t2**2 - c * s22
+        root = np.sqrt(a1**2 - a2 * a0)
+        ends = np.sort(np.stack([(-a1 - root) / a2, (-a1 + root) / a2]), axis=0)
+    bounded = (a2 < 0) & np.isfinite(ends).all(axis=0) & (A_mm > 0)
+    x0_low = np.where(bounded, np.exp(ends[0]), np.nan)
+    x0_high = np.where(bounded, np.exp(ends[1]), np.nan)
+    return {
+        "A_ci_low_mm": A_mm - half,
+        "A_ci_high_mm": A_mm + half,
+        "x0_ci_low_mm": x0_low,
+        "x0_ci_high_mm": x0_high,
+    }
+
+
 def _fit_boussinesq_chunk(trials, depth_mm=None):
     x, y, n = trials.x, trials.y, trials.n
     log_x = np.log(x)
@@ -645,7 +689,9 @@ def _fit_boussinesq_chunk(trials, depth_mm=None):
     residual[rising] = y[rising] - boussinesq_deflection_mm(
         x[rising], A_mm[rising, None], x0_mm[rising, None]
     )
-    return _ChunkFit("boussinesq", trials, {"A_mm": A_mm, "x0_mm": x0_mm}, residual)
+    params = {"A_mm": A_mm, "x0_mm": x0_mm}
+    params.update(_boussinesq_intervals(trials, intercept, A_mm))
+    return _ChunkFit("boussinesq", trials, params, residual)
 
 
 _CHUNK_FITS = {
@@ -1004,6 +1050,10 @@ FIT_COLUMNS = [
     "arc_aicc",
     "boussinesq_A_mm",
     "boussinesq_x0_mm",
+    "boussinesq_A_ci_low_mm",
+    "boussinesq_A_ci_high_mm",
+    "boussinesq_x0_ci_low_mm",
+    "boussinesq_x0_ci_high_mm",
     "boussinesq_rmse_mm",
     "boussinesq_max_abs_residual_mm",
     "boussinesq_aicc",
@@ -1033,7 +1083,27 @@ def window_points(distance_mm, deflection_mm, window_mm):
     return x_mm[keep], y_mm[keep], np.bincount(trial[keep], minlength=counts.size)
 
 
-def fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, models=tuple(MODELS)):
+def _window_covariances(distance_mm, deflection_mm, depth_mm, window_mm, noise, n_sides):
+    """Each trial's covariance (:meth:`NoiseModel.average_covariance_mm2`) on its window."""
+    covariances = []
+    for x, y, depth, window, sides in zip(
+        distance_mm, deflection_mm, depth_mm, window_mm, n_sides, strict=True
+    ):
+        x, y, sides = (np.asarray(v, dtype=float) for v in (x, y, sides))
+        keep = in_fit_window(x, window) & np.isfinite(y)
+        covariances.append(noise.average_covariance_mm2(x[keep], sides[keep], y[keep], depth))
+    return covariances
+
+
+def fit_windowed(
+    distance_mm,
+    deflection_mm,
+    depth_mm,
+    window_mm,
+    models=tuple(MODELS),
+    noise=None,
+    n_sides=None,
+):
     """Fit models to many trials at once, each on its points inside a fit window.
 
     Parameters
@@ -1046,6 +1116,13 @@ def fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, models=tuple(M
         Points with ``0 < distance <= window_mm`` and a finite deflection are fitted.
     models : iterable of str, optional
         Keys of :data:`MODELS`.
+    noise : lineload.noise.NoiseModel, optional
+        The digitising noise: the fits become generalised least squares with
+        each trial's covariance, and the intervals honour it.  Without it, least
+        squares with intervals from the residuals (independent errors).
+    n_sides : sequence of array_like, optional
+        With ``noise``: how many sides were read at each point of each trial
+        (2 everywhere if not given).
 
     Returns
     -------
@@ -1055,7 +1132,15 @@ def fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, models=tuple(M
     """
     x_mm, y_mm, counts = window_points(distance_mm, deflection_mm, window_mm)
     depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), counts.shape)
-    fits = _fit_flat(x_mm, y_mm, counts, depth_mm, tuple(models))
+    covariance_mm2 = None
+    if noise is not None:
+        if n_sides is None:
+            n_sides = [np.full(np.shape(x), 2.0) for x in distance_mm]
+        window = np.broadcast_to(np.asarray(window_mm, dtype=float), counts.shape)
+        covariance_mm2 = _window_covariances(
+            distance_mm, deflection_mm, depth_mm, window, noise, n_sides
+        )
+    fits = _fit_flat(x_mm, y_mm, counts, depth_mm, tuple(models), covariance_mm2)
     max_distance_mm = np.full(counts.size, np.nan)
     some = counts > 0
     if some.any():
@@ -1063,7 +1148,7 @@ def fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, models=tuple(M
     return {"n_points": counts, "max_distance_mm": max_distance_mm, **fits}
 
 
-def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm):
+def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_sides=None):
     """Fit every model of the fit table to many trials, each on its windowed points.
 
     Parameters
@@ -1074,13 +1159,19 @@ def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm):
         Indentation depth of each trial (mm), W0 of the waterbed fits.
     window_mm : float or array_like
         Points with ``0 < distance <= window_mm`` are fitted.
+    noise : lineload.noise.NoiseModel, optional
+        The digitising noise (generalised least squares; see :func:`fit_windowed`).
+    n_sides : sequence of array_like, optional
+        Sides read at each point of each trial (with ``noise``).
 
     Returns
     -------
     list of dict
         One row per trial, as :func:`fit_trial` gives it.
     """
-    fits = fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, TABLE_MODELS)
+    fits = fit_windowed(
+        distance_mm, deflection_mm, depth_mm, window_mm, TABLE_MODELS, noise, n_sides
+    )
     count = fits["n_points"].size
     columns = {
         "depth_mm": np.broadcast_to(np.asarray(depth_mm, dtype=float), count).tolist(),

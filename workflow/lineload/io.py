@@ -32,6 +32,7 @@ __all__ = [
     "load_schema",
     "output_to",
     "read_json",
+    "read_rows",
     "read_trials",
     "replaced_atomically",
     "write_columns",
@@ -270,7 +271,23 @@ def write_columns(columns, path, names=None):
     write_text(csv_text(names, cells, text_cells), path)
 
 
-def read_trials(path):
+def read_rows(path):
+    """The rows of a small CSV table as dicts of text, without pandas.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    list of dict
+        One dict per row, column name to the cell's text.
+    """
+    with open(path, newline="", encoding="utf-8") as handle:
+        return list(csv.DictReader(handle))
+
+
+def read_trials(path, extra=()):
     """The trials of an averaged-profile table, without pandas.
 
     Parameters
@@ -278,11 +295,14 @@ def read_trials(path):
     path : str or os.PathLike
         A table written by rule ``prepare_profiles`` (columns ``subject``,
         ``depth_mm``, ``distance_mm`` and ``deflection_mm`` at least).
+    extra : sequence of str, optional
+        Further numeric columns to return after the deflections (e.g.
+        ``("left_mm", "right_mm", "n_sides")``); an empty cell is NaN.
 
     Returns
     -------
     dict
-        ``subject -> {depth_mm: (distance_mm, deflection_mm)}``, two lists of
+        ``subject -> {depth_mm: (distance_mm, deflection_mm, *extra)}``, lists of
         floats in file order; depths in increasing order, subjects in order of
         first appearance.
 
@@ -291,7 +311,7 @@ def read_trials(path):
     ValueError
         If a needed column is missing.
     """
-    needed = ("subject", "depth_mm", "distance_mm", "deflection_mm")
+    needed = ("subject", "depth_mm", "distance_mm", "deflection_mm", *extra)
     trials = {}
     with open(path, newline="", encoding="utf-8") as handle:
         reader = csv.reader(handle)
@@ -299,12 +319,12 @@ def read_trials(path):
         missing = [name for name in needed if name not in header]
         if missing:
             raise ValueError(f"{path}: expected the columns {', '.join(missing)}")
-        subject, depth, distance, deflection = (header.index(name) for name in needed)
+        subject, depth, *values = (header.index(name) for name in needed)
         for row in reader:
             depths = trials.setdefault(row[subject], {})
-            x, y = depths.setdefault(float(row[depth]), ([], []))
-            x.append(float(row[distance]))
-            y.append(float(row[deflection]) if row[deflection] else math.nan)
+            columns = depths.setdefault(float(row[depth]), tuple([] for _ in values))
+            for column, index in zip(columns, values, strict=True):
+                column.append(float(row[index]) if row[index] else math.nan)
     return {subject: dict(sorted(depths.items())) for subject, depths in trials.items()}
 
 

@@ -2,6 +2,35 @@
 # sensitivity refits beside them.
 
 
+rule noise:
+    """Measure the digitising noise from every trial's left-right differences."""
+    input:
+        spec=spec(
+            "noise",
+            priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+            max_trials=config["noise"]["max_trials"],
+            window_mm=config["fit_window_mm"],
+        ),
+        averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
+        code=code("estimate_noise.py"),
+    output:
+        report_item(
+            result("tables", "noise.csv"),
+            caption="../report/noise.rst",
+            category="Fits",
+            subcategory="CSV files",
+            labels={"table": "digitising noise"},
+        ),
+    log:
+        result("logs", "noise.log"),
+    benchmark:
+        result("benchmarks", "noise.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/estimate_noise.py"
+
+
 rule fit_models:
     """Fit the waterbed (paper's, shifted, exact arc) and Boussinesq to each trial of a batch."""
     input:
@@ -9,6 +38,7 @@ rule fit_models:
             "fit_models", subjects=batch_subjects, window_mm=config["fit_window_mm"]
         ),
         averaged=rules.prepare_profiles.output.averaged,
+        noise=rules.noise.output[0],
         code=code("fit_models.py"),
     output:
         result("fits", "{batch}.csv"),

@@ -1,25 +1,35 @@
 """Rule fit_models: every model for each subject and depth of a batch, all trials at once."""
 
 from lineload.fitting import FIT_COLUMNS, fit_trials
-from lineload.io import output_to, read_json, read_trials, write_rows
+from lineload.io import output_to, read_json, read_rows, read_trials, write_rows
+from lineload.noise import model_from_rows
 
 
-def fit_models(averaged, output, subjects, window_mm):
-    """Fit every trial of the batch's subjects; write one row per subject and depth."""
-    trials = read_trials(averaged)  # numpy only: this job runs once per batch
+def fit_models(averaged, noise, output, subjects, window_mm):
+    """Fit every trial of the batch's subjects with the dataset's noise; one row per trial."""
+    noise_model = model_from_rows(read_rows(noise))
+    trials = read_trials(averaged, extra=("n_sides",))  # numpy only: one job per batch
     keys = [
-        (subject, about["species"], depth_mm, x, y)
+        (subject, about["species"], depth_mm, *columns)
         for subject, about in subjects.items()
-        for depth_mm, (x, y) in trials.get(subject, {}).items()
+        for depth_mm, columns in trials.get(subject, {}).items()
     ]
     # every trial of the batch in one call: the fits run for all of them together
-    fitted = fit_trials([k[3] for k in keys], [k[4] for k in keys], [k[2] for k in keys], window_mm)
+    fitted = fit_trials(
+        [k[3] for k in keys],
+        [k[4] for k in keys],
+        [k[2] for k in keys],
+        window_mm,
+        noise=noise_model,
+        n_sides=[k[5] for k in keys],
+    )
     rows = []
-    for (subject, species, depth_mm, _, _), row in zip(keys, fitted, strict=True):
+    for (subject, species, depth_mm, *_), row in zip(keys, fitted, strict=True):
         rows.append({"subject": subject, "species": species, **row})
         print(
             f"{subject} {depth_mm:g} mm: {row['n_points']} points, "
-            f"waterbed L = {row['waterbed_L_mm']:.3f} mm, "
+            f"waterbed L = {row['waterbed_L_mm']:.3f} mm "
+            f"[{row['waterbed_L_ci_low_mm']:.3f}, {row['waterbed_L_ci_high_mm']:.3f}], "
             f"RMSE waterbed/shifted/arc/Boussinesq = {row['waterbed_rmse_mm']:.4f}/"
             f"{row['shifted_rmse_mm']:.4f}/{row['arc_rmse_mm']:.4f}/"
             f"{row['boussinesq_rmse_mm']:.4f} mm"
@@ -29,4 +39,9 @@ def fit_models(averaged, output, subjects, window_mm):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        fit_models(snakemake.input.averaged, snakemake.output[0], **read_json(snakemake.input.spec))
+        fit_models(
+            snakemake.input.averaged,
+            snakemake.input.noise,
+            snakemake.output[0],
+            **read_json(snakemake.input.spec),
+        )

@@ -1,0 +1,550 @@
+"""The digitising noise: measured from the left-right differences, stated where it cannot be.
+
+Every reading of a profile carries the error of the hand that traced it.  The
+model used here (per side of the wedge, at distance ``x`` from it, tissue mm):
+
+* ``reading``: independent error of each reading, SD ``reading_sd_mm``;
+* ``tracing``: an error that wanders along the outline, SD ``tracing_sd_mm``,
+  correlated over a distance ``tracing_length_mm`` (exponential kernel
+  ``exp(-|x - x'| / length)``: the reading grid is irregular, so the kernel is
+  one of distance, not of reading number);
+* ``side offset``: an offset of one side's whole trace, SD ``side_offset_sd_mm``;
+* ``rotation``: a small rotation of the photograph, which raises one side as
+  much as it lowers the other (``+t x`` on the right, ``-t x`` on the left);
+* ``wedge position``: the wedge placed ``delta`` mm off its true position
+  along the outline, so one side's distances are too long and the other's too
+  short (to first order, ``+/- delta w'(x)``);
+
+and shared by both sides of a trace, which the left-right difference cancels:
+
+* ``shared offset`` (SD ``shared_offset_sd_mm``) and ``shared tilt`` (SD
+  ``shared_tilt_sd``, a symmetric ``t |x|``) of the superimposed outlines;
+* ``depth error``: the indentation differs from its nominal depth by a small
+  amount (SD ``depth_sd_mm``); the profile then scales as ``w (1 + e / W0)``.
+
+The left-minus-right difference of a trial, ``d(x)``, holds everything of the
+first list: an offset (two side offsets), a slope (the rotation), a multiple of
+the profile's slope (the wedge position) and the reading and tracing errors of
+both sides; and the true difference between the two sides, which a finger need
+not make symmetric (two membranes of spans ``L_l`` and ``L_r`` differ by a line
+and a parabola in ``x``).  :func:`estimate_noise` fits it by restricted maximum
+likelihood, with the offset, slope, wedge-position and quadratic terms of each
+trial as fixed effects, so none of them is mistaken for correlated noise, and
+the reading and tracing parts as the covariance ``2 (reading^2 I + tracing^2 K)``.
+The profile's slope is taken from the left-right mean (a model-free difference quotient): the mean's
+errors are independent of the difference's when both sides are read alike.
+The spread of the trials' fitted offsets, beyond what their own noise
+explains, measures the side offsets.  The model under test never enters, so the
+misfit that some claims are about cannot leak into the noise.
+
+What the differences cancel cannot be measured from these data: the shared
+offset, the shared tilt and the depth error are priors (config, with their
+source), and every interval built on :meth:`NoiseModel.average_covariance_mm2`
+is conditional on them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, replace
+
+import numpy as np
+
+__all__ = [
+    "MEASURED",
+    "NOISE_COLUMNS",
+    "PRIORS",
+    "NoiseEstimate",
+    "NoiseModel",
+    "draw_side_errors_mm",
+    "estimate_noise",
+    "exponential_kernel",
+    "model_from_rows",
+    "noise_rows",
+    "trial_differences",
+]
+
+#: Parameters measured from the left-right differences, in the order of the fit.
+MEASURED = ("reading_sd_mm", "tracing_sd_mm", "tracing_length_mm", "side_offset_sd_mm")
+#: Parameters the differences cannot see: priors from the config.
+PRIORS = ("shared_offset_sd_mm", "shared_tilt_sd", "depth_sd_mm")
+#: Columns of the noise table.
+NOISE_COLUMNS = ["scope", "parameter", "value", "se", "source", "n_trials", "n_differences"]
+#: Smallest standard deviation searched (mm): far below any reading's resolution.
+_LOG_FLOOR = math.log(1e-7)
+#: L-BFGS-B's stopping rules, tightened: where one error dominates, the likelihood is
+#: nearly flat in the other's logarithm and the default tolerances stop short of the
+#: optimum (a white-noise dataset then showed a spurious tracing error).
+_OPTIMISER_OPTIONS = {"ftol": 1e-14, "gtol": 1e-9, "maxiter": 2000}
+
+
+def exponential_kernel(distance_mm, length_mm):
+    """Correlation ``exp(-|x_i - x_j| / length)`` of readings at distances ``x``.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        Positions along the outline (mm), shape ``(..., n)``.
+    length_mm : float
+        Correlation length (mm), > 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(..., n, n)``.
+    """
+    x = np.asarray(distance_mm, dtype=float)
+    return np.exp(-np.abs(x[..., :, None] - x[..., None, :]) / length_mm)
+
+
+@dataclass(frozen=True)
+class NoiseModel:
+    """Standard deviations of every digitising error (see the module's description).
+
+    Attributes
+    ----------
+    reading_sd_mm, tracing_sd_mm, tracing_length_mm, side_offset_sd_mm : float
+        Measured per side (mm; the length in mm along the outline).
+    rotation_sd : float
+        Rotation of the photograph (rad); cancels in the left-right mean.
+    wedge_position_sd_mm : float
+        Misplacement of the wedge along the outline (mm); cancels in the mean to
+        first order.
+    shared_offset_sd_mm, shared_tilt_sd, depth_sd_mm : float
+        Priors: shared by both sides, invisible in their difference.
+    """
+
+    reading_sd_mm: float
+    tracing_sd_mm: float = 0.0
+    tracing_length_mm: float = 1.0
+    side_offset_sd_mm: float = 0.0
+    rotation_sd: float = 0.0
+    wedge_position_sd_mm: float = 0.0
+    shared_offset_sd_mm: float = 0.0
+    shared_tilt_sd: float = 0.0
+    depth_sd_mm: float = 0.0
+
+    def side_covariance_mm2(self, distance_mm):
+        """Covariance of one side's errors at ``distance_mm`` (reading, tracing, offset)."""
+        x = np.asarray(distance_mm, dtype=float)
+        eye = np.eye(x.shape[-1])
+        return (
+            self.reading_sd_mm**2 * eye
+            + self.tracing_sd_mm**2 * exponential_kernel(x, self.tracing_length_mm)
+            + self.side_offset_sd_mm**2
+        )
+
+    def average_covariance_mm2(self, distance_mm, n_sides, deflection_mm, depth_mm):
+        """Covariance of a trial's left-right mean, every error included.
+
+        Parameters
+        ----------
+        distance_mm : array_like
+            The averaged profile's distances (mm), shape ``(n,)``.
+        n_sides : array_like
+            How many sides were read at each distance (1 or 2).  Where one side
+            only was read, its error is not halved and the rotation stays.
+        deflection_mm : array_like
+            The averaged deflections (mm): the depth error scales the profile,
+            ``w e / W0``, and the profile is its own best estimate of ``w``.
+        depth_mm : float
+            Nominal depth (mm).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, n)`` covariance (mm^2).
+        """
+        x = np.asarray(distance_mm, dtype=float)
+        sides = np.asarray(n_sides, dtype=float)
+        both = sides >= 2
+        # independent per side: each pair of points shares the sides read at both
+        shared_sides = np.where(both[:, None] & both[None, :], 2.0, 1.0)
+        weight = shared_sides / np.maximum(sides[:, None] * sides[None, :], 1.0)
+        covariance = self.side_covariance_mm2(x) * weight
+        # a rotation cancels where both sides were read; its sign where one was is
+        # unknown here, so its variance is added to those points alone
+        rotation = np.where(both, 0.0, self.rotation_sd * x)
+        covariance += np.diag(rotation**2)
+        w = np.clip(np.asarray(deflection_mm, dtype=float), 0.0, None)
+        scale = w / depth_mm if depth_mm > 0 else np.zeros_like(w)
+        covariance += self.shared_offset_sd_mm**2
+        covariance += self.shared_tilt_sd**2 * np.outer(x, x)
+        covariance += self.depth_sd_mm**2 * np.outer(scale, scale)
+        return covariance
+
+    def with_priors(self, **priors):
+        """A copy with the prior standard deviations replaced."""
+        return replace(self, **priors)
+
+    def as_dict(self):
+        """The parameters by name."""
+        return asdict(self)
+
+
+def draw_side_errors_mm(rng, distance_mm, model, kernel="exponential", df=None):
+    """Errors of one side's readings that are independent of the other side.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    distance_mm : array_like
+        Reading positions (mm).
+    model : NoiseModel
+        Sizes of the reading, tracing and side-offset errors.
+    kernel : {"exponential", "squared_exponential"}, optional
+        Correlation of the tracing error; the second is one the estimator does
+        not assume (for robustness studies).
+    df : float, optional
+        Draw the reading errors from a Student t with ``df`` degrees of freedom,
+        scaled to the same SD (heavy tails), instead of a Gaussian.
+
+    Returns
+    -------
+    numpy.ndarray
+        One error per reading (mm).
+    """
+    x = np.asarray(distance_mm, dtype=float)
+    if df is None:
+        reading = rng.normal(0.0, model.reading_sd_mm, x.size)
+    else:
+        reading = rng.standard_t(df, x.size) * model.reading_sd_mm * math.sqrt((df - 2) / df)
+    if kernel == "exponential":
+        correlation = exponential_kernel(x, model.tracing_length_mm)
+    elif kernel == "squared_exponential":
+        correlation = np.exp(-0.5 * ((x[:, None] - x[None, :]) / model.tracing_length_mm) ** 2)
+    else:
+        raise ValueError(f"unknown kernel {kernel!r}")
+    values, vectors = np.linalg.eigh(correlation)
+    tracing = vectors @ (np.sqrt(np.clip(values, 0.0, None)) * rng.normal(0.0, 1.0, x.size))
+    offset = rng.normal(0.0, model.side_offset_sd_mm)
+    return reading + model.tracing_sd_mm * tracing + offset
+
+
+def trial_differences(distance_mm, left_mm, right_mm, window_mm=np.inf):
+    """Where both sides were read: the distances, left minus right, and the mean's slope.
+
+    Parameters
+    ----------
+    distance_mm, left_mm, right_mm : array_like
+        One trial's averaged profile with each side's value (NaN where a side was
+        not read).
+    window_mm : float, optional
+        Only distances ``0 < x <= window_mm``: the region the fits use, where
+        the two sides' true profiles differ smoothly (beyond it one side may
+        have reached its edge and the other not).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(distance_mm, difference_mm, slope)``: the slope of the left-right mean
+        (central differences on the points both sides share), the regressor of a
+        misplaced wedge.
+    """
+    x = np.asarray(distance_mm, dtype=float)
+    left = np.asarray(left_mm, dtype=float)
+    right = np.asarray(right_mm, dtype=float)
+    both = np.isfinite(left) & np.isfinite(right) & (x > 0) & (x <= window_mm)
+    x, left, right = x[both], left[both], right[both]
+    mean = 0.5 * (left + right)
+    slope = np.gradient(mean, x) if x.size >= 2 else np.zeros_like(x)
+    return x, left - right, slope
+
+
+@dataclass(frozen=True)
+class NoiseEstimate:
+    """What :func:`estimate_noise` measured.
+
+    Attributes
+    ----------
+    model : NoiseModel
+        The measured parts, with the priors at zero (add them with
+        :meth:`NoiseModel.with_priors`).
+    se : dict
+        Standard error of each measured parameter (NaN where the likelihood is
+        flat, e.g. a length when the tracing error is nil).
+    n_trials, n_differences : int
+        Trials and left-right differences used.
+    """
+
+    model: NoiseModel
+    se: dict
+    n_trials: int
+    n_differences: int
+
+
+def _padded(trials, columns=4):
+    """Trials' differences stacked, padded with decoupled rows that add nothing."""
+    width = max(t[0].size for t in trials)
+    count = len(trials)
+    x = np.zeros((count, width))
+    d = np.zeros((count, width))
+    design = np.zeros((count, width, columns))
+    real = np.zeros((count, width), dtype=bool)
+    for i, (xi, di, slope) in enumerate(trials):
+        n = xi.size
+        x[i, :n], d[i, :n], real[i, :n] = xi, di, True
+        design[i, :n, 0] = 1.0
+        design[i, :n, 1] = xi
+        design[i, :n, 2] = slope
+        design[i, :n, 3] = xi**2
+    return x, d, design, real
+
+
+def _covariances(theta, x, real):
+    """``2 (reading^2 I + tracing^2 K)`` of every trial; identity on padded rows."""
+    reading, tracing, length = np.exp(theta)
+    kernel = exponential_kernel(x, length)
+    pair = real[:, :, None] & real[:, None, :]
+    eye = np.eye(x.shape[1])
+    covariance = np.where(pair, 2.0 * (reading**2 * eye + tracing**2 * kernel), 0.0)
+    return covariance + np.where(real, 0.0, 1.0)[:, :, None] * eye
+
+
+def _restricted_terms(theta, x, d, design, real):
+    """-2 log restricted likelihood (up to a constant), GLS effects and their covariance."""
+    chol = np.linalg.cholesky(_covariances(theta, x, real))
+    # whiten: solve L z = d, L Z = X
+    zd = np.linalg.solve(chol, d[..., None])[..., 0]
+    zx = np.linalg.solve(chol, design)
+    information = np.einsum("tni,tnj->tij", zx, zx)
+    # a column that is zero for a trial (e.g. a flat profile's slope) is dropped
+    diagonal = np.einsum("tii->ti", information)
+    dead = diagonal <= 1e-12 * np.maximum(diagonal.max(axis=1, keepdims=True), 1e-300)
+    information = information + np.eye(design.shape[2]) * dead[:, :, None]
+    information_chol = np.linalg.cholesky(information)
+    rhs = np.einsum("tni,tn->ti", zx, zd)
+    effects = np.linalg.solve(information, rhs[..., None])[..., 0]
+    residual = zd - np.einsum("tni,ti->tn", zx, effects)
+    value = (
+        2.0 * np.log(np.einsum("tii->ti", chol)).sum()
+        + 2.0 * np.log(np.einsum("tii->ti", information_chol)).sum()
+        + np.sum(residual**2)
+    )
+    return value, effects, np.linalg.inv(information), dead
+
+
+def estimate_noise(trials, max_trials=400):
+    """Measure the per-side noise from the left-right differences of many trials.
+
+    Parameters
+    ----------
+    trials : sequence of tuple
+        ``(distance_mm, difference_mm, slope)`` per trial, as
+        :func:`trial_differences` gives them.  Trials with fewer than five
+        differences are left out (three fixed effects leave too little).
+    max_trials : int, optional
+        At most this many trials enter the likelihood, taken evenly through the
+        sequence (a dataset of thousands of subjects measures the noise as well
+        from a few hundred of them, in a fixed time).
+
+    Returns
+    -------
+    NoiseEstimate
+
+    Raises
+    ------
+    ValueError
+        If fewer than two trials have enough differences.
+    """
+    from scipy.optimize import minimize
+
+    usable = [t for t in trials if np.asarray(t[0]).size >= 5]
+    if len(usable) < 2:
+        raise ValueError(
+            "the noise needs at least two trials with five or more distances read on both sides"
+        )
+    if len(usable) > max_trials:
+        pick = np.unique(np.linspace(0, len(usable) - 1, max_trials).round().astype(int))
+        usable = [usable[i] for i in pick]
+    x, d, design, real = _padded(usable)
+    n_differences = int(real.sum())
+    spacing = np.diff(np.sort(np.unique(x[real])))
+    span = float(x[real].max() - x[real].min())
+    low_length = math.log(max(float(spacing.min()) if spacing.size else 0.01, 1e-3) / 2)
+    # a correlation longer than a quarter of the span is an offset or a tilt of the
+    # trace, which the fixed effects remove: the likelihood is flat there, so the
+    # length is bounded (and a tracing error of that reach is not identifiable)
+    high_length = math.log(max(span, 1e-2) / 4)
+    # start: the residual SD of a line through each trial's differences
+    start_sd = float(np.std(d[real])) / math.sqrt(2) or 1e-3
+    bounds = [
+        (_LOG_FLOOR, math.log(10 * start_sd + 1e-6)),
+        (_LOG_FLOOR, math.log(10 * start_sd + 1e-6)),
+        (low_length, high_length),
+    ]
+
+    def objective(theta):
+        return _restricted_terms(theta, x, d, design, real)[0]
+
+    best = None
+    # a few starts: the tracing part may be nil, short or long
+    for tracing_share, length in ((0.3, 0.3), (0.7, 1.0), (0.05, 0.1)):
+        start = np.array(
+            [
+                math.log(start_sd * math.sqrt(1 - tracing_share**2)),
+                math.log(start_sd * tracing_share),
+                min(max(math.log(length), low_length), high_length),
+            ]
+        )
+        result = minimize(
+            objective, start, method="L-BFGS-B", bounds=bounds, options=_OPTIMISER_OPTIONS
+        )
+        if best is None or result.fun < best.fun:
+            best = result
+    theta = best.x
+    se_log = _log_parameter_se(objective, theta, bounds)
+    _, effects, effect_covariance, _ = _restricted_terms(theta, x, d, design, real)
+    reading, tracing, length = np.exp(theta)
+    # side offsets: the spread of the trials' offsets beyond their own noise.  The
+    # difference of two side offsets has twice their variance.
+    offsets = effects[:, 0]
+    excess = (np.mean(offsets**2) - np.mean(effect_covariance[:, 0, 0])) / 2.0
+    side_offset = math.sqrt(max(excess, 0.0))
+    # its SE: a sample variance of T offsets (delta method on the square root)
+    variance_se = np.std(offsets**2, ddof=1) / math.sqrt(offsets.size) / 2.0
+    side_offset_se = variance_se / (2 * side_offset) if side_offset > 0 else math.nan
+    # rotation and wedge position the same way, from the slope and slope-multiple terms
+    rotation_var = (np.mean(effects[:, 1] ** 2) - np.mean(effect_covariance[:, 1, 1])) / 4.0
+    wedge_var = (np.mean(effects[:, 2] ** 2) - np.mean(effect_covariance[:, 2, 2])) / 4.0
+    model = NoiseModel(
+        reading_sd_mm=float(reading),
+        tracing_sd_mm=float(tracing),
+        tracing_length_mm=float(length),
+        side_offset_sd_mm=float(side_offset),
+        rotation_sd=float(math.sqrt(max(rotation_var, 0.0))),
+        wedge_position_sd_mm=float(math.sqrt(max(wedge_var, 0.0))),
+    )
+    se = {
+        "reading_sd_mm": float(reading * se_log[0]),
+        "tracing_sd_mm": float(tracing * se_log[1]),
+        "tracing_length_mm": float(length * se_log[2]),
+        "side_offset_sd_mm": float(side_offset_se),
+    }
+    return NoiseEstimate(model, se, len(usable), n_differences)
+
+
+def _log_parameter_se(objective, theta, bounds, step=1e-3):
+    """Standard errors of the log-parameters from the curvature of -2 log likelihood.
+
+    A parameter on its bound, or along a direction where the likelihood is flat,
+    gets NaN: no curvature, no standard error.
+    """
+    k = theta.size
+    hessian = np.empty((k, k))
+    f0 = objective(theta)
+    for i in range(k):
+        for j in range(i, k):
+            e_i = np.eye(k)[i] * step
+            e_j = np.eye(k)[j] * step
+            value = (
+                objective(theta + e_i + e_j)
+                - objective(theta + e_i - e_j)
+                - objective(theta - e_i + e_j)
+                + objective(theta - e_i - e_j)
+            ) / (4 * step * step)
+            hessian[i, j] = hessian[j, i] = value
+    se = np.full(k, np.nan)
+    on_bound = np.array(
+        [
+            abs(t - lo) < 1e-6 or abs(t - hi) < 1e-6
+            for t, (lo, hi) in zip(theta, bounds, strict=True)
+        ]
+    )
+    free = ~on_bound
+    if free.any():
+        information = hessian[np.ix_(free, free)] / 2.0  # -2 log L -> Fisher information
+        try:
+            covariance = np.linalg.inv(information)
+        except np.linalg.LinAlgError:
+            return se
+        diagonal = np.diag(covariance)
+        se[free] = np.where(diagonal > 0, np.sqrt(np.abs(diagonal)), np.nan)
+    del f0
+    return se
+
+
+#: What each parameter of the noise table is, for its readers.
+DESCRIPTIONS = {
+    "reading_sd_mm": "independent error of one reading of one side",
+    "tracing_sd_mm": "tracing error correlated along the outline, one side",
+    "tracing_length_mm": "correlation length of the tracing error (exponential kernel)",
+    "side_offset_sd_mm": "offset of one side's whole trace",
+    "rotation_sd": "rotation of the photograph (cancels in the left-right mean)",
+    "wedge_position_sd_mm": "wedge misplaced along the outline (cancels in the mean, first order)",
+    "shared_offset_sd_mm": "offset shared by both sides of a trace",
+    "shared_tilt_sd": "symmetric tilt shared by both sides of a trace",
+    "depth_sd_mm": "error of the indentation depth",
+}
+
+
+def noise_rows(estimate, priors, overrides=None):
+    """The rows of the noise table: each parameter, its value, SE and where it comes from.
+
+    Parameters
+    ----------
+    estimate : NoiseEstimate
+        What the left-right differences measured.
+    priors : dict
+        ``shared_offset_sd_mm``, ``shared_tilt_sd`` and ``depth_sd_mm`` (config).
+    overrides : dict, optional
+        Measured parameters replaced by a configured value (not None).
+
+    Returns
+    -------
+    list of dict
+        Columns :data:`NOISE_COLUMNS`, one row per parameter of :class:`NoiseModel`.
+    """
+    overrides = {k: v for k, v in (overrides or {}).items() if v is not None}
+    rows = []
+    for name, value in estimate.model.as_dict().items():
+        if name in PRIORS:
+            value, se, source = priors[name], math.nan, f"prior: config noise.{name}"
+        elif name in overrides:
+            value, se, source = overrides[name], math.nan, f"set: config noise.{name}"
+        else:
+            se = estimate.se.get(name, math.nan)
+            source = "measured: left-right differences"
+        rows.append(
+            {
+                "scope": "dataset",
+                "parameter": name,
+                "value": float(value),
+                "se": float(se),
+                "source": source,
+                "n_trials": estimate.n_trials,
+                "n_differences": estimate.n_differences,
+            }
+        )
+    return rows
+
+
+def model_from_rows(rows):
+    """The :class:`NoiseModel` of a noise table's rows (as :func:`noise_rows` writes them).
+
+    Parameters
+    ----------
+    rows : iterable of mapping
+        Rows with ``parameter`` and ``value``.
+
+    Returns
+    -------
+    NoiseModel
+
+    Raises
+    ------
+    ValueError
+        If a parameter is missing or a value is not a finite number >= 0.
+    """
+    values = {}
+    for row in rows:
+        value = float(row["value"])
+        if not (math.isfinite(value) and value >= 0):
+            raise ValueError(
+                f"noise parameter {row['parameter']}: expected a number >= 0, got {row['value']!r}"
+            )
+        values[row["parameter"]] = value
+    missing = [name for name in NoiseModel.__dataclass_fields__ if name not in values]
+    if missing:
+        raise ValueError(f"the noise table lacks {', '.join(missing)}")
+    return NoiseModel(**{name: values[name] for name in NoiseModel.__dataclass_fields__})

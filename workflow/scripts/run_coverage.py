@@ -1,0 +1,34 @@
+"""Rule calibration: do the intervals cover?  Simulated datasets, fitted as the workflow fits."""
+
+from lineload.coverage import (
+    COVERAGE_COLUMNS,
+    TRIAL_COLUMNS,
+    coverage_markdown,
+    coverage_study,
+    summarise_coverage,
+)
+from lineload.io import output_to, read_json, write_rows, write_text
+
+
+def calibration(outputs, seed, datasets):
+    """Run the coverage study; write every trial, the summary and its Markdown."""
+    rows = coverage_study(seed, datasets)
+    summary = summarise_coverage(rows)
+    write_rows(rows, TRIAL_COLUMNS, outputs.trials)
+    write_rows(summary, COVERAGE_COLUMNS, outputs.summary)
+    command = (
+        f"snakemake --cores 2 calibration --config calibration='{{seed: {seed}, "
+        f"datasets: {datasets}}}'"
+    )
+    write_text(coverage_markdown(summary, command), outputs.markdown)
+    for row in summary:
+        if row["species"] == "all":
+            print(
+                f"{row['scenario']}, {row['model']} {row['parameter']}: "
+                f"{row['n_covered']}/{row['n_trials']} = {row['coverage']:.3f}"
+            )
+
+
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        calibration(snakemake.output, **read_json(snakemake.input.spec))
