@@ -53,6 +53,7 @@ from .models import (
     waterbed_deflection_mm,
     waterbed_shift_mm,
 )
+from .noise import NoiseModel
 from .sensitivity import curve_gap_mm
 from .tables import format_fixed, markdown_table, notice_footer
 from .tables import span_text as _span
@@ -198,13 +199,12 @@ class ClaimSettings:
 
     Attributes
     ----------
-    noise_mm : float
-        Digitising noise of one reading (tissue mm, standard deviation); an
-        averaged point of two sides has ``noise_mm / sqrt(2)``.
+    noise_mm : float or None
+        Digitising noise of one reading of one side (tissue mm, standard
+        deviation), set by hand (config ``claims: noise_mm``); None takes it
+        from ``noise_model`` (see :attr:`reading_noise_mm`).
     large_depth_mm : float
         Depths at or above this are the 'larger depths' of C9.
-    symmetry_tolerance : float
-        C2: largest RMS left-right difference, as a fraction of the depth.
     significance : float
         Error rate of the tests of C6, C8, C10 and C11 (Bonferroni over the
         trials or subjects where a claim tests several).
@@ -214,19 +214,28 @@ class ClaimSettings:
     zero_crossing_rtol : float
         C7: largest relative distance between the numerical zero and L/3.  A
         bound on floating-point error, not on the data, so not a config key.
-    offset_sd_mm : float
-        An offset shared by all readings of a trace (registration of the two
-        outlines), which left-right differences cannot measure: a prior (config
-        key ``claims: offset_sd_mm``).
+    noise_model : lineload.noise.NoiseModel or None
+        The dataset's digitising noise (the noise table: measured parts and
+        priors); the covariance of each trial's averaged points comes from it.
+        None: independent readings of ``noise_mm`` and nothing else.
     """
 
-    noise_mm: float = 0.01
+    noise_mm: float | None = None
     large_depth_mm: float = 1.5
-    symmetry_tolerance: float = 0.05
     significance: float = 0.05
     force_sd_N: float = 0.005
     zero_crossing_rtol: float = 1e-6
-    offset_sd_mm: float = 0.005
+    noise_model: NoiseModel | None = None
+
+    @property
+    def reading_noise_mm(self):
+        """One reading's noise: ``noise_mm`` if set, else the noise model's reading and
+        tracing errors together (``sqrt(reading**2 + tracing**2)``)."""
+        if self.noise_mm is not None:
+            return float(self.noise_mm)
+        if self.noise_model is None:
+            raise ValueError("the claims need noise_mm or a noise model")
+        return math.hypot(self.noise_model.reading_sd_mm, self.noise_model.tracing_sd_mm)
 
 
 # --------------------------------------------------------------------------- helpers
@@ -389,6 +398,22 @@ def waterbed_zero_crossing_mm(depth_mm, L_mm, deflection=None):
     return float(brentq(curve, 0.0, 2.0 * L_mm / 3.0, xtol=1e-14 * L_mm, rtol=1e-15))
 
 
+def _chord_curvature_gls(x, w, covariance):
+    """:func:`chord_curvature` with a full covariance of the deflections."""
+    weight = np.linalg.inv(covariance)
+    design = np.column_stack([np.ones_like(x), x])
+    slope = np.linalg.solve(design.T @ weight @ design, design.T @ weight @ w)[1]
+    cos, sin = 1.0 / math.hypot(1.0, slope), slope / math.hypot(1.0, slope)
+    x_c, w_c = x - x.mean(), w - w.mean()
+    u, v = x_c * cos + w_c * sin, -x_c * sin + w_c * cos
+    weight = weight / cos**2  # vertical noise seen across the chord
+    design = np.column_stack([np.ones_like(u), u, u * u])
+    covariance_fit = np.linalg.inv(design.T @ weight @ design)
+    _, b, c = covariance_fit @ (design.T @ weight @ v)
+    factor = (1.0 + b * b) ** 1.5
+    return float(2.0 * c / factor), float(2.0 * math.sqrt(covariance_fit[2, 2]) / factor)
+
+
 def chord_curvature(distance_mm, deflection_mm, sd_mm):
     """Curvature of the circle that best fits a stretch of profile, with its standard error.
 
@@ -406,7 +431,9 @@ def chord_curvature(distance_mm, deflection_mm, sd_mm):
     distance_mm, deflection_mm : array_like
         At least four points of one profile (mm).
     sd_mm : array_like
-        Standard deviation of each deflection (mm, vertical noise).
+        Standard deviation of each deflection (mm, vertical noise), or their
+        ``(n, n)`` covariance (mm^2): the fit is then generalised least squares
+        and the standard error honours correlated errors.
 
     Returns
     -------
@@ -416,9 +443,11 @@ def chord_curvature(distance_mm, deflection_mm, sd_mm):
     """
     x = np.asarray(distance_mm, dtype=float)
     w = np.asarray(deflection_mm, dtype=float)
-    sd = np.broadcast_to(np.asarray(sd_mm, dtype=float), x.shape)
     if x.size < 4:
         raise ValueError(f"a curvature with an error needs at least 4 points, got {x.size}")
+    if np.ndim(sd_mm) == 2:
+        return _chord_curvature_gls(x, w, np.asarray(sd_mm, dtype=float))
+    sd = np.broadcast_to(np.asarray(sd_mm, dtype=float), x.shape)
     slope = np.polyfit(x, w, 1, w=1.0 / sd)[0]
     cos, sin = 1.0 / math.hypot(1.0, slope), slope / math.hypot(1.0, slope)
     x_c, w_c = x - np.average(x, weights=sd**-2), w - np.average(w, weights=sd**-2)
@@ -456,7 +485,7 @@ def verdict_counts(claims):
 
 def claim_c1(fits, averaged, settings):
     """C1: wider deformed region in humans than in monkeys at the same depth."""
-    threshold_mm = 2.0 * settings.noise_mm
+    threshold_mm = 2.0 * settings.reading_noise_mm
     extents = {}
     for fit, points in _trials(fits, averaged):
         if points.empty:
@@ -466,7 +495,7 @@ def claim_c1(fits, averaged, settings):
         extents.setdefault(key, {}).setdefault(str(fit["species"]), []).append(extent)
     rule = (
         "Extent of a trial = distance at which the averaged deflection last falls through "
-        f"2 x noise_mm = {format_fixed(threshold_mm, 3)} mm (linear interpolation between "
+        f"2 x the reading noise = {format_fixed(threshold_mm, 3)} mm (linear interpolation between "
         "readings). Holds if, at every depth measured "
         "in both species, the smallest human extent is larger than the largest monkey extent."
     )
@@ -515,48 +544,115 @@ def claim_c1(fits, averaged, settings):
     return _row("C1", our, FAILS, reason, rule)
 
 
+def _difference_covariance_mm2(x_mm, settings):
+    """Covariance of left minus right at distances both sides read, from noise alone.
+
+    The two sides' own errors are independent, so the difference has twice one
+    side's covariance (reading, tracing and side offset); without a noise model,
+    twice ``noise_mm**2`` on the diagonal.
+    """
+    if settings.noise_model is not None and settings.noise_mm is None:
+        return 2.0 * settings.noise_model.side_covariance_mm2(x_mm)
+    return 2.0 * settings.reading_noise_mm**2 * np.eye(x_mm.size)
+
+
+def asymmetry_excess(difference_mm, covariance_mm2):
+    """Mean square of left minus right beyond what the noise gives, with its standard error.
+
+    ``D = mean(d**2) - trace(C) / n`` estimates the mean square of the true
+    difference between the sides; under Gaussian noise ``mean(d**2)`` has
+    variance ``(2 trace(C C) + 4 a' C a) / n**2`` for a true difference ``a``,
+    estimated with ``a' C a ~ max(D, 0) trace(C)``.
+
+    Parameters
+    ----------
+    difference_mm : array_like
+        Left minus right at the distances both sides read (mm).
+    covariance_mm2 : array_like
+        Their covariance under noise alone (mm^2).
+
+    Returns
+    -------
+    tuple of float
+        ``(D_mm2, se_mm2)``.
+    """
+    d = np.asarray(difference_mm, dtype=float)
+    c = np.asarray(covariance_mm2, dtype=float)
+    n = d.size
+    excess = float(np.mean(d**2) - np.trace(c) / n)
+    variance = (2.0 * float(np.sum(c * c)) + 4.0 * max(excess, 0.0) * float(np.trace(c))) / n**2
+    return excess, math.sqrt(variance)
+
+
 def claim_c2(fits, averaged, settings):
-    """C2: left and right profiles nearly the same."""
-    tolerance = settings.symmetry_tolerance
+    """C2: left and right profiles nearly the same, an equivalence test against the noise."""
+    alpha = settings.significance
+    margin = paper.MAX_SHIFT_FRACTION
     rule = (
-        "Per trial: RMS of (left - right) over the distances read on both sides "
-        "(left_source and right_source both 'measured'), divided by the depth. Holds if the "
-        f"largest value over all trials is at most symmetry_tolerance = {tolerance:g}."
+        "An equivalence test, the noise removed, with the paper's margin for an approximation "
+        f"({_pct(margin, 0)}, its bound on |U|/X; the paper gives no number for symmetry). Per "
+        "trial, over the distances read on both sides (left_source and right_source both "
+        "'measured'): the mean square of left - right beyond what the noise gives, D = "
+        "mean(d^2) - trace(C)/n, with C the covariance of the difference under noise alone "
+        "(twice one side's: reading, tracing and side offset; the noise table), and its "
+        "standard error SE. The sides are nearly the same if their true RMS difference is "
+        f"below {_pct(margin, 0)} of the depth W0. Equivalent if D + z(1 - {alpha:g}) SE < "
+        f"({margin:g} W0)^2; different if D - z(1 - {alpha:g}/(2 x trials)) SE > ({margin:g} "
+        "W0)^2 (Bonferroni). Holds if every trial is equivalent; does not hold if any is "
+        "different; cannot be checked otherwise."
     )
     values = []
     for fit, points in _trials(fits, averaged):
         if points.empty:
             continue
         both = (points["left_source"] == "measured") & (points["right_source"] == "measured")
+        both &= points["distance_mm"].to_numpy(float) > 0
+        x = points.loc[both, "distance_mm"].to_numpy(float)
         difference = (points.loc[both, "left_mm"] - points.loc[both, "right_mm"]).to_numpy(float)
-        if difference.size:
-            rms = float(np.sqrt(np.mean(difference**2)))
-            values.append((rms / float(fit["depth_mm"]), _label(fit)))
+        if difference.size >= 2:
+            excess, se = asymmetry_excess(difference, _difference_covariance_mm2(x, settings))
+            values.append((_label(fit), excess, se, float(fit["depth_mm"])))
     if not values:
         return _row(
             "C2",
-            "no distance read on both sides in any trial",
+            "no trial read on both sides at two or more distances",
             UNTESTABLE,
-            "No trial was read on both sides at the same distance.",
+            "No trial was read on both sides at the same distances.",
             rule,
         )
-    fractions = np.array([v for v, _ in values])
-    worst = values[int(np.argmax(fractions))][1]
+    bound = (margin * np.array([v[3] for v in values])) ** 2
+    z_one = float(norm.ppf(1.0 - alpha))
+    z_all = float(norm.ppf(1.0 - alpha / (2.0 * len(values))))
+    excess = np.array([v[1] for v in values])
+    se = np.array([v[2] for v in values])
+    equivalent = excess + z_one * se < bound
+    different = excess - z_all * se > bound
+    fraction = np.sqrt(np.clip(excess, 0.0, None)) / np.sqrt(bound) * margin
+    worst = values[int(np.argmax(fraction))][0]
     our = (
-        f"RMS left-right difference / depth: median {_pct(np.median(fractions))}, "
-        f"largest {_pct(fractions.max())} ({worst}); {len(values)} trials"
+        f"true RMS left-right difference (noise removed) / depth: median "
+        f"{_pct(np.median(fraction))}, largest {_pct(fraction.max())} ({worst}); "
+        f"equivalent within {_pct(margin, 0)} in {int(equivalent.sum())} of {len(values)} "
+        f"trials, different in {int(different.sum())}"
     )
-    if fractions.max() <= tolerance:
+    if different.any():
+        labels = [v[0] for v, d in zip(values, different, strict=True) if d]
         reason = (
-            f"The two sides differ by at most {_pct(fractions.max())} of the depth (RMS), "
-            f"within the {_pct(tolerance, 0)} allowed."
+            f"In {_n(len(labels), 'trial')} ({_list(labels)}) the sides differ by more than "
+            f"{_pct(margin, 0)} of the depth, beyond what the noise explains."
+        )
+        return _row("C2", our, FAILS, reason, rule)
+    if equivalent.all():
+        reason = (
+            "In every trial the two sides differ, once the noise is removed, by less than "
+            f"{_pct(margin, 0)} of the depth."
         )
         return _row("C2", our, HOLDS, reason, rule)
     reason = (
-        f"In {worst} the sides differ by {_pct(fractions.max())} of the depth (RMS), more "
-        f"than the {_pct(tolerance, 0)} allowed."
+        f"In {_n(int((~equivalent).sum()), 'trial')} the noise leaves it open whether the sides "
+        f"differ by more or less than {_pct(margin, 0)} of the depth."
     )
-    return _row("C2", our, FAILS, reason, rule)
+    return _row("C2", our, UNTESTABLE, reason, rule)
 
 
 def claim_c3(fits, averaged, settings):
@@ -609,10 +705,10 @@ def claim_c3(fits, averaged, settings):
 
 def claim_c4(fits, averaged, settings):
     """C4: the predicted bulge beyond L/3 is not in the data."""
-    threshold_mm = 2.0 * settings.noise_mm
+    threshold_mm = 2.0 * settings.reading_noise_mm
     rule = (
         "Per trial: the averaged points with L/3 < distance < L at which the fitted waterbed "
-        f"curve is below -2 x noise_mm = -{format_fixed(threshold_mm, 3)} mm (a bulge the "
+        f"curve is below -2 x the reading noise = -{format_fixed(threshold_mm, 3)} mm (a bulge the "
         "readings could resolve). The data show the bulge if their mean over those points is "
         f"below -{format_fixed(threshold_mm, 3)} mm. Holds if no such trial shows it; cannot "
         "be checked if no trial has such points."
@@ -733,14 +829,16 @@ def _L_sensitivity(curve, x_mm, depth_mm, L_mm, y_mm=None):
     return g / (float(np.dot(g, g)) - curvature)
 
 
-def _averaged_covariance_mm2(x_mm, sides, settings):
-    """Covariance of a trial's averaged points under the noise the rules assume.
+def _averaged_covariance_mm2(x_mm, sides, y_mm, depth_mm, settings):
+    """Covariance of a trial's averaged points under the dataset's noise.
 
-    Each averaged point has one reading's variance over the number of sides
-    averaged; an offset shared by a trace adds ``offset_sd_mm**2`` to every entry.
+    With a noise model, :meth:`lineload.noise.NoiseModel.average_covariance_mm2`
+    (every measured part and every prior); otherwise independent readings of
+    ``noise_mm`` over the number of sides averaged.
     """
-    variance = _noise_sd_mm(settings.noise_mm, sides) ** 2
-    return np.diag(variance) + settings.offset_sd_mm**2 * np.ones((x_mm.size, x_mm.size))
+    if settings.noise_model is not None and settings.noise_mm is None:
+        return settings.noise_model.average_covariance_mm2(x_mm, sides, y_mm, depth_mm)
+    return np.diag(_noise_sd_mm(settings.reading_noise_mm, sides) ** 2)
 
 
 def claim_c6(fits, averaged, settings):
@@ -755,16 +853,16 @@ def claim_c6(fits, averaged, settings):
         "finite-deformation solution of the same membrane (consistent in both coordinates). "
         "Per trial with both fits: the paired relative difference d = (L_paper - L_arc) / "
         "L_arc, both from the same readings, with its standard error from the fits' "
-        "first-order sensitivities to the readings (misfit included) and the noise the rules "
-        "assume (independent readings of noise_mm, averaged over the sides, plus an offset of "
-        "offset_sd_mm shared by a "
-        f"trace). Equivalent if the {format_fixed(100 * (1 - 2 * alpha), 0)} % interval of "
+        "first-order sensitivities to the readings (misfit included) and the measured noise "
+        "(the noise table: reading and tracing errors, side offsets, and the priors for what "
+        "left-right differences cannot see). "
+        f"Equivalent if the {format_fixed(100 * (1 - 2 * alpha), 0)} % interval of "
         f"d lies inside +-{_pct(margin, 0)} (two one-sided tests at significance = "
         f"{alpha:g}); different if its {format_fixed(100 * (1 - 2 * alpha / 2), 0)} % "
         "interval, Bonferroni over the trials, lies outside. Holds if every trial is "
         "equivalent; does not hold if some trial is different; cannot be checked otherwise. "
         "Beside it, not deciding: the largest gap between the two fitted curves against "
-        "noise_mm, the paper's own bound |U(L/3)| / (L/3) from eq. 20, and the shifted "
+        "the reading noise, the paper's own bound |U(L/3)| / (L/3) from eq. 20, and the shifted "
         "parabola (eq. 19 placed at x = X + U) as a sensitivity."
     )
     rows = []
@@ -779,7 +877,7 @@ def claim_c6(fits, averaged, settings):
         # d = L_paper / L_arc - 1 moves with the readings as J . noise
         J = _L_sensitivity(waterbed_deflection_mm, x, depth_mm, L_paper, y) / L_arc
         J = J - _L_sensitivity(arc_deflection_mm, x, depth_mm, L_arc, y) * L_paper / L_arc**2
-        covariance = _averaged_covariance_mm2(x, sides, settings)
+        covariance = _averaged_covariance_mm2(x, sides, y, depth_mm, settings)
         sd = math.sqrt(max(float(J @ covariance @ J), 0.0))
         shift_mm = float(waterbed_shift_mm(L_paper / 3.0, depth_mm, L_paper))
         rows.append(
@@ -817,7 +915,8 @@ def claim_c6(fits, averaged, settings):
         f"{_span(100 * sd, 3, ' %')}; equivalent within +-{_pct(margin, 0)} in "
         f"{int(equivalent.sum())} of {_n(d.size, 'trial')}, different in "
         f"{int(different.sum())}; largest gap between the curves {_span(gaps, 3, ' mm')} "
-        f"(noise_mm {format_fixed(settings.noise_mm, 3)} mm); paper's bound |U(L/3)| / (L/3) "
+        f"(reading noise {format_fixed(settings.reading_noise_mm, 3)} mm); "
+        "paper's bound |U(L/3)| / (L/3) "
         f"{_span(100 * fractions, 1, ' %')}; shifted parabola against the arc "
         f"{_span(100 * shifted[np.isfinite(shifted)], 1, ' %')}"
     )
@@ -899,10 +998,11 @@ def claim_c8(fits, averaged, settings):
     rule = (
         "Per trial: the waterbed's excess mean square error RMSE^2 - s^2 (mm^2), with RMSE "
         "over the fit window and s^2 the mean noise variance of the averaged points there "
-        "(noise_mm^2 over the number of sides averaged); not truncated at zero, so noise "
-        "averages out. Per subject with two or more depths: the least-squares slope of the "
-        "excess against depth (mm^2 per mm). Across subjects: the slopes regressed on species "
-        "(a fixed effect), and the mean of the species' mean slopes tested one-sided with "
+        "(the reading noise squared over the number of sides averaged); not truncated at "
+        "zero, so noise averages out. Per subject with two or more depths: the "
+        "least-squares slope of the excess against depth (mm^2 per mm). Across subjects: "
+        "the slopes regressed on species (a fixed effect), and the mean of the species' "
+        "mean slopes tested one-sided with "
         f"Student's t (significance = {alpha:g}). Holds if the slope is significantly above "
         "zero (the misfit grows with depth); does not hold if its upper one-sided "
         f"{format_fixed(100 * (1 - alpha), 0)} % bound is below zero (it shrinks); cannot be "
@@ -915,7 +1015,7 @@ def claim_c8(fits, averaged, settings):
         if points.empty or not math.isfinite(rmse_mm):
             continue
         _, _, sides = _window_points(fit, points)
-        noise_sd_mm = _noise_sd_mm(settings.noise_mm, sides)
+        noise_sd_mm = _noise_sd_mm(settings.reading_noise_mm, sides)
         variance = float(np.mean(noise_sd_mm**2)) if sides.size else 0.0
         subject = str(fit["subject"])
         species_of[subject] = str(fit["species"])
@@ -1065,21 +1165,23 @@ def claim_c9(fits, averaged, settings):
 
 
 def claim_c10(fits, averaged, settings):
-    """C10: constant curvature: the two halves of the window bend alike."""
+    """C10: constant curvature, an equivalence test of the two halves of the window."""
     alpha = settings.significance
+    margin = paper.MAX_SHIFT_FRACTION
     rule = (
-        "Per trial: the fitted points (the fit window) are split at half the largest fitted "
-        "distance; each half with at least 5 points gets the curvature of its best-fitting "
-        "circle and the standard error of that curvature from the digitising noise "
-        "(noise_mm over the root of the sides averaged; lineload.claims.chord_curvature). "
-        "A circle has the same curvature in both halves: the difference is significant if "
-        "|difference| / its standard error exceeds the two-sided normal quantile at "
-        f"significance = {alpha:g} divided by the number of trials tested (Bonferroni). The "
-        "test detects (with 80 % power) a change of curvature of (quantile + 0.84) standard "
-        "errors; a trial is resolved if that detectable change is no larger than the "
-        "curvature of the whole window. Does not hold if any trial shows a significant "
-        "change; holds if none does and at least one trial is resolved; cannot be checked "
-        "if no trial is resolved."
+        "An equivalence test with the paper's margin for an approximation "
+        f"({_pct(margin, 0)}, its bound on |U|/X). Per trial: the fitted points (the fit "
+        "window) are split at half the largest fitted distance; the whole window and each half "
+        "with at least 5 points get the curvature of their best-fitting circle, with standard "
+        "errors from the noise table's covariance (correlated errors included; "
+        "lineload.claims.chord_curvature). The statistic is the relative change r = (inner - "
+        "outer) / whole, zero for a circle; its standard error by first order. Pooled over "
+        "trials (inverse-variance weights): the skin is circular to the margin if the "
+        f"{format_fixed(100 * (1 - 2 * alpha), 0)} % interval of the pooled r lies inside "
+        f"+-{_pct(margin, 0)} and no trial's r lies significantly outside it (Bonferroni over "
+        f"the trials; significance = {alpha:g}); it is not if the pooled interval lies "
+        "outside, or any trial's r lies significantly outside the margin. Cannot be checked "
+        "otherwise: the noise hides a change as large as the margin."
     )
     tested = []
     for fit, points in _trials(fits, averaged):
@@ -1088,14 +1190,18 @@ def claim_c10(fits, averaged, settings):
         x, w, sides = _window_points(fit, points)
         if x.size == 0:
             continue
-        sd = _noise_sd_mm(settings.noise_mm, sides)
         inner = x <= x.max() / 2.0
         if inner.sum() < 5 or (~inner).sum() < 5:
             continue
-        whole, _ = chord_curvature(x, w, sd)
-        k_in, se_in = chord_curvature(x[inner], w[inner], sd[inner])
-        k_out, se_out = chord_curvature(x[~inner], w[~inner], sd[~inner])
-        tested.append((_label(fit), whole, k_in - k_out, math.hypot(se_in, se_out)))
+        covariance = _averaged_covariance_mm2(x, sides, w, float(fit["depth_mm"]), settings)
+        whole, se_whole = chord_curvature(x, w, covariance)
+        k_in, se_in = chord_curvature(x[inner], w[inner], covariance[np.ix_(inner, inner)])
+        k_out, se_out = chord_curvature(x[~inner], w[~inner], covariance[np.ix_(~inner, ~inner)])
+        if whole == 0.0:
+            continue
+        r = (k_in - k_out) / whole
+        se = math.sqrt((se_in**2 + se_out**2) / whole**2 + (r * se_whole / whole) ** 2)
+        tested.append((_label(fit), r, se))
     if not tested:
         return _row(
             "C10",
@@ -1104,44 +1210,43 @@ def claim_c10(fits, averaged, settings):
             "No trial has enough points in both halves of the window to compare curvatures.",
             rule,
         )
-    quantile = float(norm.ppf(1.0 - alpha / (2.0 * len(tested))))
-    detectable = np.array([(quantile + norm.ppf(0.8)) * se for *_, se in tested])
-    whole = np.abs(np.array([t[1] for t in tested]))
-    z = np.array([abs(diff) / se for _, _, diff, se in tested])
-    significant = [t[0] for t, zi in zip(tested, z, strict=True) if zi > quantile]
-    resolved = detectable <= whole
+    r = np.array([t[1] for t in tested])
+    se = np.array([t[2] for t in tested])
+    weights = se**-2
+    pooled = float(np.sum(weights * r) / np.sum(weights))
+    pooled_se = float(np.sum(weights) ** -0.5)
+    z_one = float(norm.ppf(1.0 - alpha))
+    z_all = float(norm.ppf(1.0 - alpha / (2.0 * len(tested))))
+    inside = (pooled - z_one * pooled_se > -margin) and (pooled + z_one * pooled_se < margin)
+    outside = (pooled - z_one * pooled_se > margin) or (pooled + z_one * pooled_se < -margin)
+    beyond = (np.abs(r) - margin) / se > z_all
     our = (
-        f"{len(tested)} trials tested (critical |z| {format_fixed(quantile, 2)}); curvature of "
-        f"the window {_span(whole, 3, ' /mm')}; smallest detectable change between halves "
-        f"{_span(detectable, 3, ' /mm')} (median {format_fixed(np.median(detectable), 3)} /mm); "
-        f"resolved in {int(resolved.sum())}; significant change in {len(significant)}"
+        f"relative change of curvature, inner minus outer half over the whole window: pooled "
+        f"{_pct(pooled)} +- {_pct(pooled_se)} (SE) over {len(tested)} trials; per trial "
+        f"{_span(100 * r, 1, ' %')}; significantly beyond +-{_pct(margin, 0)} in "
+        f"{int(beyond.sum())}"
     )
-    if significant:
-        differences = [t[2] for t in tested if t[0] in significant]
-        inner_more = sum(d > 0 for d in differences)
-        sides = []
-        if inner_more:
-            sides.append(f"the inner half more curved in {inner_more}")
-        if len(differences) - inner_more:
-            sides.append(f"the outer half in {len(differences) - inner_more}")
-        our += f" ({_list(significant)})"
+    if outside or beyond.any():
+        labels = [t[0] for t, b in zip(tested, beyond, strict=True) if b]
+        where = f" ({_list(labels)})" if labels else ""
+        direction = "inner" if (pooled > 0 if outside else np.mean(r[beyond]) > 0) else "outer"
         reason = (
-            f"In {_n(len(significant), 'trial')} the two halves of the window bend measurably "
-            f"differently ({', '.join(sides)}), so the free skin is not a single circle there."
+            f"The curvature changes along the window by more than the {_pct(margin, 0)} "
+            f"margin{where}, the {direction} half bending more: the free skin is not one "
+            "circle there."
         )
         return _row("C10", our, FAILS, reason, rule)
-    if not resolved.any():
+    if inside:
         reason = (
-            "The noise hides any change of curvature smaller than the curvature itself, so "
-            "these profiles cannot tell a circle from other shapes."
+            "Pooled over the trials, the two halves of the window bend alike to within "
+            f"the {_pct(margin, 0)} margin, and no trial departs from it significantly."
         )
-        return _row("C10", our, UNTESTABLE, reason, rule)
+        return _row("C10", our, HOLDS, reason, rule)
     reason = (
-        "No trial shows a change of curvature between the halves; in the "
-        f"{_n(int(resolved.sum()), 'resolved trial')} a change as large as the curvature "
-        "itself would have been detected with 80 % power (the others cannot judge)."
+        f"The noise leaves the change of curvature ({_pct(pooled)} +- {_pct(pooled_se)}) "
+        f"undecided against the {_pct(margin, 0)} margin."
     )
-    return _row("C10", our, HOLDS, reason, rule)
+    return _row("C10", our, UNTESTABLE, reason, rule)
 
 
 def _shape_checks(fits, allowed):

@@ -46,6 +46,7 @@ import pandas as pd
 
 from . import paper
 from .io import csv_text
+from .noise import NoiseModel, draw_side_errors_mm
 from .tables import markdown_table
 
 __all__ = [
@@ -87,14 +88,31 @@ SHORT_DEPTHS_MM = (1.0, 2.0)
 SHALLOW_DEPTH_MM, DEEP_DEPTH_MM = 0.5, 2.0
 #: Exponent of the narrow near-field term (same for every trial).
 NEAR_EXPONENT = 10.0
-#: Standard deviation of the digitising error of one reading, tissue mm.
-NOISE_SD_MM = 0.01
+#: The digitising errors of the reconstruction (tissue mm unless named otherwise).  None
+#: was measured: the study's raw readings were never published.  Each is a size a hand
+#: tracing on a 20x print plausibly makes, stated so that a reader can change it.
+#: Independent error of one reading of one side: 0.16 mm on the print, about the width
+#: of a traced pencil line.
+NOISE_SD_MM = 0.008
+#: Error that wanders along a traced outline (the hand drifts): SD and correlation
+#: length along the outline (exponential kernel, as lineload.noise assumes).
+TRACING_SD_MM = 0.005
+TRACING_LENGTH_MM = 0.5
+#: Offset of one side's whole trace (each side of the wedge traced on its own).
+SIDE_OFFSET_SD_MM = 0.004
 #: Registration error of one photograph: the resting and the deformed outline are
 #: superimposed by hand, so every reading of a trial shares a small vertical offset
-#: and a small tilt (a rotation about the wedge).  Standard deviations of the offset
-#: (tissue mm) and of the tilt (mm of deflection per mm of distance, i.e. radians).
+#: and a small rotation about the wedge.  Standard deviations of the offset
+#: (tissue mm) and of the rotation (mm of deflection per mm of distance, i.e. radians).
 REGISTRATION_OFFSET_SD_MM = 0.005
 REGISTRATION_TILT_SD = 0.001
+#: A symmetric tilt shared by both sides (t |x|), e.g. a print not quite square.
+SHARED_TILT_SD = 0.0005
+#: Error of the indentation depth (the positioner's reading, about 10 um).
+DEPTH_SD_MM = 0.01
+#: Misplacement of the wedge along the outline: the left side's distances too long by
+#: this much and the right side's too short.
+WEDGE_POSITION_SD_MM = 0.01
 #: Resolution of a reading on the enlargement (image mm).
 IMAGE_RESOLUTION_MM = 0.1
 #: Spacing of the reading positions, tissue mm: the finest step of the grid.
@@ -626,16 +644,81 @@ def registration_error_mm(subject, seed=DEFAULT_SEED):
     }
 
 
+#: The per-side errors as the noise model describes them.
+SIDE_NOISE = NoiseModel(
+    reading_sd_mm=NOISE_SD_MM,
+    tracing_sd_mm=TRACING_SD_MM,
+    tracing_length_mm=TRACING_LENGTH_MM,
+    side_offset_sd_mm=SIDE_OFFSET_SD_MM,
+)
+
+
+def trial_errors(subject, seed=DEFAULT_SEED):
+    """The errors of each trial that are not per reading: shared tilt, depth, wedge.
+
+    Parameters
+    ----------
+    subject : SubjectParameters
+    seed : int, optional
+        Dataset seed.
+
+    Returns
+    -------
+    dict
+        ``depth_mm -> (shared_tilt, depth_error_mm, wedge_shift_mm)``, in the
+        subject's depth order (stream 5 of the subject).
+    """
+    rng = subject_rng(seed, subject.species, subject.index, 5)
+    draws = rng.normal(0.0, 1.0, (len(subject.depths_mm), 3))
+    sizes = np.array([SHARED_TILT_SD, DEPTH_SD_MM, WEDGE_POSITION_SD_MM])
+    return {
+        float(depth_mm): tuple(float(v) for v in sizes * draw)
+        for depth_mm, draw in zip(subject.depths_mm, draws, strict=True)
+    }
+
+
+def true_reading_mm(distance_mm, trial, side, errors):
+    """What a side's true profile reads at ``distance_mm`` with a trial's shared errors.
+
+    The wedge misplaced by ``wedge_shift`` makes the left side's distances too
+    long (the reading at ``x`` sees the skin at ``x + shift``) and the right's too
+    short; the depth error scales the profile (the true indentation is
+    ``depth + error``); the shared tilt adds ``t x`` to both sides.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        Reading positions (mm).
+    trial : TrialParameters
+    side : {"left", "right"}
+    errors : tuple
+        ``(shared_tilt, depth_error_mm, wedge_shift_mm)`` of :func:`trial_errors`.
+
+    Returns
+    -------
+    numpy.ndarray
+        Deflection (mm), before the per-reading errors.
+    """
+    shared_tilt, depth_error_mm, wedge_shift_mm = errors
+    x = np.asarray(distance_mm, dtype=float)
+    seen_mm = np.clip(x + (wedge_shift_mm if side == "left" else -wedge_shift_mm), 0.0, None)
+    scale = 1.0 + depth_error_mm / trial.depth_mm
+    return scale * _trial_deflection_mm(seen_mm, trial, side) + shared_tilt * x
+
+
 def profile_table(subject, seed=DEFAULT_SEED, magnification=MAGNIFICATION, shuffle=False):
     """Simulated digitised readings of one finger, in image units.
 
     For each depth and side: the reading grid up to that side's edge (first
-    reading at 0.05 mm with probability 0.6, else 0.1 mm), true deflection plus
-    Gaussian digitising error of SD 0.01 tissue mm (symmetric, not clipped: a
-    reading can be slightly negative where the skin barely moves) plus the
-    trial's registration error (:func:`registration_error_mm`), rounded to
-    0.1 mm on the enlargement.  At the edge, where the outlines rejoin, the
-    reading carries the registration error only.
+    reading at 0.05 mm with probability 0.6, else 0.1 mm); the true deflection
+    as the trial's shared errors make it read (:func:`true_reading_mm`: depth
+    error, wedge position, shared tilt); plus the side's own errors
+    (:data:`SIDE_NOISE`: independent reading error, tracing error correlated
+    along the outline, an offset of the side's trace; stream 6), symmetric and
+    not clipped, so a reading can be slightly negative where the skin barely
+    moves; plus the trial's registration error (:func:`registration_error_mm`);
+    rounded to 0.1 mm on the enlargement.  At the edge, where the outlines
+    rejoin, the reading carries the registration error only.
 
     Parameters
     ----------
@@ -654,7 +737,9 @@ def profile_table(subject, seed=DEFAULT_SEED, magnification=MAGNIFICATION, shuff
         ``deflection_image_mm``.
     """
     rng = subject_rng(seed, subject.species, subject.index, 1)
+    tracing_rng = subject_rng(seed, subject.species, subject.index, 6)
     registration = registration_error_mm(subject, seed)
+    shared = trial_errors(subject, seed)
     depth, side, distance, deflection = [], [], [], []
     for depth_mm in subject.depths_mm:
         trial = trial_parameters(subject, depth_mm)
@@ -662,11 +747,11 @@ def profile_table(subject, seed=DEFAULT_SEED, magnification=MAGNIFICATION, shuff
         for side_name in ("left", "right"):
             first_mm = GRID_TICK_MM if rng.random() < P_FIRST_AT_FINEST else 2 * GRID_TICK_MM
             distance_mm = reading_distances_mm(trial.extent_mm(side_name), first_mm)
-            noise_mm = rng.normal(0.0, NOISE_SD_MM, distance_mm.size)
-            noise_mm[-1] = 0.0  # the edge itself: outlines meet, nothing to read
+            noise_mm = draw_side_errors_mm(tracing_rng, distance_mm, SIDE_NOISE)
             signed_mm = -distance_mm if side_name == "left" else distance_mm
-            true_mm = _trial_deflection_mm(distance_mm, trial, side_name)
+            true_mm = true_reading_mm(distance_mm, trial, side_name, shared[float(depth_mm)])
             read_mm = true_mm + noise_mm + offset_mm + tilt * signed_mm
+            read_mm[-1] = offset_mm + tilt * signed_mm[-1]  # the edge: outlines meet
             depth.append(np.full(distance_mm.size, depth_mm))
             side.append(np.full(distance_mm.size, side_name, dtype=object))
             distance.append(_to_image(distance_mm, magnification))
@@ -992,6 +1077,51 @@ DATA_NOTICE = (
     "The study's digitised profiles were never published. See data/README.md for how these "
     "files were made.\n"
 )
+
+
+#: What the generator puts into the shipped reconstruction, claim by claim: the verdict
+#: the claims table should reach and how it comes about.  ``tuned``: the generator's
+#: parameters were chosen so that the claim comes out this way (a test of the workflow,
+#: not evidence); ``follows``: not aimed at, a consequence of the true profile's shape or
+#: of the digitising errors; ``identity``: true of any data.
+BUILT_IN_VERDICTS = (
+    ("C1", "holds", "tuned", "the species' edges were drawn from the paper's ranges"),
+    ("C2", "holds", "tuned", "the sides' edges differ by a few percent of the depth"),
+    ("C3", "holds", "tuned", "the true profile's shape was tuned until the waterbed fits better"),
+    ("C4", "holds", "tuned", "the true profile never goes below the resting surface"),
+    (
+        "C5",
+        "does not hold",
+        "follows",
+        "L was tuned into 10-15 mm without digitising errors; the depth error and the "
+        "misplaced wedge move four trials just outside",
+    ),
+    ("C6", "holds", "follows", "the paper's procedure and the exact arc differ by W0/L effects"),
+    ("C7", "identity", "identity", "eq. 19 crosses zero at L/3 for any L"),
+    ("C8", "holds", "follows", "the near-field term grows with depth"),
+    ("C9", "holds", "tuned", "the near-field term puts the readings under the curve"),
+    ("C10", "does not hold", "follows", "the near-field term bends the skin next to the wedge"),
+    (
+        "C11",
+        "does not hold",
+        "follows",
+        "L changes little with depth, so a stress-free membrane needs far more force at depth",
+    ),
+)
+
+
+def built_in_verdicts():
+    """:data:`BUILT_IN_VERDICTS` as a list of dicts (for ``data/built_in_verdicts.json``).
+
+    Returns
+    -------
+    list of dict
+        ``claim``, ``verdict``, ``how`` (tuned, follows, identity) and ``why``.
+    """
+    return [
+        {"claim": claim, "verdict": verdict, "how": how, "why": why}
+        for claim, verdict, how, why in BUILT_IN_VERDICTS
+    ]
 
 
 def build_dataset(

@@ -42,6 +42,7 @@ rule claims_table:
         ),
         fits=rules.fits_table.output[0],
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
+        noise=rules.noise.output[0],
         # C11 checks the measured forces too when there are any
         forces=FORCES,
         code=code("make_claims.py"),

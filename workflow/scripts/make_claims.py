@@ -11,16 +11,20 @@ from lineload.claims import (
     claims_markdown,
     compute_claims,
 )
-from lineload.io import output_to, read_json, read_results_csv, write_csv, write_text
+from lineload.io import output_to, read_json, read_results_csv, read_rows, write_csv, write_text
+from lineload.noise import model_from_rows
 from lineload.validation import read_forces
 
 
-def make_claims(fits_path, averaged_paths, forces_paths, outputs, settings, notice):
-    """Compute the claims from the fits, averaged profiles and forces; write CSV and Markdown."""
+def make_claims(fits_path, averaged_paths, forces_paths, noise_path, outputs, settings, notice):
+    """Compute the claims from fits, averaged profiles, noise and forces; write CSV, Markdown."""
     fits = read_results_csv(fits_path)
     averaged = pd.concat([read_results_csv(path) for path in averaged_paths], ignore_index=True)
     forces = read_forces(forces_paths[0]) if forces_paths else None
-    claims = compute_claims(fits, averaged, ClaimSettings(**settings), forces=forces)
+    noise_model = model_from_rows(read_rows(noise_path))
+    claims = compute_claims(
+        fits, averaged, ClaimSettings(**settings, noise_model=noise_model), forces=forces
+    )
     write_csv(claims, outputs.csv, columns=CLAIM_COLUMNS)
     write_text(claims_markdown(claims, notice), outputs.md)
     for _, row in claims.iterrows():
@@ -34,6 +38,7 @@ if __name__ == "__main__":
                 snakemake.input.fits,
                 snakemake.input.averaged,
                 list(snakemake.input.forces),
+                snakemake.input.noise,
                 snakemake.output,
                 **read_json(snakemake.input.spec),
             )

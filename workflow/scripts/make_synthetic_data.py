@@ -3,7 +3,8 @@
 Without ``--monkeys``/``--humans`` this rebuilds the shipped reconstruction
 byte for byte::
 
-    python workflow/scripts/make_synthetic_data.py --out data/raw
+    python workflow/scripts/make_synthetic_data.py --out data/raw \
+        --verdicts data/built_in_verdicts.json
 
 With them it writes a scale dataset of fingers with drawn parameters, e.g.
 for benchmarks::
@@ -22,7 +23,7 @@ import sys
 from pathlib import Path
 
 import lineload.synthetic as synthetic
-from lineload.io import write_text
+from lineload.io import json_text, write_text
 
 #: Sub-folders whose CSV files the generator owns.
 GENERATED_FOLDERS = ("profiles", "outlines")
@@ -53,6 +54,13 @@ def parse_args(argv=None):
         type=int,
         default=None,
         help="scale mode: number of humans with drawn parameters",
+    )
+    parser.add_argument(
+        "--verdicts",
+        type=Path,
+        default=None,
+        help="also write the verdicts the generator builds in (JSON) to this file; shipped "
+        "data only (data/built_in_verdicts.json)",
     )
     parser.add_argument(
         "--shuffle", action="store_true", help="shuffle the rows of each profile file (seeded)"
@@ -121,6 +129,8 @@ def main(argv=None):
         path.unlink()
     for relative, text in files.items():
         write_text(text, args.out / relative)
+    if args.verdicts is not None and not scale:
+        write_text(json_text(synthetic.built_in_verdicts()), args.verdicts)
     n_profiles = sum(name.startswith("profiles/") for name in files)
     print(f"wrote {len(files)} files ({n_profiles} profiles) to {args.out}")
     return 0
