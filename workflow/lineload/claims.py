@@ -47,6 +47,7 @@ from scipy.stats import t as student_t
 
 from . import mechanics, paper
 from .fitting import in_fit_window
+from .io import config_defaults
 from .models import (
     arc_deflection_mm,
     shifted_deflection_mm,
@@ -193,9 +194,13 @@ CLAIM_IDS = list(CLAIM_TEXT)
 COORDINATES_FIGURE = "supplementary figure 'coordinates'"
 
 
+#: The schema's defaults of the claims' settings: read, never restated.
+_DEFAULTS = {**config_defaults("claims"), "force_sd_N": config_defaults("mechanics")["force_sd_N"]}
+
+
 @dataclass(frozen=True)
 class ClaimSettings:
-    """Thresholds of the verdict rules (all but the last: config key ``claims``).
+    """Thresholds of the verdict rules (config key ``claims``; defaults from its schema).
 
     Attributes
     ----------
@@ -220,10 +225,10 @@ class ClaimSettings:
         None: independent readings of ``noise_mm`` and nothing else.
     """
 
-    noise_mm: float | None = None
-    large_depth_mm: float = 1.5
-    significance: float = 0.05
-    force_sd_N: float = 0.005
+    noise_mm: float | None = _DEFAULTS["noise_mm"]
+    large_depth_mm: float = _DEFAULTS["large_depth_mm"]
+    significance: float = _DEFAULTS["significance"]
+    force_sd_N: float = _DEFAULTS["force_sd_N"]
     zero_crossing_rtol: float = 1e-6
     noise_model: NoiseModel | None = None
 

@@ -26,6 +26,7 @@ __all__ = [
     "FLOAT_FORMAT",
     "SCHEMA_DIR",
     "concatenate_csv",
+    "config_defaults",
     "csv_text",
     "format_cell",
     "json_text",
@@ -69,6 +70,23 @@ def load_schema(name):
 
     with open(SCHEMA_DIR / f"{name}.schema.yaml", encoding="utf-8") as handle:
         return yaml.safe_load(handle)
+
+
+def config_defaults(section):
+    """The defaults the config schema gives the keys of one section (the one source).
+
+    Parameters
+    ----------
+    section : str
+        A top-level key of the config with ``properties``, e.g. ``claims``.
+
+    Returns
+    -------
+    dict
+        Key to default, for the keys that have one.
+    """
+    properties = load_schema("config")["properties"][section]["properties"]
+    return {key: spec["default"] for key, spec in properties.items() if "default" in spec}
 
 
 def read_results_csv(path):

@@ -529,7 +529,7 @@ def _force_lookup(forces):
     }
 
 
-def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=0.005):
+def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=None):
     """The per-trial and per-subject mechanics tables.
 
     Parameters
@@ -543,7 +543,9 @@ def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=0.005
         Subject -> length of wedge edge in contact (mm); subjects missing or
         None have none.
     force_sd_N : float, optional
-        Precision of one force reading (N).
+        Precision of one force reading (N, a prior: there are no replicate
+        forces); None takes the config schema's default (``mechanics:
+        force_sd_N``).
 
     Returns
     -------
@@ -552,6 +554,10 @@ def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=0.005
         :data:`TRIAL_COLUMNS`.  A subject gets a row of ``subjects`` when it has
         forces at two or more depths with a finite arc L and L interval.
     """
+    if force_sd_N is None:
+        from .io import config_defaults
+
+        force_sd_N = config_defaults("mechanics")["force_sd_N"]
     lookup = _force_lookup(forces)
     lengths = {
         str(k): (math.nan if v is None else float(v)) for k, v in (contact_length_mm or {}).items()
