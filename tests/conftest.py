@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -101,3 +102,20 @@ def snakemake_available():
     ):
         pytest.fail("snakemake is not installed in this environment")
     return True
+
+
+# Signs of a traceback, in Python's or snakemake's own format.
+TRACEBACK = re.compile(r"Traceback|^\s*File \".*\", line \d+|\w+(Error|Exception) in file", re.M)
+
+
+def without_failed_check(output):
+    """The output without Snakemake's note that the job check_raw_data failed (a bad raw
+    file is refused by that job); no other job may have failed."""
+    assert set(re.findall(r"^Error in rule (\w+):", output, re.M)) <= {"check_raw_data"}, output
+    return re.sub(r'CalledProcessError in file "[^"]*data\.smk"', "", output)
+
+
+def leftovers(results):
+    """Files a refused run left under the results folder, besides the check's log."""
+    log = results / "logs" / "check_raw_data.log"
+    return sorted(str(p) for p in results.rglob("*") if p.is_file() and p != log)

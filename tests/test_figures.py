@@ -19,10 +19,18 @@ from lineload import models
 from lineload.averaging import OUTLINE_COLUMNS, outline_to_tissue_mm
 from lineload.figures import data, registry, schematics, style, supplements
 from lineload.io import load_schema
+from lineload.noise import NoiseModel
 from lineload.validation import read_table
 
 NOTICE = "Made-up numbers for a test of the footer; they describe no finger at all, anywhere."
 WINDOW_MM = 3.0
+
+
+def noise_table(reading_sd_mm=0.008, tracing_sd_mm=0.006):
+    """A noise table as the ``noise`` rule writes it; one reading's noise is the
+    two together, sqrt(0.008**2 + 0.006**2) = 0.01 mm by default."""
+    model = NoiseModel(reading_sd_mm, tracing_sd_mm)
+    return pd.DataFrame({"parameter": list(model.as_dict()), "value": model.as_dict().values()})
 
 
 def make_dataset(spec):
@@ -464,7 +472,8 @@ def every_figure(notice):
         "outline_subjects": ["M1", "H1"],
         "outline_depth_mm": 1.0,
         "schematic_depth_ratio": 0.15,
-        "noise_mm": 0.01,
+        "noise_mm": None,
+        "noise": noise_table(),
     }
     assert set(values) == set(registry.ARGUMENTS)
     figures = {}
@@ -573,7 +582,8 @@ def layout_values(n_per_species, n_depths, notice=NOTICE):
         "outline_subjects": ["M01", "H01"],
         "outline_depth_mm": depths[0],
         "schematic_depth_ratio": 0.15,
-        "noise_mm": 0.01,
+        "noise_mm": None,
+        "noise": noise_table(),
         "mechanics": mechanics,
         "mechanics_trials": mechanics_trials,
     }, with_intervals
@@ -723,9 +733,15 @@ def coordinates_inputs():
     return fits, checks
 
 
-def test_coordinates_figure_has_a_point_per_trial_and_the_noise_line():
+@pytest.mark.parametrize(
+    "noise",
+    [{"noise_mm": 0.01}, {"noise": noise_table(0.008, 0.006)}, {"noise": noise_table(0.01, 0.0)}],
+    ids=["configured", "measured", "reading-only"],
+)
+def test_coordinates_figure_has_a_point_per_trial_and_the_noise_line(noise):
+    # one reading's noise, whether configured or measured (reading and tracing together)
     fits, checks = coordinates_inputs()
-    fig = supplements.figure_coordinates(fits, checks, noise_mm=0.01)
+    fig = supplements.figure_coordinates(fits, checks, **noise)
     collections = {}
     for ax in fig.axes:
         for c in ax.collections:
@@ -735,9 +751,9 @@ def test_coordinates_figure_has_a_point_per_trial_and_the_noise_line():
         assert sorted(L_points[:, 1]) == pytest.approx(sorted(checks[f"{model}_L_mm"]))
         gap_points = np.concatenate(collections[f"gap:{model}"])
         assert sorted(gap_points[:, 1]) == pytest.approx(sorted(checks[f"gap_{model}_mm"]))
-    noise_lines = [ln for ln in fig.axes[1].get_lines() if list(ln.get_ydata()) == [0.01, 0.01]]
-    assert noise_lines
-    empty = supplements.figure_coordinates(fits.iloc[0:0], checks.iloc[0:0], 0.01)
+    flat = [ln for ln in fig.axes[1].get_lines() if len(set(ln.get_ydata())) == 1]
+    assert [ln.get_ydata()[0] for ln in flat] == [pytest.approx(0.01, rel=1e-12)]
+    empty = supplements.figure_coordinates(fits.iloc[0:0], checks.iloc[0:0], noise_mm=0.01)
     assert len(empty.axes) == 1
 
 
@@ -804,6 +820,7 @@ def test_each_group_reads_the_tables_its_figures_take():
         "checks",
         "mechanics",
         "mechanics_trials",
+        "noise",
     )
     assert registry.arguments_of_group("schematics") == ("notice", "schematic_depth_ratio")
     assert registry.arguments_of_group("fits", "dataset") == ("subjects",)

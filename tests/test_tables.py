@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from lineload import tables
 from lineload.fitting import FIT_COLUMNS
 from lineload.tables import (
     SUMMARY_COLUMNS,
@@ -261,3 +262,21 @@ def test_sensitivity_markdown_orders_species_as_the_paper_and_names_every_refit(
     assert len(tables[2]) == 2 + len(checks) and "| – |" in tables[2][2]
     assert text.rstrip().endswith("*Data: Made-up data*")
     assert "Data:" not in sensitivity_markdown(refits, checks)
+
+
+@pytest.mark.parametrize(
+    ("uncertainty", "decimals"), [(0.14, 2), (1.4, 1), (14.0, 0), (0.0014, 4), (0.099, 3)]
+)
+def test_decimals_show_two_digits_of_the_uncertainty(uncertainty, decimals):
+    assert tables.decimals_for(uncertainty) == decimals
+    # the last decimal shown is the uncertainty's second significant digit
+    shown = round(uncertainty, decimals)
+    assert shown != 0 and abs(shown - uncertainty) <= 0.5 * 10.0**-decimals
+
+
+def test_a_value_is_given_to_the_digits_its_interval_supports():
+    assert tables.with_interval(13.28123, 13.15344, 13.41981) == "13.28 (13.15–13.42)"
+    # ten times narrower: one more decimal; ten times wider: one fewer
+    assert tables.with_interval(13.28123, 13.26844, 13.29498) == "13.281 (13.268–13.295)"
+    assert tables.with_interval(13.28123, 11.9, 14.6) == "13.3 (11.9–14.6)"
+    assert tables.with_interval(float("nan"), 1.0, 2.0) == "–"

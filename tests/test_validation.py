@@ -27,7 +27,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import run_snakemake, write_small_dataset
+from conftest import (
+    TRACEBACK,
+    leftovers,
+    run_snakemake,
+    without_failed_check,
+    write_small_dataset,
+)
 from lineload.io import load_schema
 from lineload.validation import (
     PLAUSIBILITY_DEFAULTS,
@@ -366,22 +372,6 @@ CASES = {
     "config_wrong_type": _config("fit_window_mm=abc", words=("fit_window_mm", "number")),
     "config_not_positive": _config("fit_window_mm=0", words=("fit_window_mm", "0")),
 }
-
-# Signs of a traceback, in Python's or snakemake's own format.
-TRACEBACK = re.compile(r"Traceback|^\s*File \".*\", line \d+|\w+(Error|Exception) in file", re.M)
-
-
-def without_failed_check(output):
-    """The output without Snakemake's note that the job check_raw_data failed (a bad raw
-    file is refused by that job); no other job may have failed."""
-    assert set(re.findall(r"^Error in rule (\w+):", output, re.M)) <= {"check_raw_data"}, output
-    return re.sub(r'CalledProcessError in file "[^"]*data\.smk"', "", output)
-
-
-def leftovers(results):
-    """Files a refused run left under the results folder, besides the check's log."""
-    log = results / "logs" / "check_raw_data.log"
-    return sorted(str(p) for p in results.rglob("*") if p.is_file() and p != log)
 
 
 @pytest.mark.e2e

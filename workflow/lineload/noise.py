@@ -61,6 +61,7 @@ __all__ = [
     "exponential_kernel",
     "model_from_rows",
     "noise_rows",
+    "reading_noise_mm",
     "trial_differences",
 ]
 
@@ -548,3 +549,33 @@ def model_from_rows(rows):
     if missing:
         raise ValueError(f"the noise table lacks {', '.join(missing)}")
     return NoiseModel(**{name: values[name] for name in NoiseModel.__dataclass_fields__})
+
+
+def reading_noise_mm(rows, override=None):
+    """One reading's noise: ``override`` if set, else the noise table's reading and
+    tracing errors together, ``sqrt(reading_sd_mm**2 + tracing_sd_mm**2)``.
+
+    Parameters
+    ----------
+    rows : iterable of mapping, or pandas.DataFrame, or None
+        The noise table (``parameter``, ``value``); may be None with an override.
+    override : float, optional
+        Config ``claims: noise_mm``.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        Neither a table nor an override, or a table without those parameters.
+    """
+    if override is not None:
+        return float(override)
+    if rows is None:
+        raise ValueError("one reading's noise needs the noise table or a configured value")
+    if hasattr(rows, "to_dict"):
+        rows = rows.to_dict("records")
+    model = model_from_rows(rows)
+    return math.hypot(model.reading_sd_mm, model.tracing_sd_mm)

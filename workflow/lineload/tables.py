@@ -21,6 +21,7 @@ from .models import MODEL_NAMES
 
 __all__ = [
     "SUMMARY_COLUMNS",
+    "decimals_for",
     "escape_latex",
     "escape_markdown",
     "fits_latex",
@@ -34,6 +35,7 @@ __all__ = [
     "summarise_fits",
     "summary_latex",
     "summary_markdown",
+    "with_interval",
 ]
 
 
@@ -100,6 +102,52 @@ def format_fixed(value, decimals, missing="–"):
     if float(text) == 0.0:
         text = text.lstrip("-")
     return text
+
+
+def decimals_for(uncertainty, significant=2, most=6):
+    """Decimals that show ``significant`` digits of an uncertainty (and no more).
+
+    Parameters
+    ----------
+    uncertainty : float
+        A standard error or an interval's half-width (> 0).
+    significant : int, optional
+        Digits of the uncertainty to keep.
+    most : int, optional
+        Never more decimals than this (an uncertainty of 0 or NaN gets it too).
+
+    Returns
+    -------
+    int
+        For example 2 for 0.14 (``13.28``), 1 for 1.4, 0 for 14.
+    """
+    if not (uncertainty > 0 and math.isfinite(uncertainty)):
+        return most
+    return int(min(most, max(0, significant - 1 - math.floor(math.log10(uncertainty)))))
+
+
+def with_interval(value, low, high, missing="–"):
+    """``value (low–high)`` to the decimals the interval's half-width supports.
+
+    Parameters
+    ----------
+    value, low, high : float
+        An estimate and the ends of its interval; NaN ends print as ``missing``.
+
+    Returns
+    -------
+    str
+    """
+    half = 0.5 * (float(high) - float(low))
+    decimals = decimals_for(half)
+    if not math.isfinite(float(value)):
+        return missing
+    if not math.isfinite(half):
+        return format_fixed(value, decimals)
+    return (
+        f"{format_fixed(value, decimals)} "
+        f"({format_fixed(low, decimals, missing)}–{format_fixed(high, decimals, missing)})"
+    )
 
 
 def span_text(values, decimals=2, unit=" mm"):
@@ -270,7 +318,11 @@ def _fit_rows(fits):
                 str(trial["species"]),
                 format_fixed(trial["depth_mm"], DEPTH_DECIMALS),
                 str(int(trial["n_points"])),
-                format_fixed(trial["waterbed_L_mm"], LENGTH_DECIMALS),
+                with_interval(
+                    trial["waterbed_L_mm"],
+                    trial["waterbed_L_ci_low_mm"],
+                    trial["waterbed_L_ci_high_mm"],
+                ),
                 *(format_fixed(trial[f"{m}_rmse_mm"], RMSE_DECIMALS) for m, _ in MODELS),
             ]
         )
@@ -308,7 +360,7 @@ def fits_markdown(fits, notice=""):
         "Species",
         "Depth (mm)",
         "n",
-        "Waterbed L (mm)",
+        "Waterbed L (mm, 95 % interval)",
         *(f"RMSE {label} (mm)" for _, label in MODELS),
     ]
     text = "# Model fits per subject and depth\n\n" + _fits_caption(fits) + "\n\n"
@@ -333,7 +385,7 @@ def fits_latex(fits, notice=""):
     head = [
         r" & & & & Waterbed & \multicolumn{3}{c}{RMSE (mm)} \\",
         r"\cmidrule(lr){6-8}",
-        r"Subject & Species & Depth (mm) & $n$ & $L$ (mm) & "
+        r"Subject & Species & Depth (mm) & $n$ & $L$ (mm, 95\,\% interval) & "
         + " & ".join(escape_latex(label) for _, label in MODELS)
         + r" \\",
     ]

@@ -9,6 +9,7 @@ rule article:
             settings={
                 "fit_window_mm": config["fit_window_mm"],
                 "claims": config["claims"],
+                "noise": config["noise"],
                 "sensitivity": config["sensitivity"],
                 # as configured; the job chooses those left unset, as the figure jobs do
                 "figures": {key: config["figures"][key] for key in CHOICE_KEYS},
@@ -21,6 +22,7 @@ rule article:
         fits=rules.fits_table.output[0],
         claims=rules.claims_table.output.csv,
         checks=rules.sensitivity_tables.output.checks,
+        noise=rules.noise.output[0],
         mechanics=rules.mechanics.output.subjects,
         figures=[f for f in FIGURE_FILES if f.endswith(".pdf")],
         code=code("write_article.py"),

@@ -25,6 +25,7 @@ FIGURE_TABLES = {
     "checks": [rules.sensitivity_tables.output.checks],
     "mechanics": [rules.mechanics.output.subjects],
     "mechanics_trials": [rules.mechanics.output.trials],
+    "noise": [rules.noise.output[0]],
 }
 # Per group: the settings its figures take; the subject sheet ([subject, species,
 # label] in sheet order) if they take it; its named inputs (the raw-data check, the

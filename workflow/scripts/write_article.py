@@ -19,9 +19,11 @@ from lineload.io import (
     output_to,
     read_json,
     read_results_csv,
+    read_rows,
     replaced_atomically,
     write_text,
 )
+from lineload.noise import reading_noise_mm
 from lineload.provenance import git_state, package_versions
 
 
@@ -52,6 +54,9 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
     for line in logs["outlines"] + logs["fits"]:  # as the figure jobs chose
         print(line)
     settings = {**settings, "figures": {k: v for k, v in chosen.items() if k != "example_note"}}
+    # one reading's noise as the claims used it: configured, else measured
+    noise_mm = reading_noise_mm(read_rows(inputs.noise), settings["claims"]["noise_mm"])
+    settings = {**settings, "claims": {**settings["claims"], "noise_mm": round(noise_mm, 4)}}
     facts = article_facts(
         read_results_csv(inputs.fits),
         read_results_csv(inputs.claims),

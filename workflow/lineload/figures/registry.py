@@ -108,7 +108,10 @@ ARGUMENTS = {
     "schematic_depth_ratio": Argument(
         "setting", "W0 / L at which Figures 3-5 draw the model (dimensionless)"
     ),
-    "noise_mm": Argument("setting", "digitising noise of one reading (mm)"),
+    "noise_mm": Argument(
+        "setting", "digitising noise of one reading (mm) as configured; None: the noise table's"
+    ),
+    "noise": Argument("file", "the digitising noise, measured and priors (tables/noise.csv)"),
 }
 
 
@@ -258,7 +261,7 @@ FIGURES = (
         "supplements",
         "supplements",
         "figure_coordinates",
-        ("fits", "checks", "noise_mm", "notice"),
+        ("fits", "checks", "noise", "noise_mm", "notice"),
         category="Supplement",
         title="What fitting in measured coordinates changes, against the reading noise",
     ),

@@ -22,6 +22,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from .. import models, paper
+from ..noise import reading_noise_mm
 from ..sensitivity import MODEL_NAMES as REFIT_NAMES
 from ..sensitivity import MODELS as REFIT_MODELS
 from .data import fit_row, model_curve_mm, trial_points
@@ -500,7 +501,7 @@ def figure_sensitivity(sensitivity, checks, notice=""):
 
 
 @styled
-def figure_coordinates(fits, checks, noise_mm, notice=""):
+def figure_coordinates(fits, checks, noise=None, noise_mm=None, notice=""):
     """Supplement: what the paper's coordinate approximation costs, trial by trial.
 
     (a) L fitted in measured coordinates (the shifted parabola and the exact
@@ -516,8 +517,12 @@ def figure_coordinates(fits, checks, noise_mm, notice=""):
         and ``arc_`` L columns with their intervals).
     checks : pandas.DataFrame
         Per-trial checks with ``gap_shifted_mm`` and ``gap_arc_mm``.
-    noise_mm : float
-        Digitising noise of one reading (mm), drawn as a line in (b).
+    noise : pandas.DataFrame, optional
+        The noise table (``parameter``, ``value``): one reading's noise, drawn as
+        a line in (b), is its reading and tracing errors together.
+    noise_mm : float, optional
+        One reading's noise as configured, instead of the table's (one of the
+        two is needed).
     notice : str, optional
         Footer text; empty for none.
 
@@ -526,6 +531,7 @@ def figure_coordinates(fits, checks, noise_mm, notice=""):
     matplotlib.figure.Figure
         Point collections carry gids ``L:<model>`` and ``gap:<model>``.
     """
+    noise_mm = reading_noise_mm(noise, noise_mm)
     usable = fits[np.isfinite(fits["waterbed_L_mm"].astype(float))]
     if usable.empty:
         return message_figure("No finite waterbed fits in this dataset.", notice)
