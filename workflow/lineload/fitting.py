@@ -24,13 +24,23 @@ fitted:
 
 Errors
 ------
-Without a covariance the fits are ordinary least squares, and the interval on L
-is the profile-likelihood interval for independent errors of unknown variance
-(``n ln(SSE(L) / SSE_min) <= chi2``).  Given the covariance of each trial's
-points (``covariance_mm2``), the fits are generalised least squares: residuals
-are whitened by the inverse Cholesky factor of the covariance, and the interval
-holds the L whose chi-square exceeds the minimum by less than the quantile (the
-covariance is taken as known, measured apart from the fit).
+Every fit is ordinary least squares: its parameters are the paper's (the best
+unweighted approximation of the readings), whatever the noise.  The models are
+approximations of the skin, so weighting the points would change what L means:
+weighted by the digitising noise (generalised least squares), the noise-free
+reconstruction's L moves by up to 1.1 mm (9 %), and with the noise measured
+anew in each dataset it would move with the measurement.
+
+Without a covariance, the interval on L is the profile-likelihood interval for
+independent errors of unknown variance (``n ln(SSE(L) / SSE_min) <= chi2``).
+Given the covariance of each trial's points (``covariance_mm2``, measured apart
+from the fit), the interval honours it: the least-squares L moves with the
+readings as ``dL = J' dy / H`` (``J`` the curve's derivative in L, ``H = J'J -
+r' f''`` the objective's half-curvature, misfit ``r`` included), so its variance
+is ``J' C J / H**2`` (the sandwich), and the interval holds the L whose sum of
+squares exceeds the minimum by less than ``chi2 J' C J / H``: the profile's own
+shape, scaled to that variance.  The two-parameter fits do the same with their
+2 x 2 matrices.
 
 Batches
 -------
@@ -141,8 +151,8 @@ class FitResult:
     residual_mm : numpy.ndarray
         Data minus model at each point, in input order.
     chi2 : float
-        Generalised least squares only: the whitened sum of squares at the
-        minimum; NaN for an ordinary fit.
+        With a covariance ``C`` only: ``r' C^-1 r`` of the residuals at the
+        minimum (how far the misfit is beyond the noise); NaN without one.
     """
 
     model: str
@@ -189,25 +199,26 @@ def _padded_width(n_points):
     return max(8, -(-int(n_points) // 8) * 8)
 
 
-def _whitening(covariance_mm2, counts, width):
-    """Inverse Cholesky factors of each trial's covariance, padded with the identity.
+def _padded_covariances(covariance_mm2, counts, width):
+    """Each trial's covariance, padded with zeros to ``width``.
 
     Raises
     ------
     ValueError
-        If a covariance is not an ``(n, n)`` symmetric positive-definite matrix.
+        If a covariance is not a finite ``(n, n)`` symmetric positive-definite matrix.
     """
-    padded = np.broadcast_to(np.eye(width), (counts.size, width, width)).copy()
+    padded = np.zeros((counts.size, width, width))
     for i, (matrix, n) in enumerate(zip(covariance_mm2, counts, strict=True)):
         matrix = np.asarray(matrix, dtype=float)
         if matrix.shape != (n, n) or not np.all(np.isfinite(matrix)):
             raise ValueError(f"trial {i}: the covariance must be a finite {n} x {n} matrix")
         padded[i, :n, :n] = matrix
+    eye = np.eye(width) * (np.arange(width)[None, :] >= counts[:, None])[:, None, :]
     try:
-        factor = np.linalg.cholesky(padded)
+        np.linalg.cholesky(padded + eye)
     except np.linalg.LinAlgError:
         raise ValueError("every covariance must be symmetric positive definite") from None
-    return np.linalg.inv(factor)
+    return padded
 
 
 class _Trials:
@@ -215,13 +226,13 @@ class _Trials:
 
     Padded entries cost nothing in the iterative solves (a NaN distance is not
     iterated on) and are left out of every sum and maximum (through ``mask``).
-    ``whiten`` holds each trial's inverse Cholesky factor for generalised least
-    squares, or is None for ordinary least squares.
+    ``covariance`` holds each trial's covariance (zero-padded) when the intervals
+    are to honour it, or is None (independent errors of unknown variance).
     """
 
-    def __init__(self, x, y, mask, n, x_max, whiten=None):
+    def __init__(self, x, y, mask, n, x_max, covariance=None):
         self.x, self.y, self.mask, self.n, self.x_max = x, y, mask, n, x_max
-        self.whiten = whiten
+        self.covariance = covariance
 
     @classmethod
     def from_flat(cls, x_mm, y_mm, counts, offsets, covariance_mm2=None):
@@ -232,13 +243,15 @@ class _Trials:
         index = offsets[:, None] + np.minimum(column, counts[:, None] - 1)
         x = np.where(mask, x_mm[index], np.nan)
         y = np.where(mask, y_mm[index], np.nan)
-        whiten = None if covariance_mm2 is None else _whitening(covariance_mm2, counts, width)
-        return cls(x, y, mask, counts, np.fmax.reduce(x, axis=1), whiten)
+        covariance = (
+            None if covariance_mm2 is None else _padded_covariances(covariance_mm2, counts, width)
+        )
+        return cls(x, y, mask, counts, np.fmax.reduce(x, axis=1), covariance)
 
     def take(self, rows):
-        whiten = None if self.whiten is None else self.whiten[rows]
+        covariance = None if self.covariance is None else self.covariance[rows]
         return _Trials(
-            self.x[rows], self.y[rows], self.mask[rows], self.n[rows], self.x_max[rows], whiten
+            self.x[rows], self.y[rows], self.mask[rows], self.n[rows], self.x_max[rows], covariance
         )
 
     @property
@@ -251,32 +264,45 @@ class _Trials:
         mask = mask.reshape(mask.shape[:1] + (1,) * (values.ndim - 2) + mask.shape[1:])
         return np.sum(np.where(mask, values, 0.0), axis=-1)
 
-    def whitened(self, values, rows=slice(None)):
-        """``values`` at each trial's points times its whitening matrix (padding zeroed)."""
+    def masked(self, values, rows=slice(None)):
+        """``values`` at each trial's points, zero in the padding."""
         mask = self.mask[rows]
         mask = mask.reshape(mask.shape[:1] + (1,) * (values.ndim - 2) + mask.shape[1:])
-        values = np.where(mask, values, 0.0)
-        if self.whiten is None:
-            return values
-        factor = np.swapaxes(self.whiten[rows], -1, -2)
-        if values.ndim == 2:
-            return np.matmul(values[:, None, :], factor)[:, 0, :]
-        return np.matmul(values, factor)
+        return np.where(mask, values, 0.0)
 
     def chi2(self, residual, rows=slice(None)):
-        """Whitened sum of squares (the plain one without a covariance); NaN -> inf."""
-        total = np.sum(self.whitened(residual, rows) ** 2, axis=-1)
+        """Sum of squares over each trial's points; NaN -> inf."""
+        total = np.sum(self.masked(residual, rows) ** 2, axis=-1)
         return np.where(np.isfinite(total), total, np.inf)
 
-    def threshold(self, chi2_min, rows=slice(None), chi2=CHI2_1DOF_95):
+    def quadratic(self, left, right=None):
+        """``left' C right`` of each trial (C its covariance), for columns ``(T, n)``
+        or ``(T, n, k)`` (then ``(T, k, k)``)."""
+        right = left if right is None else right
+        if left.ndim == 2:
+            left, right = self.masked(left), self.masked(right)
+            return np.einsum("ti,tij,tj->t", left, self.covariance, right)
+        mask = self.mask[:, :, None]
+        left, right = np.where(mask, left, 0.0), np.where(mask, right, 0.0)
+        return np.einsum("tik,tij,tjl->tkl", left, self.covariance, right)
+
+    def generalised_chi2(self, residual):
+        """``r' C^-1 r`` of each trial's residuals: how far the misfit is beyond the noise."""
+        eye = np.eye(self.width) * (~self.mask)[:, None, :]
+        r = np.where(np.isfinite(residual), self.masked(residual), np.nan)
+        with np.errstate(invalid="ignore"):
+            solved = np.linalg.solve(self.covariance + eye, r[..., None])[..., 0]
+        return np.sum(r * solved, axis=-1)
+
+    def threshold(self, chi2_min, rows=slice(None), delta=None, chi2=CHI2_1DOF_95):
         """The objective's value at the ends of the 95 % interval.
 
-        Generalised least squares: ``chi2_min + chi2`` (known covariance).
-        Ordinary: ``SSE_min exp(chi2 / n)``, the profile likelihood with the
-        variance unknown.
+        With a covariance: ``SSE_min + delta``, ``delta`` from
+        :func:`_sandwich_delta`.  Without: ``SSE_min exp(chi2 / n)``, the profile
+        likelihood with the variance unknown.
         """
-        if self.whiten is not None:
-            return chi2_min + chi2
+        if self.covariance is not None:
+            return chi2_min + delta
         return np.maximum(chi2_min, _TINY) * np.exp(chi2 / self.n[rows])
 
 
@@ -350,7 +376,9 @@ class _ChunkFit:
         self.errors = errors or {}
         self.measures = _measures(residual_mm, trials.mask, MODELS[model][1])
         self.chi2 = (
-            np.full(trials.n.size, np.nan) if trials.whiten is None else trials.chi2(residual_mm)
+            np.full(trials.n.size, np.nan)
+            if trials.covariance is None
+            else trials.generalised_chi2(residual_mm)
         )
 
 
@@ -385,22 +413,21 @@ def _polynomial_roots(coefficients):
 
 
 def _waterbed_quartic(trials, depth_mm):
-    """The paper's parabola's (whitened) sum of squares as a quartic in ``u = 1 / L``.
+    """The paper's parabola's sum of squares as a quartic in ``u = 1 / L``.
 
     With ``W0`` the depth, each residual is ``a + b u + c u^2`` (``a = y - W0``,
-    ``b = 4 W0 x``, ``c = -3 W0 x^2``); whitening is linear, so the whitened
-    residuals keep that form and ``chi2(u) = sum (a + b u + c u^2)^2`` over them.
+    ``b = 4 W0 x``, ``c = -3 W0 x^2``), so ``SSE(u) = sum (a + b u + c u^2)^2``.
 
     Returns
     -------
     quartic : numpy.ndarray
         Shape ``(n_trials, 5)``: the coefficients, highest power first.
     a, b, c : numpy.ndarray
-        The (whitened) residual's terms, shaped like ``trials.x``, zero in padding.
+        The residual's terms, shaped like ``trials.x``, zero in padding.
     """
     x = trials.x
     W0 = depth_mm[:, None]
-    a, b, c = (trials.whitened(v) for v in (trials.y - W0, 4.0 * W0 * x, -3.0 * W0 * x**2))
+    a, b, c = (trials.masked(v) for v in (trials.y - W0, 4.0 * W0 * x, -3.0 * W0 * x**2))
     quartic = np.column_stack(
         [
             np.sum(c * c, axis=-1),
@@ -431,6 +458,10 @@ def _fit_waterbed_chunk(trials, depth_mm):
     with np.errstate(divide="ignore"):
         L_mm = np.where(u_best == 0.0, np.inf, 1.0 / u_best)
     residual = y - waterbed_deflection_mm(x, W0, L_mm[:, None])
+
+    def residual_at(rows, L):
+        return y[rows] - waterbed_deflection_mm(x[rows], W0[rows], L[:, None])
+
     low, high = _interval(
         lambda L, rows: _polyval(quartic[rows], 1.0 / L),
         trials,
@@ -438,20 +469,59 @@ def _fit_waterbed_chunk(trials, depth_mm):
         x_max,
         np.full(x_max.size, np.inf),
         trials.chi2(residual),
+        _sandwich_delta(trials, residual_at, L_mm, residual),
     )
     params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
     return _ChunkFit("waterbed", trials, params, residual)
 
 
-def _interval(objective, trials, L_best, L_min, L_max, chi2_min):
+def _sandwich_delta(trials, residual_at, L_mm, residual):
+    """How far the sum of squares rises at the ends of the 95 % interval on L, given
+    the points' covariance: ``chi2 J' C J / H`` (see the module's notes); None
+    without a covariance.
+
+    ``J`` and the curve's second derivative come from central differences of
+    ``residual_at(rows, L)`` at ``L (1 +- 1e-4)``; where a side is not defined (a
+    bound of the model) one-sided, with the misfit term left out of ``H``.
+    """
+    if trials.covariance is None:
+        return None
+    delta = np.full(L_mm.size, np.nan)
+    rows = np.flatnonzero(np.isfinite(L_mm))
+    if not rows.size:
+        return delta
+    L = L_mm[rows]
+    step = 1e-4 * L
+    r0 = trials.masked(residual[rows], rows)
+    with np.errstate(invalid="ignore"):
+        above = trials.masked(residual_at(rows, L + step), rows)
+        below = trials.masked(residual_at(rows, L - step), rows)
+    central = np.all(np.isfinite(below), axis=-1)
+    J = np.where(
+        central[:, None], (below - above) / (2 * step[:, None]), (r0 - above) / step[:, None]
+    )
+    curvature = -(above - 2 * r0 + below) / step[:, None] ** 2  # the curve's d2f/dL2
+    H = np.sum(J * J, axis=-1) - np.where(central, np.sum(r0 * curvature, axis=-1), 0.0)
+    H = np.where(H > 0, H, np.sum(J * J, axis=-1))
+    spread = np.einsum("ti,tij,tj->t", J, trials.covariance[rows], J)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        delta[rows] = CHI2_1DOF_95 * spread / H
+    return delta
+
+
+def _interval(objective, trials, L_best, L_min, L_max, chi2_min, delta=None):
     """The 95 % interval on L of each trial (NaN where it cannot be had).
 
-    An ordinary fit needs two points for its variance; a generalised one, whose
-    variance is given, one.
+    Without a covariance a fit needs two points for its variance; with one (and
+    ``delta`` from :func:`_sandwich_delta`), one.
     """
-    valid = np.isfinite(L_best) & (trials.n >= (1 if trials.whiten is not None else 2))
+    valid = np.isfinite(L_best) & (trials.n >= (1 if trials.covariance is not None else 2))
+    if delta is not None:
+        valid &= np.isfinite(delta) & (delta > 0)
     best = np.where(valid, L_best, np.nan)
-    return likelihood_interval(objective, best, L_min, L_max, trials.threshold(chi2_min))
+    return likelihood_interval(
+        objective, best, L_min, L_max, trials.threshold(chi2_min, delta=delta)
+    )
 
 
 def _curve_objective(curve, trials, depth_mm):
@@ -489,19 +559,24 @@ def _arc_objective(trials, depth_mm):
     return objective
 
 
-def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None):
+def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None, delta_at=None):
     """One-parameter fit in L by the grid and zoom over ``[L_lo, L_SEARCH_SPAN max(x)]``.
 
     Shared by the fits that have no closed form (exact arc, shifted parabola, parabola
     with W0 free): the minimum, the fitted curve's residuals and the interval.
-    ``residual_at(rows, L_mm)`` gives the residuals of trials ``rows`` at L (R,).
+    ``residual_at(rows, L_mm)`` gives the residuals of trials ``rows`` at L (R,);
+    ``delta_at(L_mm, residual)``, if given, replaces :func:`_sandwich_delta`.
     """
     L_hi = L_SEARCH_SPAN * trials.x_max
     L_mm, found = minimize_bounded(objective, L_lo, L_hi, lower_bound=lower_bound)
     residual = np.full(trials.x.shape, np.nan)
     rows = np.flatnonzero(found)
     residual[rows] = residual_at(rows, L_mm[rows])
-    low, high = _interval(objective, trials, L_mm, L_lo, L_hi, trials.chi2(residual))
+    if delta_at is None:
+        delta = _sandwich_delta(trials, residual_at, L_mm, residual)
+    else:
+        delta = delta_at(L_mm, residual)
+    low, high = _interval(objective, trials, L_mm, L_lo, L_hi, trials.chi2(residual), delta)
     errors = {
         int(i): f"no valid {model} curve: no admissible L between {L_lo[i]:g} and {L_hi[i]:g} mm"
         for i in np.flatnonzero(~found)
@@ -525,8 +600,7 @@ def _shifted_lower_bound(trials, depth_mm):
     ``|W'| <= 4 W0 / L`` on the membrane and ``|U(X)| = (6 W0^2 / L) g(X / L)``,
     ``g(s) = s (1 - s)^2 <= min(s, 4/27)``.  The gaps' root sum of squares is then
     at most ``D = min(sqrt(n) 32 W0^3 / (9 L^2), 24 W0^3 sqrt(sum x^2) / L^3)``, and
-    by the triangle inequality ``chi2_shifted >= (sqrt(chi2_parabola) - |K| D)^2``,
-    with ``|K|`` the spectral norm of the whitening matrix (1 without one).  The
+    by the triangle inequality ``SSE_shifted >= (sqrt(SSE_parabola) - D)^2``.  The
     parabola's value is the quartic in ``1 / L`` of the waterbed fit, less a bound
     on its rounding error; each value costs a few operations, not one per point.
     """
@@ -546,11 +620,6 @@ def _shifted_lower_bound(trials, depth_mm):
     rounding = 4.0 * (n + 10) * np.finfo(float).eps
     W0_cubed = np.abs(depth_mm) ** 3
     root_sum_x2 = np.sqrt(trials.sum(x**2))
-    norm = (
-        np.ones(n.size)
-        if trials.whiten is None
-        else np.linalg.norm(trials.whiten, ord=2, axis=(-2, -1))
-    )
 
     def lower_bound(L_mm, rows):
         u = 1.0 / L_mm
@@ -559,7 +628,6 @@ def _shifted_lower_bound(trials, depth_mm):
             np.sqrt(n[rows, None]) * 32.0 * W0_cubed[rows, None] / (9.0 * L_mm**2),
             24.0 * W0_cubed[rows, None] * root_sum_x2[rows, None] / L_mm**3,
         )
-        gap = gap * norm[rows, None]
         return np.maximum(np.sqrt(np.maximum(parabola, 0.0)) - gap * (1.0 + 1e-9), 0.0) ** 2
 
     return lower_bound
@@ -587,12 +655,12 @@ def _fit_shifted_chunk(trials, depth_mm):
 
 def _fit_free_depth_chunk(trials, depth_mm=None):
     def shape_and_depth(L_mm, rows):
-        # for a given L the best W0 of W0 g(x) is linear (generalised) least squares
+        # for a given L the best W0 of W0 g(x) is linear least squares
         g = 3.0 * (trials.x[rows, None, :] / L_mm[:, :, None]) ** 2
         g = g - 4.0 * trials.x[rows, None, :] / L_mm[:, :, None] + 1.0
-        g_white = trials.whitened(g, rows)
-        y_white = trials.whitened(trials.y[rows], rows)[:, None, :]
-        return g, np.sum(y_white * g_white, axis=-1) / np.sum(g_white * g_white, axis=-1)
+        g_in = trials.masked(g, rows)
+        y_in = trials.masked(trials.y[rows], rows)[:, None, :]
+        return g, np.sum(y_in * g_in, axis=-1) / np.sum(g_in * g_in, axis=-1)
 
     def objective(L_mm, rows):
         def evaluate(part):
@@ -610,27 +678,63 @@ def _fit_free_depth_chunk(trials, depth_mm=None):
             trials.x[rows], W0_mm[rows, None], L_mm[:, None]
         )
 
-    fit, _ = _fit_by_search("waterbed_free_depth", trials, objective, residual_at, trials.x_max)
+    def delta_at(L_mm, residual):
+        if trials.covariance is None:
+            return None
+        return _free_depth_delta(trials, L_mm, W0_mm, residual)
+
+    fit, _ = _fit_by_search(
+        "waterbed_free_depth", trials, objective, residual_at, trials.x_max, delta_at=delta_at
+    )
     fit.params["W0_mm"] = W0_mm
     return fit
 
 
-def _boussinesq_intervals(trials, intercept, A_mm):
-    """95 % profile-likelihood intervals on A and x0 of the straight line in ``ln x``.
+def _free_depth_delta(trials, L_mm, W0_mm, residual):
+    """:func:`_sandwich_delta` of the parabola with W0 free: two parameters.
 
-    On whitened columns ``u = W 1``, ``v = -W ln x`` and values ``y = W w`` the
-    model is ``a u + A v`` (``a = A ln x0``).  Profiling ``a`` out, the objective
-    is quadratic in A: ``A +- sqrt(delta / (s22 - s12**2 / s11))``.  For x0, the
+    With ``f = W0 g(x; L)``, ``g = 3 (x/L)^2 - 4 x/L + 1``, the Jacobian is
+    ``[W0 g_L, g]`` and ``H = J'J - sum r f''`` (2 x 2); the sandwich
+    ``V = H^-1 J'CJ H^-1`` gives L's variance, and the profile's curvature in L is
+    ``1 / (H^-1)_LL``: the sum of squares rises by ``chi2 V_LL / (H^-1)_LL``.
+    """
+    x = trials.x
+    L, W0 = L_mm[:, None], W0_mm[:, None]
+    g = 3.0 * (x / L) ** 2 - 4.0 * x / L + 1.0
+    g_L = -6.0 * x**2 / L**3 + 4.0 * x / L**2
+    g_LL = 18.0 * x**2 / L**4 - 8.0 * x / L**3
+    J = trials.masked(np.stack([W0 * g_L, g], axis=-1).transpose(0, 2, 1)).transpose(0, 2, 1)
+    r = trials.masked(residual)
+    H = np.einsum("tik,til->tkl", J, J)
+    H[:, 0, 0] -= np.sum(r * trials.masked(W0 * g_LL), axis=-1)
+    H[:, 0, 1] -= np.sum(r * trials.masked(g_L), axis=-1)
+    H[:, 1, 0] = H[:, 0, 1]
+    delta = np.full(L_mm.size, np.nan)
+    ok = np.isfinite(L_mm) & np.isfinite(W0_mm) & np.all(np.isfinite(H), axis=(1, 2))
+    if ok.any():
+        inverse = np.linalg.pinv(H[ok])
+        V = inverse @ trials.take(np.flatnonzero(ok)).quadratic(J[ok]) @ inverse
+        with np.errstate(divide="ignore", invalid="ignore"):
+            delta[ok] = CHI2_1DOF_95 * V[:, 0, 0] / inverse[:, 0, 0]
+    return delta
+
+
+def _boussinesq_intervals(trials, intercept, A_mm):
+    """95 % profile-likelihood intervals on A and x0 of the straight line in ``ln x``
+    (independent errors of unknown variance).
+
+    On columns ``u = 1``, ``v = -ln x`` and values ``y = w`` the model is
+    ``a u + A v`` (``a = A ln x0``).  Profiling ``a`` out, the objective is
+    quadratic in A: ``A +- sqrt(delta / (s22 - s12**2 / s11))``.  For x0, the
     model is ``A (ln x0 u + v)``; profiling A out, the interval's ends solve a
     quadratic in ``ln x0`` (a ratio of quadratics set to the threshold), bounded
     when its leading coefficient is negative, else unbounded (NaN ends).
-    ``delta`` is 3.84 with a covariance, else the profile likelihood's
-    ``SSE_min (exp(3.84 / n) - 1)``.
+    ``delta`` is the profile likelihood's ``SSE_min (exp(3.84 / n) - 1)``.
     """
     x, y = trials.x, trials.y
-    ones = trials.whitened(np.ones(x.shape))
-    logs = trials.whitened(-np.log(x))
-    values = trials.whitened(y)
+    ones = trials.masked(np.ones(x.shape))
+    logs = trials.masked(-np.log(x))
+    values = trials.masked(y)
     s11, s12, s22 = (np.sum(p * q, axis=-1) for p, q in ((ones, ones), (ones, logs), (logs, logs)))
     t1, t2 = np.sum(ones * values, axis=-1), np.sum(logs * values, axis=-1)
     total = np.sum(values**2, axis=-1)
@@ -655,33 +759,55 @@ def _boussinesq_intervals(trials, intercept, A_mm):
     }
 
 
+def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
+    """95 % intervals on A and x0 given the points' covariance ``C`` (the sandwich).
+
+    The least-squares line ``a - A ln x`` has covariance ``V = (X'X)^-1 X'CX
+    (X'X)^-1`` (``X = [1, -ln x]``); A's interval is ``A +- 1.96 sqrt(V_AA)``,
+    exact for a linear fit, and x0's is ``exp(ln x0 +- 1.96 sd)`` with
+    ``ln x0 = a / A`` and its standard deviation to first order.
+    """
+    X = np.stack([np.ones(trials.x.shape), -np.log(trials.x)], axis=-1)
+    X = np.where(trials.mask[:, :, None], X, 0.0)
+    z = np.sqrt(CHI2_1DOF_95)
+    count = A_mm.size
+    ends = {name: np.full(count, np.nan) for name in ("A_low", "A_high", "x0_low", "x0_high")}
+    information = np.einsum("tik,til->tkl", X, X)
+    ok = np.isfinite(A_mm) & (np.abs(np.linalg.det(information)) > 0)
+    if ok.any():
+        rows = np.flatnonzero(ok)
+        inverse = np.linalg.inv(information[rows])
+        V = inverse @ trials.take(rows).quadratic(X[rows]) @ inverse
+        sd_A = np.sqrt(np.maximum(V[:, 1, 1], 0.0))
+        A, a = A_mm[rows], intercept[rows]
+        ends["A_low"][rows], ends["A_high"][rows] = A - z * sd_A, A + z * sd_A
+        with np.errstate(divide="ignore", invalid="ignore"):
+            gradient = np.stack([1.0 / A, -a / A**2], axis=-1)
+            sd_log = np.sqrt(np.maximum(np.einsum("tk,tkl,tl->t", gradient, V, gradient), 0.0))
+            rising = A > 0
+            ends["x0_low"][rows] = np.where(rising, np.exp(a / A - z * sd_log), np.nan)
+            ends["x0_high"][rows] = np.where(rising, np.exp(a / A + z * sd_log), np.nan)
+    return {
+        "A_ci_low_mm": ends["A_low"],
+        "A_ci_high_mm": ends["A_high"],
+        "x0_ci_low_mm": ends["x0_low"],
+        "x0_ci_high_mm": ends["x0_high"],
+    }
+
+
 def _fit_boussinesq_chunk(trials, depth_mm=None):
     x, y, n = trials.x, trials.y, trials.n
     log_x = np.log(x)
     # w = A ln x0 - A ln x is a straight line in ln x: linear least squares, centred
-    # (ordinary) or on whitened columns (generalised)
-    if trials.whiten is None:
-        mean_log_x = trials.sum(log_x) / n
-        mean_y = trials.sum(y) / n
-        centred = log_x - mean_log_x[:, None]
-        spread = trials.sum(centred**2)
-        single = spread == 0.0  # one distinct distance: the minimum-norm solution
-        with np.errstate(divide="ignore", invalid="ignore"):
-            slope = trials.sum(centred * (y - mean_y[:, None])) / spread
-        A_mm = np.where(single, -mean_log_x * mean_y / (1.0 + mean_log_x**2), -slope)
-        intercept = np.where(single, mean_y / (1.0 + mean_log_x**2), mean_y + A_mm * mean_log_x)
-    else:
-        ones = trials.whitened(np.ones(x.shape))
-        logs = trials.whitened(-log_x)
-        values = trials.whitened(y)
-        s11, s12, s22 = (
-            np.sum(p * q, axis=-1) for p, q in ((ones, ones), (ones, logs), (logs, logs))
-        )
-        t1, t2 = np.sum(ones * values, axis=-1), np.sum(logs * values, axis=-1)
-        determinant = s11 * s22 - s12**2
-        with np.errstate(divide="ignore", invalid="ignore"):
-            intercept = (s22 * t1 - s12 * t2) / determinant
-            A_mm = (s11 * t2 - s12 * t1) / determinant
+    mean_log_x = trials.sum(log_x) / n
+    mean_y = trials.sum(y) / n
+    centred = log_x - mean_log_x[:, None]
+    spread = trials.sum(centred**2)
+    single = spread == 0.0  # one distinct distance: the minimum-norm solution
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = trials.sum(centred * (y - mean_y[:, None])) / spread
+    A_mm = np.where(single, -mean_log_x * mean_y / (1.0 + mean_log_x**2), -slope)
+    intercept = np.where(single, mean_y / (1.0 + mean_log_x**2), mean_y + A_mm * mean_log_x)
     rising = A_mm > 0
     x0_mm = np.full(n.size, np.nan)
     x0_mm[rising] = np.exp(intercept[rising] / A_mm[rising])
@@ -690,7 +816,10 @@ def _fit_boussinesq_chunk(trials, depth_mm=None):
         x[rising], A_mm[rising, None], x0_mm[rising, None]
     )
     params = {"A_mm": A_mm, "x0_mm": x0_mm}
-    params.update(_boussinesq_intervals(trials, intercept, A_mm))
+    if trials.covariance is None:
+        params.update(_boussinesq_intervals(trials, intercept, A_mm))
+    else:
+        params.update(_boussinesq_sandwich_intervals(trials, intercept, A_mm))
     return _ChunkFit("boussinesq", trials, params, residual)
 
 
@@ -720,8 +849,8 @@ class BatchFits:
         ``sse_mm2``, ``rmse_mm``, ``max_abs_residual_mm`` and ``aicc``, NaN where
         the trial has no fit.
     chi2 : numpy.ndarray
-        The whitened sum of squares at the minimum (generalised least squares;
-        NaN for ordinary fits).
+        ``r' C^-1 r`` of the residuals at the minimum, given a covariance ``C``;
+        NaN without one.
     n_points : numpy.ndarray of int
         Points of each trial.
     fitted : numpy.ndarray of bool
@@ -842,8 +971,8 @@ def fit_batch(distance_mm, deflection_mm, depth_mm=None, models=tuple(MODELS), c
         Keys of :data:`MODELS`.
     covariance_mm2 : sequence of array_like, optional
         The covariance of each trial's deflections (mm^2), an ``(n, n)`` matrix
-        for a trial of ``n`` points: the fits are then generalised least
-        squares and the intervals take the covariance as known.
+        for a trial of ``n`` points: the intervals honour it (the fits stay
+        least squares), taking it as known.
 
     Returns
     -------
@@ -900,7 +1029,7 @@ def fit_waterbed(distance_mm, deflection_mm, depth_mm, covariance_mm2=None):
     """Fit the small-slope waterbed (eq. 19) with W0 fixed: exact global least squares.
 
     With ``u = 1 / L`` the model ``W0 (3 u**2 x**2 - 4 u x + 1)`` is quadratic
-    in ``u``, so the sum of squared (whitened) residuals is a quartic in ``u``.
+    in ``u``, so the sum of squared residuals is a quartic in ``u``.
     Its global minimum over ``0 <= u <= 1 / max(x)`` is at a real root of the
     cubic derivative or at an end of that interval; all candidates are compared
     exactly, so no start value or iterative optimiser is involved.  ``u = 0``
@@ -913,7 +1042,8 @@ def fit_waterbed(distance_mm, deflection_mm, depth_mm, covariance_mm2=None):
     depth_mm : float
         Indentation depth, used as W0 (mm).
     covariance_mm2 : array_like, optional
-        Covariance of the deflections (mm^2): generalised least squares.
+        Covariance of the deflections (mm^2): the interval honours it (the fit
+        itself stays least squares).
 
     Returns
     -------
@@ -937,7 +1067,8 @@ def fit_arc(distance_mm, deflection_mm, depth_mm, covariance_mm2=None):
     depth_mm : float
         Indentation depth, used as W0 (mm).
     covariance_mm2 : array_like, optional
-        Covariance of the deflections (mm^2): generalised least squares.
+        Covariance of the deflections (mm^2): the interval honours it (the fit
+        itself stays least squares).
 
     Returns
     -------
@@ -965,7 +1096,8 @@ def fit_shifted(distance_mm, deflection_mm, depth_mm, covariance_mm2=None):
     depth_mm : float
         Indentation depth, used as W0 (mm).
     covariance_mm2 : array_like, optional
-        Covariance of the deflections (mm^2): generalised least squares.
+        Covariance of the deflections (mm^2): the interval honours it (the fit
+        itself stays least squares).
 
     Returns
     -------
@@ -980,8 +1112,7 @@ def fit_waterbed_free_depth(distance_mm, deflection_mm, covariance_mm2=None):
     """Fit the small-slope waterbed with both W0 and L free.
 
     For a given L the model ``W0 g(x)``, ``g = 3 s**2 - 4 s + 1``, is linear in
-    W0, whose best value is ``sum(y g) / sum(g**2)`` (on whitened values with a
-    covariance); what remains is a one-dimensional problem in L
+    W0, whose best value is ``sum(y g) / sum(g**2)``; what remains is a one-dimensional problem in L
     (``L >= max(x)``).  The interval on L profiles W0 out.
 
     Parameters
@@ -989,7 +1120,8 @@ def fit_waterbed_free_depth(distance_mm, deflection_mm, covariance_mm2=None):
     distance_mm, deflection_mm : array_like
         Averaged profile points (mm); distances > 0, at least two.
     covariance_mm2 : array_like, optional
-        Covariance of the deflections (mm^2): generalised least squares.
+        Covariance of the deflections (mm^2): the interval honours it (the fit
+        itself stays least squares).
 
     Returns
     -------
@@ -1003,16 +1135,17 @@ def fit_boussinesq(distance_mm, deflection_mm, covariance_mm2=None):
     """Fit the modified Boussinesq profile ``A ln(x0 / x)``: linear least squares.
 
     The model is a straight line in ``ln x``: ``w = A ln x0 - A ln x``, so the
-    fit is an exact linear regression (centred, in closed form; on whitened
-    columns with a covariance).  ``x0`` is reported as NaN when the slope has
-    the wrong sign (``A <= 0``), where the form has no zero crossing.
+    fit is an exact linear regression (centred, in closed form).  ``x0`` is
+    reported as NaN when the slope has the wrong sign (``A <= 0``), where the
+    form has no zero crossing.
 
     Parameters
     ----------
     distance_mm, deflection_mm : array_like
         Averaged profile points (mm); distances > 0, at least two distinct.
     covariance_mm2 : array_like, optional
-        Covariance of the deflections (mm^2): generalised least squares.
+        Covariance of the deflections (mm^2): the interval honours it (the fit
+        itself stays least squares).
 
     Returns
     -------
@@ -1117,8 +1250,8 @@ def fit_windowed(
     models : iterable of str, optional
         Keys of :data:`MODELS`.
     noise : lineload.noise.NoiseModel, optional
-        The digitising noise: the fits become generalised least squares with
-        each trial's covariance, and the intervals honour it.  Without it, least
+        The digitising noise: the intervals honour each trial's covariance
+        (the fits themselves stay least squares; see the module's notes).  Without it, least
         squares with intervals from the residuals (independent errors).
     n_sides : sequence of array_like, optional
         With ``noise``: how many sides were read at each point of each trial
@@ -1160,7 +1293,7 @@ def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_si
     window_mm : float or array_like
         Points with ``0 < distance <= window_mm`` are fitted.
     noise : lineload.noise.NoiseModel, optional
-        The digitising noise (generalised least squares; see :func:`fit_windowed`).
+        The digitising noise (the intervals honour it; see :func:`fit_windowed`).
     n_sides : sequence of array_like, optional
         Sides read at each point of each trial (with ``noise``).
 
