@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+from scipy.optimize import brentq
 
 from conftest import reading_grid_mm, run_snakemake, write_small_dataset
 from lineload import fitting, mechanics, models
@@ -72,6 +73,8 @@ def fit_row(subject, species, depth_mm, **values):
         waterbed_rmse_mm=0.01 * depth_mm,
         waterbed_aicc=-150.0,
         shifted_L_mm=12.0,
+        shifted_L_ci_low_mm=11.0,
+        shifted_L_ci_high_mm=13.0,
         shifted_rmse_mm=0.01 * depth_mm,
         shifted_aicc=-150.0,
         arc_L_mm=12.0,
@@ -228,13 +231,56 @@ def test_c2_removes_the_noise_before_comparing():
     assert verdict("C2", fits, points) == FAILS
 
 
-def test_c3_needs_the_waterbed_better_in_every_trial():
-    good = [fit_row("A", "monkey", 1.0), fit_row("B", "human", 1.0)]
-    assert verdict("C3", table(good), None) == HOLDS
-    bad = [*good, fit_row("C", "human", 2.0, waterbed_rmse_mm=0.2, waterbed_aicc=-50.0)]
-    assert verdict("C3", table(bad), None) == FAILS
-    no_boussinesq = [fit_row("A", "monkey", 1.0, boussinesq_rmse_mm=np.nan)]
-    assert verdict("C3", table(no_boussinesq), None) == UNTESTABLE
+def test_c3_needs_the_waterbed_better_beyond_the_noise_in_every_trial():
+    waterbed_like = models.waterbed_deflection_mm(GRID_MM, 1.0, 12.0)
+    logarithmic = models.boussinesq_deflection_mm(GRID_MM, 0.3, 20.0)
+    good = [("A", "monkey", 1.0, waterbed_like), ("B", "human", 1.0, waterbed_like)]
+    assert verdict("C3", *fitted_dataset(good)) == HOLDS
+    bad = [*good, ("C", "human", 1.0, logarithmic)]
+    assert verdict("C3", *fitted_dataset(bad)) == FAILS
+
+    # at the mixture of the two shapes that both models fit equally well, the rule cannot
+    # tell with 10 um readings; a little to either side, with 0.1 um readings, it can
+    def mixture(t):
+        return (1 - t) * waterbed_like + t * logarithmic
+
+    def rmse_gap(t):
+        fit = fit_trial(GRID_MM, mixture(t), 1.0, 3.0)
+        return fit["boussinesq_rmse_mm"] - fit["waterbed_rmse_mm"]
+
+    even = brentq(rmse_gap, 0.05, 0.5, xtol=1e-6)
+    fits, points = fitted_dataset([*good, ("C", "human", 1.0, mixture(even))])
+    assert verdict("C3", fits, points) == UNTESTABLE
+    precise = ClaimSettings(noise_mm=1e-4, large_depth_mm=1.5)
+    for t, expected in ((even - 0.005, HOLDS), (even + 0.005, FAILS)):
+        shifted = fitted_dataset([*good, ("C", "human", 1.0, mixture(t))])
+        assert verdict("C3", *shifted) == UNTESTABLE
+        assert verdict("C3", *shifted, precise) == expected
+    no_boussinesq = fits.assign(boussinesq_A_mm=np.nan, boussinesq_x0_mm=np.nan)
+    assert verdict("C3", no_boussinesq, points) == UNTESTABLE
+
+
+def test_c3_standard_error_matches_the_spread_over_noise_draws():
+    # D = SSE_B - SSE_w after refitting both models moves with the readings as
+    # 2 (f_w - f_B): its spread over noise draws is what the rule's standard error says
+    rng = np.random.default_rng(11)
+    x = WINDOW_MM
+    true = 0.5 * (
+        models.waterbed_deflection_mm(x, 1.0, 12.0) + models.boussinesq_deflection_mm(x, 0.3, 20.0)
+    )
+    sd_mm = 0.002
+    D = []
+    for _ in range(400):
+        y = true + rng.normal(0.0, sd_mm, x.size)
+        fit = fit_trial(x, y, 1.0, 3.0)
+        D.append(fit["boussinesq_rmse_mm"] ** 2 * x.size - fit["waterbed_rmse_mm"] ** 2 * x.size)
+    # the rule's standard error, 2 sqrt(d' C d) with d = f_w - f_B of the fitted curves
+    fit = fit_trial(x, true, 1.0, 3.0)
+    gap = models.waterbed_deflection_mm(x, 1.0, fit["waterbed_L_mm"])
+    gap = gap - models.boussinesq_deflection_mm(x, fit["boussinesq_A_mm"], fit["boussinesq_x0_mm"])
+    predicted_se = 2.0 * sd_mm * float(np.linalg.norm(gap))
+    # the sample SD of 400 draws is within 3 x its own standard error (sd / sqrt(2 n))
+    assert np.std(D, ddof=1) == pytest.approx(predicted_se, rel=3 / np.sqrt(2 * 400))
 
 
 def test_c3_on_fitted_profiles_of_each_shape():
@@ -258,38 +304,59 @@ def test_c4_flips_when_the_data_follow_the_predicted_bulge():
     assert verdict("C4", fits, profile("HU", depth_mm, curve[near], GRID_MM[near])) == UNTESTABLE
 
 
+def L_fit(subject, depth_mm, L_mm, half_width_mm, model="waterbed", **values):
+    """A fit row whose ``model`` L has a 95 % interval of the given half-width."""
+    interval = {
+        f"{model}_L_mm": L_mm,
+        f"{model}_L_ci_low_mm": L_mm - half_width_mm,
+        f"{model}_L_ci_high_mm": L_mm + half_width_mm,
+    }
+    return fit_row(subject, "human", depth_mm, **interval, **values)
+
+
 def test_c5_range_of_L_under_the_papers_procedure():
-    rows = [fit_row("A", "monkey", 1.0, waterbed_L_mm=10.5), fit_row("B", "human", 1.0)]
+    rows = [L_fit("A", 1.0, 10.5, 0.2), fit_row("B", "human", 1.0)]
     assert verdict("C5", table(rows), None) == HOLDS
-    rows.append(fit_row("C", "human", 2.0, waterbed_L_mm=20.0, shifted_L_mm=20.0))
+    rows.append(L_fit("C", 2.0, 20.0, 1.0))
     assert verdict("C5", table(rows), None) == FAILS
     assert verdict("C5", table([fit_row("A", "monkey", 1.0, waterbed_L_mm=np.nan)]), None) == (
         UNTESTABLE
     )
 
 
+def test_c5_is_a_test_with_each_trials_interval():
+    # the same L just inside the range: holds when its interval is narrow, cannot be
+    # checked when the interval reaches past the end, and the mirror image outside
+    # the range does not hold only when the interval (Bonferroni) stays outside
+    assert verdict("C5", table([L_fit("A", 1.0, 10.3, 0.1)]), None) == HOLDS
+    assert verdict("C5", table([L_fit("A", 1.0, 10.3, 0.5)]), None) == UNTESTABLE
+    assert verdict("C5", table([L_fit("A", 1.0, 9.7, 0.5)]), None) == UNTESTABLE
+    assert verdict("C5", table([L_fit("A", 1.0, 9.7, 0.1)]), None) == FAILS
+    # Bonferroni: an interval that excludes the range alone, but not at 1 - 0.05 / 8
+    # (z = 2.73 instead of 1.96), leaves eight trials undecided
+    alone = L_fit("A", 1.0, 9.7, 0.25)
+    assert verdict("C5", table([alone]), None) == FAILS
+    crowd = [L_fit(name, 1.0, 9.7, 0.25) for name in "ABCD"]
+    crowd += [fit_row(name, "human", 1.0) for name in "EFGH"]
+    assert verdict("C5", table(crowd), None) == UNTESTABLE
+
+
 def test_c5_with_no_fit_in_measured_coordinates_says_so():
-    rows = table([fit_row("A", "monkey", 1.0, waterbed_L_mm=20.0, shifted_L_mm=np.nan)])
+    rows = table([L_fit("A", 1.0, 20.0, 0.5, shifted_L_mm=np.nan)])
     row = CLAIM_FUNCTIONS["C5"](rows, None, SETTINGS)
     assert row["verdict"] == FAILS and "no fit in measured coordinates" in row["reason"]
-
-
-def test_c5_fails_the_papers_way_but_not_in_measured_coordinates():
-    rows = table([fit_row("A", "human", 2.0, waterbed_L_mm=9.6, shifted_L_mm=10.6)])
-    row = CLAIM_FUNCTIONS["C5"](rows, None, SETTINGS)
-    assert row["verdict"] == FAILS
-    assert "every L is inside" in row["reason"] and "coordinate approximation" in row["reason"]
 
 
 def test_c5_says_when_the_coordinates_decide():
     agree = CLAIM_FUNCTIONS["C5"](table([fit_row("A", "monkey", 1.0)]), None, SETTINGS)
     assert agree["verdict"] == HOLDS and "agrees" in agree["reason"]
     # inside the range the paper's way, outside it in measured coordinates
-    split = table([fit_row("A", "human", 2.0, waterbed_L_mm=14.0, shifted_L_mm=15.2)])
+    shifted = {"shifted_L_mm": 15.8, "shifted_L_ci_low_mm": 15.6, "shifted_L_ci_high_mm": 16.0}
+    split = table([L_fit("A", 2.0, 14.0, 0.2, **shifted)])
     row = CLAIM_FUNCTIONS["C5"](split, None, SETTINGS)
     assert row["verdict"] == HOLDS
-    assert "coordinate approximation" in row["reason"] and "A at 2 mm" in row["reason"]
-    assert "0 of 1 inside" in row["our_value"]
+    assert "measured coordinates" in row["reason"] and "1 is outside" in row["reason"]
+    assert "1 inside, 0 outside" in row["our_value"]
 
 
 def arc_dataset(depth_mm, L_mm, noise_mm=0.005, seed=3):

@@ -141,7 +141,16 @@ def _fit_facts(fits, checks, noise_mm):
 
 
 def article_facts(
-    fits, claims, checks, subjects, depths_mm, settings, notice, software, mechanics=None
+    fits,
+    claims,
+    checks,
+    subjects,
+    depths_mm,
+    settings,
+    notice,
+    software,
+    mechanics=None,
+    calibration=None,
 ):
     """Every number and data-dependent phrase of the article.
 
@@ -163,13 +172,17 @@ def article_facts(
         from the provenance record.
     mechanics : pandas.DataFrame, optional
         The per-subject membrane mechanics, when the workflow made them.
+    calibration : dict of pandas.DataFrame, optional
+        ``verdicts`` and ``coverage``: the calibration tables
+        (``docs/calibration/verdicts.csv`` and ``coverage.csv``).
 
     Returns
     -------
     dict
         JSON-ready: ``data``, ``fits``, ``verdicts``, ``claims`` (one dict per claim,
         in table order), ``settings`` (as given), ``figures`` (the data-dependent
-        parts of the captions), ``mechanics`` (or None) and ``software``.
+        parts of the captions), ``mechanics`` (or None), ``calibration`` (or None)
+        and ``software``.
     """
     counts = verdict_counts(claims)
     noise_mm = float(settings["claims"]["noise_mm"])
@@ -209,6 +222,7 @@ def article_facts(
             "has_outlines": bool(figures["outline_subjects"]),
         },
         "mechanics": None,
+        "calibration": None,
         "software": {
             "python": str(software["python"]),
             "packages": {name: str(v) for name, v in software["packages"].items() if v},
@@ -220,7 +234,55 @@ def article_facts(
     }
     if mechanics is not None and len(mechanics):
         facts["mechanics"] = _mechanics_facts(mechanics)
+    if calibration is not None:
+        facts["calibration"] = _calibration_facts(calibration["verdicts"], calibration["coverage"])
     return facts
+
+
+def _percent(rate, low, high):
+    """``"4.0 (1.6-8.2)"``: a rate and its interval, in percent."""
+    return f"{100 * rate:.1f} ({100 * low:.1f}-{100 * high:.1f})"
+
+
+def _calibration_facts(verdicts, coverage):
+    """The verdict calibration per claim and truth, and the pooled coverage per parameter."""
+    rows = []
+    for _, row in verdicts[verdicts["claim"] != "any"].iterrows():
+        identity = row["truth"] == "identity"
+        rows.append(
+            {
+                "claim": str(row["claim"]),
+                "truth": str(row["truth"]),
+                "n": str(int(row["n_datasets"])),
+                "holds": "–" if identity else str(int(row["n_holds"])),
+                "fails": "–" if identity else str(int(row["n_fails"])),
+                "untestable": "–" if identity else str(int(row["n_untestable"])),
+                "wrong": "not evidence"
+                if identity
+                else _percent(row["wrong_rate"], row["wrong_ci_low"], row["wrong_ci_high"]),
+            }
+        )
+    every = verdicts[verdicts["claim"] == "any"].iloc[0]
+    pooled = coverage[coverage["species"] == "all"]
+    return {
+        "rows": rows,
+        "n_datasets": str(int(every["n_datasets"])),
+        "any_wrong": str(int(every["n_wrong"])),
+        "any_rate": (
+            f"{100 * every['wrong_rate']:.1f} %, 95 % CI {100 * every['wrong_ci_low']:.1f}-"
+            f"{100 * every['wrong_ci_high']:.1f} %"
+        ),
+        "coverage": [
+            {
+                "scenario": str(row["scenario"]),
+                "model": str(row["model"]),
+                "parameter": str(row["parameter"]).removesuffix("_mm"),
+                "n": str(int(row["n_trials"])),
+                "coverage": _percent(row["coverage"], row["ci_low"], row["ci_high"]),
+            }
+            for _, row in pooled.iterrows()
+        ],
+    }
 
 
 def _with_error(value, error, decimals):

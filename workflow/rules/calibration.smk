@@ -1,13 +1,14 @@
 # Calibration (not part of the default build): do the intervals cover the truth at their
-# nominal rate on simulated data with the errors real digitising makes?  Minutes, seeded;
-# the table it writes is kept in the repository (docs/calibration/).
+# nominal rate, and how often does each claim's rule reach the right verdict, on simulated
+# data with the errors real digitising makes?  Minutes, seeded; the tables it writes are
+# kept in the repository (docs/calibration/).
 
 
-rule calibration:
+rule coverage:
     """Coverage of the fits' 95 % intervals on simulated datasets, per model and error kind."""
     input:
         spec=spec(
-            "calibration",
+            "coverage",
             seed=config["calibration"]["seed"],
             datasets=config["calibration"]["datasets"],
         ),
@@ -17,10 +18,45 @@ rule calibration:
         summary=result("calibration", "coverage.csv"),
         markdown=result("calibration", "coverage.md"),
     log:
-        result("logs", "calibration.log"),
+        result("logs", "coverage.log"),
     benchmark:
-        result("benchmarks", "calibration.tsv")
+        result("benchmarks", "coverage.tsv")
     conda:
         ENVIRONMENT
     script:
         "../scripts/run_coverage.py"
+
+
+rule verdict_calibration:
+    """How often each claim's rule says holds, does not hold or cannot be checked, against
+    the truth, on reconstructions with fresh digitising errors."""
+    input:
+        spec=spec(
+            "verdict_calibration",
+            seed=config["calibration"]["seed"],
+            datasets=config["calibration"]["verdict_datasets"],
+            window_mm=config["fit_window_mm"],
+            priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+            max_trials=config["noise"]["max_trials"],
+            claims=config["claims"],
+        ),
+        code=code("run_verdict_calibration.py"),
+    output:
+        datasets=result("calibration", "verdicts_datasets.csv"),
+        summary=result("calibration", "verdicts.csv"),
+        markdown=result("calibration", "verdicts.md"),
+    log:
+        result("logs", "verdict_calibration.log"),
+    benchmark:
+        result("benchmarks", "verdict_calibration.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/run_verdict_calibration.py"
+
+
+rule calibration:
+    """Both calibrations: snakemake --cores 2 calibration."""
+    input:
+        rules.coverage.output,
+        rules.verdict_calibration.output,

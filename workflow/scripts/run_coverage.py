@@ -1,4 +1,4 @@
-"""Rule calibration: do the intervals cover?  Simulated datasets, fitted as the workflow fits."""
+"""Rule coverage: do the intervals cover?  Simulated datasets, fitted as the workflow fits."""
 
 from lineload.coverage import (
     COVERAGE_COLUMNS,
@@ -10,7 +10,7 @@ from lineload.coverage import (
 from lineload.io import output_to, read_json, write_rows, write_text
 
 
-def calibration(outputs, seed, datasets):
+def coverage(outputs, seed, datasets):
     """Run the coverage study; write every trial, the summary and its Markdown."""
     rows = coverage_study(seed, datasets)
     summary = summarise_coverage(rows)
@@ -31,4 +31,4 @@ def calibration(outputs, seed, datasets):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        calibration(snakemake.output, **read_json(snakemake.input.spec))
+        coverage(snakemake.output, **read_json(snakemake.input.spec))

@@ -67,6 +67,10 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
         notice,
         software,
         read_results_csv(inputs.mechanics),
+        {
+            "verdicts": read_results_csv(inputs.verdict_calibration),
+            "coverage": read_results_csv(inputs.coverage),
+        },
     )
     write_text(json_text(facts), outputs.facts)
     with replaced_atomically(outputs.source) as temporary:

@@ -1,0 +1,33 @@
+"""Rule verdict_calibration: how often each claim's rule reaches the right verdict."""
+
+from lineload.calibration import (
+    DATASET_COLUMNS,
+    SUMMARY_COLUMNS,
+    summarise_verdicts,
+    verdict_markdown,
+    verdict_study,
+)
+from lineload.io import output_to, read_json, write_rows, write_text
+
+
+def verdict_calibration(outputs, seed, datasets, window_mm, priors, max_trials, claims):
+    """Run the verdict study; write every dataset's verdicts, the summary and its Markdown."""
+    rows = verdict_study(seed, datasets, window_mm, priors, max_trials, claims)
+    summary = summarise_verdicts(rows)
+    write_rows(rows, DATASET_COLUMNS, outputs.datasets)
+    write_rows(summary, SUMMARY_COLUMNS, outputs.summary)
+    command = (
+        f"snakemake --cores 2 calibration --config calibration='{{seed: {seed}, "
+        f"verdict_datasets: {datasets}}}'"
+    )
+    write_text(verdict_markdown(summary, command), outputs.markdown)
+    for row in summary:
+        print(
+            f"{row['claim']}: truth {row['truth'] or '-'}, {row['n_wrong']} wrong of "
+            f"{row['n_datasets']} ({row['wrong_rate']:.3f})"
+        )
+
+
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        verdict_calibration(snakemake.output, **read_json(snakemake.input.spec))
