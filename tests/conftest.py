@@ -119,3 +119,17 @@ def leftovers(results):
     """Files a refused run left under the results folder, besides the check's log."""
     log = results / "logs" / "check_raw_data.log"
     return sorted(str(p) for p in results.rglob("*") if p.is_file() and p != log)
+
+
+def build_outputs(results):
+    """Every output of a build but logs and timings, by path, with the folder's own name
+    (which the provenance record and the specs hold, as a results folder outside the
+    working folder is named, never given by its path) written as <results>, so builds
+    in two folders compare byte for byte."""
+    return {
+        path.relative_to(results).as_posix(): path.read_bytes().replace(
+            f'"{results.name}"'.encode(), b'"<results>"'
+        )
+        for path in sorted(results.rglob("*"))
+        if path.is_file() and path.relative_to(results).parts[0] not in ("logs", "benchmarks")
+    }

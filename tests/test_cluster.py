@@ -8,7 +8,7 @@ import time
 
 import pytest
 
-from conftest import REPO, run_snakemake, write_small_dataset
+from conftest import REPO, build_outputs, run_snakemake, write_small_dataset
 
 pytestmark = pytest.mark.e2e  # every test here runs Snakemake
 
@@ -48,23 +48,19 @@ def test_fits_through_a_cluster_executor_equal_a_local_run(tmp_path):
         ).read_bytes()
 
 
-def outputs(results):
-    """Every output but logs and timings, with the folder's own name (which the provenance
-    record and its spec hold, as the folder lies outside the working folder) written as
-    <results>, so builds in two folders compare."""
-    return {
-        path.relative_to(results).as_posix(): path.read_bytes().replace(
-            f'"{results.name}"'.encode(), b'"<results>"'
-        )
-        for path in sorted(results.rglob("*"))
-        if path.is_file() and path.relative_to(results).parts[0] not in ("logs", "benchmarks")
-    }
+def own_folder(tmp_path):
+    """A working folder of the test's own: the locks a killed build leaves behind, and
+    the ``--unlock`` that clears them, stay out of the repository's ``.snakemake``,
+    where the builds of other tests running at the same time keep theirs."""
+    folder = tmp_path / "work"
+    folder.mkdir(exist_ok=True)
+    return folder
 
 
-def start_build(raw, results):
+def start_build(raw, results, workdir):
     command = [
         sys.executable, "-m", "snakemake", "--snakefile", str(REPO / "workflow" / "Snakefile"),
-        "--directory", str(REPO), "--cores", "2",
+        "--directory", str(workdir), "--cores", "2",
         "--config", f"raw_data={raw}", f"results={results}",
     ]  # fmt: skip
     return subprocess.Popen(
@@ -122,31 +118,33 @@ def test_killed_builds_stop_and_resume_to_the_same_files(tmp_path):
     """`kill` (SIGTERM) at many moments: the build and its jobs stop within seconds, and
     `--rerun-incomplete` then ends with the same files as an uninterrupted build."""
     raw = write_small_dataset(tmp_path / "raw", subjects=SUBJECTS)
+    work = own_folder(tmp_path)
     reference = tmp_path / "reference"
-    check_ok(run_snakemake(raw=raw, results=reference))
-    expected = outputs(reference)
+    check_ok(run_snakemake(raw=raw, results=reference, cwd=work))
+    expected = build_outputs(reference)
     for kind, when in KILL_MOMENTS:
         results = tmp_path / f"killed-{kind}-{str(when).replace('/', '_').replace('*', 'x')}"
-        process = start_build(raw, results)
+        process = start_build(raw, results, work)
         if kind == "after":
             time.sleep(when)
         else:
             wait_for_files(results, when, 1)
         os.kill(process.pid, signal.SIGTERM)
         stop(process)
-        resumed = run_snakemake("--rerun-incomplete", raw=raw, results=results)
+        resumed = run_snakemake("--rerun-incomplete", raw=raw, results=results, cwd=work)
         check_ok(resumed)
-        assert outputs(results) == expected, (kind, when)
+        assert build_outputs(results) == expected, (kind, when)
 
 
 def test_hard_killed_build_resumes_after_unlock(tmp_path):
     raw = write_small_dataset(tmp_path / "raw", subjects=SUBJECTS)
     results = tmp_path / "results"
-    process = start_build(raw, results)
+    work = own_folder(tmp_path)
+    process = start_build(raw, results, work)
     wait_for_files(results, "data/averaged/*.csv", 1)
     os.killpg(process.pid, signal.SIGKILL)  # no chance to clean up: locks stay behind
     process.wait(timeout=60)
-    check_ok(run_snakemake("--unlock", raw=raw, results=results))
-    check_ok(run_snakemake("--rerun-incomplete", raw=raw, results=results))
+    check_ok(run_snakemake("--unlock", raw=raw, results=results, cwd=work))
+    check_ok(run_snakemake("--rerun-incomplete", raw=raw, results=results, cwd=work))
     assert (results / "tables" / "claims.md").is_file()
     assert (results / "provenance.json").is_file()

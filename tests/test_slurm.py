@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from conftest import REPO, write_small_dataset
+from conftest import REPO, build_outputs, write_small_dataset
 
 pytestmark = pytest.mark.e2e
 
@@ -102,32 +102,21 @@ def cluster_jobs(output):
     return len(re.findall(r"submitted with SLURM jobid", output))
 
 
-def outputs(results):
-    """Every output but logs and timings, the folder's own name written as <results>."""
-    return {
-        path.relative_to(results).as_posix(): path.read_bytes().replace(
-            str(results).encode(), b"<results>"
-        )
-        for path in sorted(results.rglob("*"))
-        if path.is_file() and path.relative_to(results).parts[0] not in ("logs", "benchmarks")
-    }
-
-
 def test_readme_slurm_command_gives_the_local_bytes(cluster, tmp_path):
     raw = write_small_dataset(tmp_path / "raw", subjects=SUBJECTS)
     profile = profile_for(cluster, tmp_path / "profile")
     local = tmp_path / "local"
     snakemake("--cores", "2", raw=raw, results=local)
-    expected = outputs(local)
+    expected = build_outputs(local)
     fits_only = {k: v for k, v in expected.items() if k == "tables/fits.csv"}
 
     slurm = tmp_path / "slurm"
     output, seconds = snakemake("--profile", str(profile), "fits", raw=raw, results=slurm)
     submitted = cluster_jobs(output)
     assert submitted > 0, output[-3000:]  # the jobs really went through SLURM
-    assert {k: v for k, v in outputs(slurm).items() if k in fits_only} == fits_only
+    assert {k: v for k, v in build_outputs(slurm).items() if k in fits_only} == fits_only
     print(f"fits on SLURM: {seconds:.1f} s, {submitted} SLURM jobs")
 
     output, seconds = snakemake("--profile", str(profile), raw=raw, results=slurm)
-    assert outputs(slurm) == expected
+    assert build_outputs(slurm) == expected
     print(f"default target on SLURM, after fits: {seconds:.1f} s, {cluster_jobs(output)} jobs")
