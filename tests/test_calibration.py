@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 from conftest import REPO
-from lineload import calibration, synthetic
+from lineload import article, calibration, synthetic
 from lineload.claims import FAILS, HOLDS, IDENTITY, UNTESTABLE
 from lineload.coverage import binomial_interval
 from lineload.io import config_defaults
@@ -87,6 +87,13 @@ def test_summary_counts_each_verdict_and_only_opposite_ones_as_wrong():
     assert summary["C10"]["n_wrong"] == 1
     # datasets 1 and 2 each had a wrong verdict
     assert (summary["any"]["n_wrong"], summary["any"]["n_datasets"]) == (2, 4)
+    # the article quotes each claim's rate beside its verdict; identities are not evidence
+    coverage = pd.read_csv(COMMITTED / "coverage.csv")
+    facts = article._calibration_facts(pd.DataFrame(list(summary.values())), coverage)
+    assert facts["by_claim"]["C1"].startswith("wrong in 1 of 4 reconstructions")
+    assert facts["by_claim"]["C1"].endswith("undecided in 1")
+    assert "C7" not in facts["by_claim"]
+    assert (facts["any_wrong"], facts["n_datasets"]) == ("2", "4")
     text = calibration.verdict_markdown(list(summary.values()), "snakemake calibration")
     assert "| C7 | identity | 4 | - | - | - | not evidence |" in text
     assert "2 of 4 datasets had at least one wrong verdict" in text

@@ -17,6 +17,7 @@ import numpy as np
 
 from . import paper
 from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
+from .coverage import binomial_interval
 from .tables import format_fixed, span_text
 
 __all__ = ["article_facts", "join_words", "number_words", "shown", "span_text"]
@@ -264,7 +265,19 @@ def _calibration_facts(verdicts, coverage):
         )
     every = verdicts[verdicts["claim"] == "any"].iloc[0]
     pooled = coverage[coverage["species"] == "all"]
+    by_claim = {}
+    for claim, group in verdicts[verdicts["claim"] != "any"].groupby("claim", sort=False):
+        if (group["truth"] == "identity").all():
+            continue
+        n, wrong = int(group["n_datasets"].sum()), int(group["n_wrong"].sum())
+        undecided = int(group["n_untestable"].sum())
+        high = binomial_interval(wrong, n)[1]
+        by_claim[str(claim)] = (
+            f"wrong in {wrong} of {n} reconstructions with fresh errors (95 % upper bound "
+            f"{100 * high:.1f} %), undecided in {undecided}"
+        )
     return {
+        "by_claim": by_claim,
         "rows": rows,
         "n_datasets": str(int(every["n_datasets"])),
         "any_wrong": str(int(every["n_wrong"])),
