@@ -54,7 +54,10 @@ def stop_on_sigterm():
     The running jobs are sent SIGTERM (whatever process group they are in, and even
     if they ignore SIGINT), then a ``KeyboardInterrupt`` takes Snakemake's Ctrl-C
     path: outputs of cut jobs are marked incomplete, and the build exits.  Call it
-    from ``onstart:``, which runs after Snakemake has installed its own handler.
+    when the workflow is read (a signal between Snakemake's locking and its
+    scheduler's start then unwinds through the lock's cleanup instead of killing
+    the process with its locks left behind), and again from ``onstart:``, which
+    runs after the scheduler has installed its own handler.
     """
 
     def interrupt(signum, frame):

@@ -14,6 +14,11 @@ from lineload.validation import InputError
 
 min_version("9.0")
 
+# `kill` stops a build as Ctrl-C does, from the start: Snakemake takes its locks before
+# its scheduler installs a SIGTERM handler, and the default one would leave them behind
+# (onstart: installs it again over the scheduler's own)
+stop_on_sigterm()
+
 # One environment for the whole workflow (pip: requirements.txt, or conda, pinned alike).
 ENVIRONMENT = "../../environment.yml"
 
