@@ -112,7 +112,61 @@ def _boussinesq_tolerances(row, x, y, rounding):
     if np.isfinite(x0) and A > 0:
         # x0 = exp(intercept / A): relative error of the ratio's change
         tolerances["boussinesq_x0_mm"] = x0 * (shift + abs(intercept / A) * shift) / A
+    tolerances.update(_boussinesq_interval_tolerances(row, x, y, shift, d_sse, condition))
     return tolerances
+
+
+def _boussinesq_interval_tolerances(row, x, y, shift, d_sse, condition):
+    """Tolerances of the ends of the profile intervals on A and x0 (no covariance).
+
+    A's ends are ``A +- sqrt(delta / D)`` with ``delta`` proportional to the
+    minimum sum of squares and ``D = s22 - s12**2 / s11``: the end moves with A
+    (``shift``), and the half-width by half the relative error of ``delta``
+    (``d_sse / SSE``) and of ``D`` (its sums, times the condition number).
+
+    x0's ends are ``exp(z)`` for the roots ``z`` of ``F(z) = a2 z^2 + 2 a1 z + a0``,
+    whose coefficients are products of sums over the points.  An error ``dF`` in
+    ``F`` at the root moves it by ``dF / |F'(z)|`` (``F' = 2 (a2 z + a1)``); ``dF``
+    is bounded by the rounding of each coefficient (``(n + 2) eps`` times the sizes
+    of the terms it is made of, and the threshold's own error ``d_sse`` through
+    ``c``), each times ``|z|`` to its power.
+    """
+    n = x.size
+    names = ("A_ci_low_mm", "A_ci_high_mm", "x0_ci_low_mm", "x0_ci_high_mm")
+    out = {f"boussinesq_{name}": 0.0 for name in names}
+    low, high = row["boussinesq_A_ci_low_mm"], row["boussinesq_A_ci_high_mm"]
+    sse = n * row["boussinesq_rmse_mm"] ** 2
+    if np.isfinite(low) and np.isfinite(high):
+        half = (high - low) / 2.0
+        relative = 0.5 * (d_sse / sse if sse > 0 else 1.0) + (n + 2) * EPS * condition
+        out["boussinesq_A_ci_low_mm"] = shift + half * relative
+        out["boussinesq_A_ci_high_mm"] = shift + half * relative
+    ends = [row["boussinesq_x0_ci_low_mm"], row["boussinesq_x0_ci_high_mm"]]
+    if not all(np.isfinite(ends)):
+        return out
+    logs = -np.log(x)
+    s11, s12, s22 = float(n), float(np.sum(logs)), float(np.sum(logs**2))
+    t1, t2, total = float(np.sum(y)), float(np.sum(logs * y)), float(np.sum(y**2))
+    threshold = max(sse, np.finfo(float).tiny) * math.exp(CHI2_1DOF_95 / n)
+    c = total - threshold
+    k = (n + 2) * EPS
+    # sizes of the terms each coefficient is made of, and the error of c
+    size_t1, size_t2 = float(np.sum(np.abs(y))), float(np.sum(np.abs(logs * y)))
+    size_s12 = float(np.sum(np.abs(logs)))
+    dc = k * (total + threshold) + 2.0 * d_sse
+    d_a2 = 3 * k * (size_t1**2 + abs(c) * s11) + dc * s11
+    d_a1 = 3 * k * (size_t1 * size_t2 + abs(c) * size_s12) + dc * size_s12
+    d_a0 = 3 * k * (size_t2**2 + abs(c) * s22) + dc * s22
+    a2, a1 = t1**2 - c * s11, t1 * t2 - c * s12
+    for name, end in zip(("x0_ci_low_mm", "x0_ci_high_mm"), ends, strict=True):
+        z = math.log(end)
+        slope = 2.0 * abs(a2 * z + a1)
+        d_f = d_a2 * z * z + 2.0 * d_a1 * abs(z) + d_a0
+        # the quadratic formula's own rounding: a few eps of the largest term
+        d_f += 4 * EPS * (abs(a2) * z * z + 2.0 * abs(a1 * z) + abs(t2**2 - c * s22))
+        d_z = d_f / slope if slope > 0 else math.inf
+        out[f"boussinesq_{name}"] = end * d_z
+    return out
 
 
 def fit_row_tolerances(row, x_mm, y_mm):

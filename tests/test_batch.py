@@ -20,7 +20,7 @@ import reference_averaging
 from conftest import REPO
 from lineload import averaging, fitting, io, models, sensitivity, synthetic
 from lineload.validation import check_no_duplicate_readings, read_columns, read_table
-from numerics import assert_rows_agree, fit_rounding_mm2
+from numerics import assert_rows_agree, fit_rounding_mm2, fit_row_tolerances
 
 PROFILE_SCHEMA = io.load_schema("profiles")
 SUBJECT_SCHEMA = io.load_schema("subjects")
@@ -116,6 +116,12 @@ def test_the_agreement_check_can_fail(trials):
     moved[0]["waterbed_L_ci_low_mm"] *= 1 + 1e-5
     with pytest.raises(AssertionError, match="waterbed_L_ci_low_mm"):
         assert_rows_agree(moved, rows, x, y)
+    # the Boussinesq intervals' ends too, each a hundred times its derived tolerance
+    for name in ("boussinesq_A_ci_low_mm", "boussinesq_x0_ci_high_mm"):
+        moved = [dict(row) for row in rows]
+        moved[1][name] += 100 * fit_row_tolerances(rows[1], x[1], y[1])[name]
+        with pytest.raises(AssertionError, match=name):
+            assert_rows_agree(moved, rows, x, y)
 
 
 # ------------------------------------------------------------------ what a fit is
