@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import fcntl
+import json
 import os
 import re
 import shutil
@@ -57,6 +59,32 @@ def write_small_dataset(raw_dir, subjects=None, magnification=20.0, seed=7):
         (raw_dir / "profiles" / f"{subject}.csv").write_text("\n".join(rows) + "\n")
     (raw_dir / "subjects.csv").write_text("\n".join(lines) + "\n")
     return raw_dir
+
+
+#: Modules whose tests run longest (a real cluster, builds killed and resumed, a copied
+#: checkout built whole): collected first, so that pytest-xdist starts them first and
+#: the short tests fill the other workers meanwhile.
+LONGEST_FIRST = ("test_slurm.py", "test_cluster.py", "test_portable.py", "test_determinism.py")
+
+
+def pytest_xdist_auto_num_workers(config):
+    """Workers for ``-n auto`` (set in pyproject.toml): one per core, and one more.
+
+    Several end-to-end tests spend most of their time waiting, not computing: the real
+    SLURM test on the cluster's polling (about a third of its time is CPU), the killed
+    builds on their moments.  A worker more than the cores keeps both cores busy then.
+    """
+    return (os.cpu_count() or 1) + 1
+
+
+def pytest_collection_modifyitems(items):
+    """Run the longest modules' tests first (see :data:`LONGEST_FIRST`)."""
+
+    def rank(item):
+        name = item.path.name
+        return LONGEST_FIRST.index(name) if name in LONGEST_FIRST else len(LONGEST_FIRST)
+
+    items.sort(key=rank)  # stable: the order within each group stays
 
 
 @pytest.fixture
@@ -133,3 +161,162 @@ def build_outputs(results):
         for path in sorted(results.rglob("*"))
         if path.is_file() and path.relative_to(results).parts[0] not in ("logs", "benchmarks")
     }
+
+
+# ------------------------------------------------------------------ builds shared by tests
+#
+# A full build takes 10-20 s; tests that only read its outputs share one per test
+# session, across pytest-xdist's workers: the first worker to ask builds it under a
+# file lock, the others wait for it and read the same folder.  A test that changes
+# files (deletes an intermediate, edits a raw file) works on a copy of its own
+# (:func:`copy_build`), never on the shared folder.
+
+#: The shared datasets: name -> (subjects for write_small_dataset, NOTICE.txt, outlines)
+SHARED_NOTICE = "Invented readings, for a test."
+
+
+def outline_rows(magnification=20):
+    """A resting and a deformed outline at 1 mm (image units), for Figure 1."""
+    lines = ["depth_mm,state,x_image_mm,z_image_mm"]
+    for state, dip in (("resting", 0.0), ("deformed", 1.0)):
+        for x in range(-100, 101, 5):  # image mm at magnification 20: -5 to 5 tissue mm
+            z = -((x / magnification) ** 2) / 16
+            z -= dip * max(0.0, 1 - abs(x / magnification) / 4) ** 2
+            lines.append(f"1,{state},{x},{magnification * z:.3f}")
+    return "\n".join(lines) + "\n"
+
+
+def write_shared_dataset(raw_dir, notice=""):
+    """The small dataset (MK at 1 and 2 mm, HU at 1 mm), with MK's outlines and,
+    if given, a NOTICE.txt: what the shared builds are made from."""
+    write_small_dataset(raw_dir)
+    (raw_dir / "outlines").mkdir()
+    (raw_dir / "outlines" / "MK.csv").write_text(outline_rows())
+    if notice:
+        (raw_dir / "NOTICE.txt").write_text(notice + "\n")
+    return raw_dir
+
+
+def _shared_root(tmp_path_factory):
+    """The folder all workers of this session share (pytest-xdist gives each worker a
+    base folder of its own inside it)."""
+    base = tmp_path_factory.getbasetemp()
+    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+
+
+def shared(tmp_path_factory, name, make):
+    """What ``make(folder)`` builds in a folder of its own, once per session, whichever
+    worker asks first; ``make`` returns ``(raw, results, completed_process)``.  Returns
+    ``(raw, results)``.  A build that failed is not tried again by the next test: each
+    fails with its output.
+    """
+    root = _shared_root(tmp_path_factory)
+    folder = root / f"shared-{name}"
+    record = folder / "build.json"
+    with open(root / f"shared-{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not record.exists():
+            shutil.rmtree(folder, ignore_errors=True)
+            folder.mkdir()
+            raw, results, done = make(folder)
+            outcome = {"raw": str(raw), "results": str(results)}
+            outcome.update(returncode=done.returncode, stderr=done.stderr[-4000:])
+            record.write_text(json.dumps(outcome))
+    outcome = json.loads(record.read_text())
+    assert outcome["returncode"] == 0, outcome["stderr"]
+    return Path(outcome["raw"]), Path(outcome["results"])
+
+
+def shared_build(tmp_path_factory, name, write_raw, *targets, in_copy=False):
+    """Build ``targets`` (default: everything) of the raw folder ``write_raw(folder)``
+    writes, once per session (:func:`shared`); return ``(raw, results)``.
+
+    ``in_copy``: from a copy of the checkout (:func:`copy_checkout`, its own package
+    imported), as another lab's copy would be: no git history there.
+    """
+
+    def make(folder):
+        raw, results = write_raw(folder / "raw"), folder / "results"
+        if not in_copy:
+            return raw, results, run_snakemake(*targets, raw=raw, results=results)
+        checkout = copy_checkout(folder / "checkout")
+        env = {"PYTHONPATH": str(checkout / "workflow")}
+        done = run_snakemake(*targets, raw=raw, results=results, cwd=checkout, env=env)
+        return raw, results, done
+
+    return shared(tmp_path_factory, name, make)
+
+
+def copy_checkout(destination):
+    """The repository's files as git sees them (tracked and new, not ignored) copied to
+    ``destination``, as a clone would have them."""
+    listed = subprocess.run(
+        ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+        cwd=REPO,
+        capture_output=True,
+        check=True,
+    ).stdout.split(b"\0")
+    for name in filter(None, (n.decode() for n in listed)):
+        source = REPO / name
+        if source.is_file():
+            target = destination / name
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(source, target)
+    return destination
+
+
+def copy_build(raw, results, destination):
+    """A copy of a build's raw and results folders (times kept) for a test to change."""
+    destination.mkdir(parents=True, exist_ok=True)
+    raw_copy, results_copy = destination / raw.name, destination / "results"
+    shutil.copytree(raw, raw_copy)
+    shutil.copytree(results, results_copy)
+    return raw_copy, results_copy
+
+
+@pytest.fixture(scope="session")
+def small_build(tmp_path_factory):
+    """Everything built from the small dataset without a notice: ``(raw, results)``."""
+    return shared_build(tmp_path_factory, "small", write_shared_dataset)
+
+
+@pytest.fixture(scope="session")
+def small_build_with_notice(tmp_path_factory):
+    """The same with a NOTICE.txt (:data:`SHARED_NOTICE`), built in a copy of the
+    checkout: ``(raw, results)``."""
+    return shared_build(
+        tmp_path_factory,
+        "small-notice",
+        lambda folder: write_shared_dataset(folder, SHARED_NOTICE),
+        in_copy=True,  # then test_determinism.py compares it with test_portable.py's build
+    )
+
+
+@pytest.fixture(scope="session")
+def shipped_build(tmp_path_factory):
+    """The fits, claims and mechanics of the shipped data: ``(raw, results)``."""
+
+    def shipped(folder):
+        return REPO / "data" / "raw"  # read, never written
+
+    # the targets are paths under the results folder the helper chooses
+    results = _shared_root(tmp_path_factory) / "shared-shipped" / "results"
+    targets = [str(results / "tables" / n) for n in ("fits.csv", "claims.csv", "mechanics.csv")]
+    return shared_build(tmp_path_factory, "shipped", shipped, *targets)
+
+
+@pytest.fixture(scope="session")
+def checkout_build(tmp_path_factory):
+    """A copy of the checkout with the small dataset (the notice, outlines) in its folder
+    ``raw`` and its results in ``results``, both named relative to it, built whole from
+    there, once per session: ``(checkout, results)``."""
+
+    def make(folder):
+        checkout = copy_checkout(folder / "checkout")
+        write_shared_dataset(checkout / "raw", SHARED_NOTICE)
+        env = {"PYTHONPATH": str(checkout / "workflow")}
+        done = run_snakemake(raw="raw", results="results", cwd=checkout, env=env)
+        return checkout / "raw", checkout / "results", done
+
+    raw, results = shared(tmp_path_factory, "checkout", make)
+    return raw.parent, results

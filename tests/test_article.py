@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 from pypdf import PdfReader
 
-from conftest import run_snakemake, write_small_dataset
+from conftest import SHARED_NOTICE
 from lineload.article import article_facts, join_words, number_words, shown, span_text
 from lineload.claims import CLAIM_COLUMNS
 from lineload.fitting import FIT_COLUMNS
@@ -92,17 +92,10 @@ def pdf_text(path):
 
 
 @pytest.mark.e2e
-@pytest.mark.parametrize("notice", ["", "Invented numbers for a test."])
-def test_article_reports_the_claims_table_and_the_data(tmp_path, notice):
-    raw = write_small_dataset(
-        tmp_path / "raw",
-        subjects={"MK": ("monkey", [1.0, 2.0], 5.0), "HU": ("human", [1.0, 2.0], 9.0)},
-    )
-    if notice:
-        (raw / "NOTICE.txt").write_text(notice + "\n")
-    results = tmp_path / "out"
-    process = run_snakemake(str(results / "article" / "reproduction.pdf"), raw=raw, results=results)
-    assert process.returncode == 0, process.stderr[-3000:]
+@pytest.mark.parametrize("build", ["small_build", "small_build_with_notice"])
+def test_article_reports_the_claims_table_and_the_data(build, request):
+    raw, results = request.getfixturevalue(build)
+    notice = SHARED_NOTICE if (raw / "NOTICE.txt").exists() else ""
     text = pdf_text(results / "article" / "reproduction.pdf")
     claims = pd.read_csv(results / "tables" / "claims.csv")
     for claim, verdict in zip(claims["claim"], claims["verdict"], strict=True):
@@ -112,8 +105,8 @@ def test_article_reports_the_claims_table_and_the_data(tmp_path, notice):
         )
         assert found == [verdict], (claim, verdict, found)
     # this dataset's own numbers, not the paper's design
-    assert "one monkey and one human" in text and "4 trials" in text
     fits = pd.read_csv(results / "tables" / "fits.csv")
+    assert "one monkey and one human" in text and f"{len(fits)} trials" in text
     low, high = fits["waterbed_L_mm"].min(), fits["waterbed_L_mm"].max()
     assert f"{low:.2f} to {high:.2f} mm" in text
     if notice:

@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-from conftest import REPO, run_snakemake, write_small_dataset
+from conftest import REPO, run_snakemake
 from lineload import models
 from lineload.averaging import OUTLINE_COLUMNS, outline_to_tissue_mm
 from lineload.figures import data, registry, schematics, style, supplements
@@ -407,19 +407,9 @@ FIGURE_FILES = [f"{name}.{ext}" for name in FIGURE_NAMES for ext in ("pdf", "png
 
 
 @pytest.mark.e2e
-def test_workflow_builds_every_figure(tmp_path, snakemake_available):
+def test_workflow_builds_every_figure(tmp_path, small_build):
     """Every figure in both formats at journal width; byte identity: test_determinism.py."""
-    raw = write_small_dataset(
-        tmp_path / "raw",
-        subjects={
-            "MK": ("monkey", [1.0, 2.0], 5.0),
-            "HU": ("human", [1.0], 9.0),
-            "HV": ("human", [2.0], 10.0),
-        },
-    )
-    out = tmp_path / "first"  # no NOTICE.txt in this raw folder: no footer
-    process = run_snakemake("figures", raw=raw, results=out)
-    assert process.returncode == 0, process.stderr[-3000:]
+    raw, out = small_build  # no NOTICE.txt in this raw folder: no footer
     builds = [out / "figures"]
     assert sorted(p.name for p in builds[0].iterdir()) == sorted(FIGURE_FILES)
     for name in FIGURE_FILES:
@@ -430,7 +420,7 @@ def test_workflow_builds_every_figure(tmp_path, snakemake_available):
             assert min(abs(width_in * 25.4 - w) for w in (85.0, 175.0)) < 0.5, name
         else:
             assert first.read_bytes().startswith(b"%PDF")
-    logs = tmp_path / "first" / "logs"
+    logs = out / "logs"
     for rule in ("figure_outlines", "figure_schematics", "figure_fits", "figure_supplements"):
         assert (logs / f"{rule}.log").is_file()
     # a notice with shell-awkward characters reaches the figures intact (and changes them)

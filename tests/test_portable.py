@@ -7,25 +7,7 @@ import sys
 
 import pytest
 
-from conftest import REPO, write_small_dataset
-
-
-def copy_checkout(destination):
-    """The repository's files as git sees them (tracked and new, not ignored) copied to
-    ``destination``, as a clone would have them."""
-    listed = subprocess.run(
-        ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
-        cwd=REPO,
-        capture_output=True,
-        check=True,
-    ).stdout.split(b"\0")
-    for name in filter(None, (n.decode() for n in listed)):
-        source = REPO / name
-        if source.is_file():
-            target = destination / name
-            target.parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(source, target)
-    return destination
+from conftest import copy_checkout
 
 
 def snakemake_in(checkout, *args):
@@ -39,17 +21,15 @@ def snakemake_in(checkout, *args):
     return subprocess.run(command, cwd=checkout, capture_output=True, text=True, env=env)
 
 
-CONFIG = ("--config", "raw_data=lab/raw", "results=results")
+#: The raw and results folders inside the checkout, named relative to it.
+CONFIG = ("--config", "raw_data=raw", "results=results")
 
 
 @pytest.mark.e2e
-def test_a_moved_or_copied_checkout_has_nothing_to_rerun(tmp_path, snakemake_available):
-    first = copy_checkout(tmp_path / "first")
-    write_small_dataset(first / "lab" / "raw")
-    build = snakemake_in(first, *CONFIG)
-    assert build.returncode == 0, build.stderr[-3000:]
+def test_a_moved_or_copied_checkout_has_nothing_to_rerun(tmp_path, checkout_build):
+    first, results = checkout_build
     # no spec and no output names the checkout: folders are relative to the working folder
-    for path in (first / "results").rglob("*"):
+    for path in results.rglob("*"):
         if path.is_file():
             assert str(first).encode() not in path.read_bytes(), path
 
@@ -57,7 +37,7 @@ def test_a_moved_or_copied_checkout_has_nothing_to_rerun(tmp_path, snakemake_ava
     copied = tmp_path / "elsewhere" / "deeper" / "copy"
     shutil.copytree(first, copied, symlinks=True)
     moved = tmp_path / "moved"
-    first.rename(moved)
+    shutil.copytree(first, tmp_path / "before-moving", symlinks=True).rename(moved)
     for checkout in (copied, moved):
         dry = snakemake_in(checkout, "--dry-run", *CONFIG)
         assert dry.returncode == 0, dry.stderr[-3000:]

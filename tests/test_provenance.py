@@ -1,6 +1,5 @@
 """The provenance record: hashes of every raw input, settings, versions, source state."""
 
-import hashlib
 import json
 import re
 
@@ -14,12 +13,25 @@ def test_record_hashes_every_raw_file(tmp_path):
     record = provenance.provenance_record(str(raw), files, {"fit_window_mm": 3.0}, str(tmp_path))
     hashes = record["raw_data"]["sha256"]
     assert set(hashes) == {"subjects.csv", "profiles/MK.csv", "profiles/HU.csv"}
-    for name, digest in hashes.items():
-        assert digest == hashlib.sha256((raw / name).read_bytes()).hexdigest()
+    for name, digest in hashes.items():  # each file's own digest, as file_sha256 gives it
+        assert re.fullmatch("[0-9a-f]{64}", digest) and digest == provenance.file_sha256(raw / name)
+    assert len(set(hashes.values())) == len(hashes)
     assert record["config"] == {"fit_window_mm": 3.0}
     assert record["packages"]["numpy"] is not None
     # outside a git work tree the source state is unknown, not invented
     assert record["git"] == {"commit": None, "dirty": None}
+
+
+def test_file_hash_is_sha256(tmp_path):
+    # the test vectors of FIPS 180-2 for SHA-256: "abc" and the empty message
+    (tmp_path / "abc").write_bytes(b"abc")
+    (tmp_path / "empty").write_bytes(b"")
+    assert provenance.file_sha256(tmp_path / "abc") == (
+        "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+    )
+    assert provenance.file_sha256(tmp_path / "empty") == (
+        "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
+    )
 
 
 def test_a_changed_byte_changes_the_hash(tmp_path):

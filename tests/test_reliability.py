@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import run_snakemake, write_small_dataset
+from conftest import copy_build, run_snakemake, write_small_dataset
 from lineload.provenance import verify
 
 pytestmark = pytest.mark.e2e
@@ -28,10 +28,9 @@ def check_ok(process):
     assert process.returncode == 0, (process.stdout + process.stderr)[-4000:]
 
 
-def test_deleted_intermediates_are_rebuilt_by_a_plain_rerun(tmp_path):
-    raw = write_small_dataset(tmp_path / "raw")
-    results = tmp_path / "out"
-    check_ok(run_snakemake(raw=raw, results=results))
+def test_deleted_intermediates_are_rebuilt_by_a_plain_rerun(tmp_path, small_build):
+    # a copy of a whole build (times kept), in a results folder of its own
+    raw, results = copy_build(*small_build, tmp_path)
     before = outputs(results)
     # the files the README sends reviewers to, deleted one at a time and together
     intermediates = [
@@ -68,10 +67,9 @@ def test_labels_and_notices_with_awkward_characters_build(tmp_path):
     assert (results / "figures" / "figure6.pdf").read_bytes().startswith(b"%PDF")
 
 
-def test_verify_lists_raw_files_that_differ_from_the_record(tmp_path):
-    raw = write_small_dataset(tmp_path / "raw")
-    results = tmp_path / "out"
-    check_ok(run_snakemake("provenance", raw=raw, results=results))
+def test_verify_lists_raw_files_that_differ_from_the_record(tmp_path, small_build):
+    # the raw folder and the record of a build, copied: the test changes raw files
+    raw, results = copy_build(*small_build, tmp_path)
     record_path = results / "provenance.json"
     record = json.loads(record_path.read_text())
     # the raw folder lies outside the working folder: the record names it, so say where

@@ -1,13 +1,14 @@
 """The HTML report, read in headless Chromium as a reviewer reads it: the data statement
 follows the data, tables are shown as tables, figures with their captions beside them."""
 
+import re
 import shutil
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
-from conftest import run_snakemake, write_small_dataset
+from conftest import SHARED_NOTICE, run_snakemake
 
 pytestmark = pytest.mark.e2e
 
@@ -37,37 +38,39 @@ def browser():
 
 def open_item(page, report, steps, item):
     """Open a result of the report: click through the menu, then the item's eye icon;
-    return the text of the page it shows (an iframe)."""
+    return the frame it shows and that frame's text.  Every wait is for a condition
+    (an element to appear), never for a fixed time."""
+    from playwright.sync_api import TimeoutError as Timeout
+
     page.goto(report.as_uri())
-    page.wait_for_timeout(800)
+    page.wait_for_load_state("load")
     for step in steps:
         target = page.get_by_text(step, exact=True).first
-        if target.count():  # a category with one subcategory skips that level
-            target.click()
-            page.wait_for_timeout(300)
-    page.locator("tr", has=page.get_by_text(item, exact=True)).first.locator(
-        "a[iconname=eye]"
-    ).click()
-    page.wait_for_timeout(800)
-    frame = next(f for f in page.frames if f != page.main_frame)
-    return frame, " ".join(frame.inner_text("body").split())
+        try:  # a category with one subcategory skips that level
+            target.wait_for(state="visible", timeout=2000)
+        except Timeout:
+            continue
+        target.click()
+    row = page.locator("tr", has=page.get_by_text(item, exact=True)).first
+    row.locator("a[iconname=eye]").click()
+    page.wait_for_function("document.querySelectorAll('iframe').length > 0")
+    # the item's page has loaded once its body shows text
+    page.frame_locator("iframe").first.locator("body", has_text=re.compile(r"\S")).wait_for()
+    shown = next(f for f in page.frames if f != page.main_frame)
+    return shown, " ".join(shown.inner_text("body").split())
 
 
-@pytest.mark.parametrize("notice", ["Invented readings, for a test.", ""])
-def test_report_reads_as_a_reviewer_needs(tmp_path, browser, notice):
-    raw = write_small_dataset(tmp_path / "raw")
-    if notice:
-        (raw / "NOTICE.txt").write_text(notice + "\n")
-    results = tmp_path / "out"
-    build = run_snakemake(raw=raw, results=results)
-    assert build.returncode == 0, build.stderr[-3000:]
-    report = results / "report.html"
+@pytest.mark.parametrize("build", ["small_build_with_notice", "small_build"])
+def test_report_reads_as_a_reviewer_needs(tmp_path, browser, build, request):
+    raw, results = request.getfixturevalue(build)
+    notice = SHARED_NOTICE if (raw / "NOTICE.txt").exists() else ""
+    report = tmp_path / "report.html"  # the shared build is read, never written
     made = run_snakemake("--report", str(report), raw=raw, results=results)
     assert made.returncode == 0, made.stderr[-3000:]
 
     page = browser.new_page(viewport={"width": 1400, "height": 900})
     page.goto(report.as_uri())
-    page.wait_for_timeout(800)
+    page.get_by_text("Provenance").first.wait_for(state="visible")
     front = " ".join(page.inner_text("body").split())
     if notice:
         assert notice in front

@@ -324,10 +324,10 @@ def _scaled_readings(factor, *words):
 
 
 def _config(*settings, words):
-    def corrupt(raw):
+    def refuse_config(raw):
         return Expect(None, None, (), words, config=settings, prefix="Error: config")
 
-    return corrupt
+    return refuse_config
 
 
 CASES = {
@@ -374,23 +374,25 @@ CASES = {
 }
 
 
-@pytest.mark.e2e
-@pytest.mark.parametrize("case", list(CASES.values()), ids=list(CASES))
-def test_broken_input_is_refused_with_one_line(case, tmp_path, snakemake_available):
-    raw = write_small_dataset(tmp_path / "raw")
-    expect = case(raw)
-    results = tmp_path / "out"
+#: One case of each way a refusal reaches the user through a real Snakemake run: a
+#: profile's cell, a file's name, the sheet against the files, the sheet alone (start-up),
+#: a plausibility rule, a config value the check reads, and the config itself.  Every
+#: case's message is checked, in process, by the test after this one.
+END_TO_END = (
+    "text_in_number",
+    "file_name_in_capitals",
+    "subject_without_profile",
+    "duplicate_subject_id",
+    "readings_already_in_tissue_mm",
+    "depth_beyond_a_configured_limit",
+    "config_unknown_key",
+    "config_wrong_type",
+    "config_not_positive",
+)
 
-    proc = run_snakemake(raw=str(raw), results=str(results), config=expect.config)
-    output = proc.stdout + proc.stderr
 
-    assert proc.returncode != 0, output
-    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
-    assert len(errors) == 1, output
-    message = errors[0]
-    assert not TRACEBACK.search(without_failed_check(output)), output
-    assert leftovers(results) == [], "partial output written"
-
+def check_message(message, raw, expect):
+    """The one error line says what ``expect`` asks: file, line, columns and words."""
     if expect.file is not None:
         assert message.startswith(f"Error: {raw}/{expect.file}"), message
     if expect.prefix is not None:
@@ -407,6 +409,52 @@ def test_broken_input_is_refused_with_one_line(case, tmp_path, snakemake_availab
         assert "expected" in message, message
     for word in expect.words:
         assert word in message, (word, message)
+
+
+@pytest.mark.e2e
+@pytest.mark.parametrize("name", END_TO_END)
+def test_broken_input_is_refused_with_one_line(name, tmp_path, snakemake_available):
+    raw = write_small_dataset(tmp_path / "raw")
+    expect = CASES[name](raw)
+    results = tmp_path / "out"
+
+    proc = run_snakemake(raw=str(raw), results=str(results), config=expect.config)
+    output = proc.stdout + proc.stderr
+
+    assert proc.returncode != 0, output
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert len(errors) == 1, output
+    assert not TRACEBACK.search(without_failed_check(output)), output
+    assert leftovers(results) == [], "partial output written"
+    check_message(errors[0], raw, expect)
+
+
+def config_checks(settings):
+    """The ``input_checks`` a ``--config input_checks__key=value`` list sets."""
+    checks = {}
+    for setting in settings:
+        key, value = setting.split("=", 1)
+        if key.startswith("input_checks__"):
+            checks[key.removeprefix("input_checks__")] = float(value)
+    return checks
+
+
+@pytest.mark.parametrize(
+    "name", [n for n in CASES if CASES[n].__name__ != "refuse_config"], ids=str
+)
+def test_every_broken_raw_folder_is_refused_by_the_check_with_one_line(name, tmp_path):
+    """What the check job (rule check_raw_data) prints for each broken folder: the same
+    function, called in process; the sheet is checked there too, as at start-up."""
+    raw = write_small_dataset(tmp_path / "raw")
+    expect = CASES[name](raw)
+    schemas = {table: load_schema(table) for table in ("subjects", "profiles", "outlines")}
+    schemas["forces"] = load_schema("forces")
+    with pytest.raises(InputError) as caught:
+        check_dataset(str(raw), schemas, plausibility=config_checks(expect.config))
+    lines = report_lines(caught.value)
+    errors = [line for line in lines if line.startswith("Error: ")]  # warnings aside
+    assert len(errors) == 1, lines
+    check_message(errors[0], raw, expect)
 
 
 @pytest.mark.e2e

@@ -90,11 +90,8 @@ def test_relative_results_folder_and_fit_window(tmp_path):
 
 
 @pytest.fixture(scope="module")
-def shipped_results(tmp_path_factory):
-    out = tmp_path_factory.mktemp("shipped") / "results"
-    claims = str(out / "tables" / "claims.csv")
-    check_ok(run_snakemake("fits", claims, raw=REPO / "data" / "raw", results=out))
-    return out
+def shipped_results(shipped_build):
+    return shipped_build[1]
 
 
 @pytest.fixture(scope="module")
