@@ -40,18 +40,15 @@ def open_item(page, report, steps, item):
     """Open a result of the report: click through the menu, then the item's eye icon;
     return the frame it shows and that frame's text.  Every wait is for a condition
     (an element to appear), never for a fixed time."""
-    from playwright.sync_api import TimeoutError as Timeout
-
     page.goto(report.as_uri())
-    page.wait_for_load_state("load")
+    row = page.locator("tr", has=page.get_by_text(item, exact=True)).first
     for step in steps:
         target = page.get_by_text(step, exact=True).first
-        try:  # a category with one subcategory skips that level
-            target.wait_for(state="visible", timeout=2000)
-        except Timeout:
-            continue
-        target.click()
-    row = page.locator("tr", has=page.get_by_text(item, exact=True)).first
+        # the menu shows the step, or (a category with one subcategory skips that
+        # level) already the item's row
+        target.or_(row).first.wait_for(state="visible")
+        if target.is_visible():
+            target.click()
     row.locator("a[iconname=eye]").click()
     page.wait_for_function("document.querySelectorAll('iframe').length > 0")
     # the item's page has loaded once its body shows text
