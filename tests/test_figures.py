@@ -2,11 +2,13 @@
 reproducible.  Figure functions are called directly on data built here; one workflow run
 on a small dataset checks the rules, the file formats and byte-for-byte rebuilds."""
 
+import contextlib
 import importlib
 import inspect
 import struct
 import subprocess
 import sys
+from io import BytesIO
 from pathlib import Path
 
 import numpy as np
@@ -385,6 +387,48 @@ def test_save_figure_is_reproducible_and_carries_no_dates(tmp_path):
     assert b"Software" not in (tmp_path / "a.png").read_bytes()
     assert png_dpi(tmp_path / "a.png") == pytest.approx(250, abs=0.5)
     assert png_width_px(tmp_path / "a.png") == round(style.DOUBLE_COLUMN_MM / 25.4 * 250)
+
+
+def embedded_fonts(pdf_path):
+    """The PDF's embedded TrueType font programs (FontFile2), by font name."""
+    from fontTools.ttLib import TTFont
+    from pypdf import PdfReader
+
+    fonts = {}
+    for page in PdfReader(pdf_path).pages:
+        for font in page["/Resources"]["/Font"].values():
+            font = font.get_object()
+            for descendant in font.get("/DescendantFonts", [font]):
+                descriptor = descendant.get_object().get("/FontDescriptor")
+                if descriptor is not None and "/FontFile2" in descriptor.get_object():
+                    data = descriptor.get_object()["/FontFile2"].get_object().get_data()
+                    fonts[str(descendant.get_object()["/BaseFont"])] = TTFont(BytesIO(data))
+    return fonts
+
+
+def test_pdf_fonts_drop_only_their_layout_tables(tmp_path, monkeypatch):
+    from pypdf import PdfReader
+
+    # the same figure with fontTools' own defaults, and as save_figure embeds it
+    fig = schematics.figure_channel_schematic(0.15, NOTICE)
+    style.save_figure(fig, tmp_path / "lean.pdf", tmp_path / "lean.png", 100)
+    monkeypatch.setattr(style, "fonts_without_layout_tables", contextlib.nullcontext)
+    fig = schematics.figure_channel_schematic(0.15, NOTICE)
+    style.save_figure(fig, tmp_path / "full.pdf", tmp_path / "full.png", 100)
+    lean, full = embedded_fonts(tmp_path / "lean.pdf"), embedded_fonts(tmp_path / "full.pdf")
+    assert lean and sorted(lean) == sorted(full)  # TrueType fonts, embedded, the same ones
+    for name, font in full.items():
+        assert set(style.LAYOUT_TABLES) & set(font.keys()), name  # they had them
+        assert set(lean[name].keys()) == set(font.keys()) - set(style.LAYOUT_TABLES), name
+        # the same glyphs at the same indices; only glyphs reachable by substitution
+        # (ligatures, which matplotlib never draws) come after them in the full font
+        order = lean[name].getGlyphOrder()
+        assert font.getGlyphOrder()[: len(order)] == order, name
+    # every glyph drawn where it was: the page's drawing operators, byte for byte
+    pages = [PdfReader(tmp_path / f"{kind}.pdf").pages[0] for kind in ("lean", "full")]
+    assert pages[0].get_contents().get_data() == pages[1].get_contents().get_data()
+    assert pages[0].extract_text() == pages[1].extract_text() and NOTICE in pages[0].extract_text()
+    assert (tmp_path / "lean.png").read_bytes() == (tmp_path / "full.png").read_bytes()
 
 
 def test_prepare_outline_converts_to_tissue_mm(tmp_path):

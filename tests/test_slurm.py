@@ -74,8 +74,8 @@ def profile_for(cluster_folder, destination):
 
 def snakemake(*args, raw, results, timeout_s=BUILD_TIMEOUT_S):
     """Run Snakemake from the repository; on a hang kill its whole process group."""
-    command = [
-        sys.executable, "-m", "snakemake", *args,
+    command = [  # --nolock: see conftest.run_snakemake (the repository's folder is shared)
+        sys.executable, "-m", "snakemake", "--nolock", *args,
         "--config", f"raw_data={raw}", f"results={results}",
     ]  # fmt: skip
     process = subprocess.Popen(

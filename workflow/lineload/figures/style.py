@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 import textwrap
+from contextlib import contextmanager
 from functools import wraps
 
 import matplotlib
@@ -30,6 +31,7 @@ matplotlib.use("Agg")
 
 import numpy as np
 import pandas as pd
+from fontTools import subset as font_subset
 from matplotlib import colormaps, ticker
 from matplotlib.figure import Figure
 from matplotlib.layout_engine import PlaceHolderLayoutEngine
@@ -162,6 +164,30 @@ def styled(function):
     return wrapper
 
 
+#: OpenType layout tables (substitutions, positioning, their definitions): a PDF viewer
+#: draws an embedded TrueType font's glyphs by index and never reads them.
+LAYOUT_TABLES = ("GSUB", "GPOS", "GDEF")
+
+
+@contextmanager
+def fonts_without_layout_tables():
+    """Context manager: the fonts embedded in PDFs drop :data:`LAYOUT_TABLES`.
+
+    matplotlib embeds each font (TrueType, ``pdf.fonttype`` 42) as a subset made by
+    fontTools, which decompiles the layout tables to subset them: about two thirds of
+    a figure's PDF time, for tables no PDF viewer uses (the glyphs are placed by
+    matplotlib).  fontTools' default list of tables to drop gains them for the
+    duration; the text drawn, its positions and its extraction are unchanged (tested).
+    """
+    options = font_subset.Options
+    default = options._drop_tables_default
+    options._drop_tables_default = [*default, *LAYOUT_TABLES]
+    try:
+        yield
+    finally:
+        options._drop_tables_default = default
+
+
 def save_figure(fig, pdf_path, png_path, dpi):
     """Write a figure as PDF and PNG, byte-for-byte reproducibly.
 
@@ -195,7 +221,7 @@ def save_figure(fig, pdf_path, png_path, dpi):
             ):
                 fig.set_layout_engine(None)
         # each file appears under its name only when complete (a killed job leaves none)
-        with replaced_atomically(pdf_path) as temporary:
+        with replaced_atomically(pdf_path) as temporary, fonts_without_layout_tables():
             fig.savefig(
                 temporary,
                 format="pdf",
