@@ -59,19 +59,103 @@ def fit_rounding_mm2(y_mm, model_mm, scale_mm=None):
     )
 
 
-def _one_parameter_tolerances(row, model, x, y, rounding):
-    """Tolerances of L, its interval's ends and the fit measures of one model."""
+#: Relative step of the central differences that give the sandwich's Jacobian
+#: (``lineload.fitting._sandwich_delta``).
+SANDWICH_STEP = 1e-4
+
+
+def _jacobian(curve, x, depth, L_mm):
+    """The curve's derivative in L by central differences, as the sandwich takes it;
+    one-sided where the curve is not defined below L (the shifted fit at its bound)."""
+    step = SANDWICH_STEP * L_mm
+    with np.errstate(invalid="ignore"):
+        below = curve(x, depth, L_mm - step)
+    above = curve(x, depth, L_mm + step)
+    if np.all(np.isfinite(below)):
+        return (below - above) / (2 * step)
+    return (curve(x, depth, L_mm) - above) / step
+
+
+def _sandwich_rise(model, x, y, depth, L_mm, sse_min, ends, rounding):
+    """How far the sum of squares rises at the interval's ends (the sandwich's
+    ``delta``), and a bound on the part of two paths' difference in ``delta`` that
+    rounding makes.
+
+    The rise is read off the row itself: the sum of squares at each finite end
+    minus at the minimum.  ``delta`` is ``chi2 J'CJ / H`` with ``J`` from central
+    differences at ``L (1 +- SANDWICH_STEP)``: each residual's rounding, divided by
+    the step, errs by ``OPERATIONS_PER_POINT eps size / (step |J|)`` relative to
+    ``J``, twice that in ``J'CJ`` and in ``H``.  (The other part, the two paths'
+    L being apart, is :func:`_sandwich_shift`.)
+    """
+    curve = CURVES[model]
+    rises = [
+        float(np.sum((y - curve(x, depth, end)) ** 2)) - sse_min for end in ends if np.isfinite(end)
+    ]
+    rises = [r for r in rises if r > 0]
+    if not rises:
+        return None, 0.0
+    step = SANDWICH_STEP * L_mm
+    jacobian = _jacobian(curve, x, depth, L_mm)
+    size = float(np.max(np.maximum(np.abs(y), np.abs(curve(x, depth, L_mm)))))
+    j_rms = max(float(np.sqrt(np.mean(jacobian**2))), np.finfo(float).tiny)
+    relative = 4.0 * OPERATIONS_PER_POINT * EPS * size / (step * j_rms)
+    rise = min(rises)
+    # the ends' own sums of squares round too (both paths): the rise is known to that
+    return rise, rise * relative + 2.0 * rounding
+
+
+def _sandwich_shift(model, x, depth, L_mm, tol_L):
+    """Relative change of the sandwich's ``delta`` when L moves by ``tol_L``.
+
+    Two paths find L only to ``tol_L`` (the minimum of a sum of squares is flat) and
+    evaluate ``J`` and ``H`` there.  ``J'CJ`` and ``J'J`` (the bulk of ``H``) are
+    quadratic in ``J``: each moves by at most twice ``|dJ| / |J|`` relative (for a
+    covariance that does not single out the direction of ``dJ``), their ratio by
+    the sum, and the misfit term of ``H`` (residuals times the curvature, the
+    residuals moving by ``J tol_L``) by about as much again: six times in all.
+    """
+    curve = CURVES[model]
+    jacobian = _jacobian(curve, x, depth, L_mm)
+    moved = _jacobian(curve, x, depth, L_mm + tol_L)
+    norm = max(float(np.linalg.norm(jacobian)), np.finfo(float).tiny)
+    return 6.0 * float(np.linalg.norm(moved - jacobian)) / norm
+
+
+def _one_parameter_tolerances(row, model, x, y, rounding, sandwich=False):
+    """Tolerances of L, its interval's ends and the fit measures of one model.
+
+    ``sandwich``: the interval comes from the points' covariance (a noise model),
+    its ends where the sum of squares has risen by the sandwich's ``delta``, not by
+    the profile likelihood's ``SSE_min (exp(chi2 / n) - 1)``.
+    """
     n = x.size
     L_mm = row[f"{model}_L_mm"]
     low, high = row[f"{model}_L_ci_low_mm"], row[f"{model}_L_ci_high_mm"]
     sse_min = n * row[f"{model}_rmse_mm"] ** 2
     threshold = max(sse_min, np.finfo(float).tiny) * math.exp(CHI2_1DOF_95 / max(n, 1))
+    delta_error = 0.0
+    if sandwich and np.isfinite(L_mm):
+        depth = row["depth_mm"]
+        rise, delta_error = _sandwich_rise(model, x, y, depth, L_mm, sse_min, (low, high), rounding)
+        if rise is not None:
+            threshold = sse_min + rise
     half = (high - low) / 2.0
     if not np.isfinite(half):
         half = abs(L_mm) if np.isfinite(L_mm) else 1.0
     # both paths round: twice the bound; the root finder's own stop adds its share
     both = 2.0 * rounding
-    tol_L, tol_end = solution_tolerance(sse_min, threshold, half, both + ROOT_FTOL * threshold)
+    tol_L, tol_end = solution_tolerance(
+        sse_min, threshold, half, both + ROOT_FTOL * threshold + delta_error
+    )
+    if sandwich and np.isfinite(L_mm) and threshold > sse_min:
+        # the ends also follow delta, evaluated at each path's own L
+        delta_error += (threshold - sse_min) * _sandwich_shift(
+            model, x, row["depth_mm"], L_mm, float(tol_L)
+        )
+        tol_end = solution_tolerance(
+            sse_min, threshold, half, both + ROOT_FTOL * threshold + delta_error
+        )[1]
     tol_L = float(tol_L) + 2.0 * SEARCH_RTOL * abs(L_mm)
     rise = max(threshold - sse_min, np.finfo(float).tiny)
     d_sse = both + rise * min((tol_L / half) ** 2, 1.0)
@@ -86,7 +170,7 @@ def _one_parameter_tolerances(row, model, x, y, rounding):
     }
 
 
-def _boussinesq_tolerances(row, x, y, rounding):
+def _boussinesq_tolerances(row, x, y, rounding, sandwich=False):
     """Tolerances of the log-linear regression's parameters and measures."""
     n = x.size
     log_x = -np.log(x)
@@ -112,8 +196,42 @@ def _boussinesq_tolerances(row, x, y, rounding):
     if np.isfinite(x0) and A > 0:
         # x0 = exp(intercept / A): relative error of the ratio's change
         tolerances["boussinesq_x0_mm"] = x0 * (shift + abs(intercept / A) * shift) / A
-    tolerances.update(_boussinesq_interval_tolerances(row, x, y, shift, d_sse, condition))
+    if sandwich:
+        tolerances.update(_boussinesq_sandwich_tolerances(row, x, shift, condition))
+    else:
+        tolerances.update(_boussinesq_interval_tolerances(row, x, y, shift, d_sse, condition))
     return tolerances
+
+
+def _boussinesq_sandwich_tolerances(row, x, shift, condition):
+    """Tolerances of the ends of the sandwich intervals on A and x0 (with a covariance).
+
+    The ends are ``A +- z sd_A`` and ``exp(ln x0 +- z sd)``; the standard deviations
+    come from ``V = (X'X)^-1 X'CX (X'X)^-1``, computed from the same sums in both
+    paths: ``V`` errs by ``(n + 2) eps`` times twice the condition number of
+    ``X'X`` (each inverse) plus once (``X'CX``), relative, and ``sd`` by half that;
+    x0's ``sd`` also moves with ``A`` and the intercept (``shift``) through its
+    gradient ``(1 / A, -a / A^2)``.
+    """
+    n = x.size
+    out = {}
+    relative = 0.5 * (n + 2) * EPS * (2.0 * condition + 1.0)
+    A = row["boussinesq_A_mm"]
+    low, high = row["boussinesq_A_ci_low_mm"], row["boussinesq_A_ci_high_mm"]
+    sd = (high - low) / 2.0 if np.isfinite(low) and np.isfinite(high) else 0.0
+    for name in ("A_ci_low_mm", "A_ci_high_mm"):
+        out[f"boussinesq_{name}"] = shift + sd * relative
+    ends = [row["boussinesq_x0_ci_low_mm"], row["boussinesq_x0_ci_high_mm"]]
+    if not (np.isfinite(A) and A > 0 and all(np.isfinite(ends))):
+        return out
+    log_x0 = math.log(row["boussinesq_x0_mm"])
+    half_log = (math.log(ends[1]) - math.log(ends[0])) / 2.0
+    tol_log = (shift + abs(log_x0) * shift) / A  # of ln x0 = a / A
+    # the gradient's relative move: shift / A, twice (through 1 / A and a / A^2)
+    tol_half = half_log * (relative + 2.0 * shift / A)
+    for name, end in zip(("x0_ci_low_mm", "x0_ci_high_mm"), ends, strict=True):
+        out[f"boussinesq_{name}"] = end * (tol_log + tol_half)
+    return out
 
 
 def _boussinesq_interval_tolerances(row, x, y, shift, d_sse, condition):
@@ -169,7 +287,7 @@ def _boussinesq_interval_tolerances(row, x, y, shift, d_sse, condition):
     return out
 
 
-def fit_row_tolerances(row, x_mm, y_mm):
+def fit_row_tolerances(row, x_mm, y_mm, sandwich=False):
     """Absolute tolerance of each numeric column of a fit-table row.
 
     Parameters
@@ -178,6 +296,9 @@ def fit_row_tolerances(row, x_mm, y_mm):
         A row of :func:`lineload.fitting.fit_trials` (the reference).
     x_mm, y_mm : array_like
         The trial's averaged profile (all of its points).
+    sandwich : bool, optional
+        The fit was given a noise model (the intervals are the sandwich's), as the
+        workflow's fit tables are.
 
     Returns
     -------
@@ -197,16 +318,17 @@ def fit_row_tolerances(row, x_mm, y_mm):
             continue
         model_mm = curve(x, depth, L_mm)
         rounding = fit_rounding_mm2(y, model_mm, L_mm**2 / depth)
-        tolerances.update(_one_parameter_tolerances(row, model, x, y, rounding))
+        tolerances.update(_one_parameter_tolerances(row, model, x, y, rounding, sandwich))
     if np.isfinite(row["boussinesq_A_mm"]):
         A, x0 = row["boussinesq_A_mm"], row["boussinesq_x0_mm"]
         # without a zero crossing (A <= 0) the row has no intercept: size from the data
         model_mm = A * np.log(x0 / x) if np.isfinite(x0) else y.copy()
-        tolerances.update(_boussinesq_tolerances(row, x, y, fit_rounding_mm2(y, model_mm)))
+        rounding = fit_rounding_mm2(y, model_mm)
+        tolerances.update(_boussinesq_tolerances(row, x, y, rounding, sandwich))
     return tolerances
 
 
-def assert_rows_agree(rows, expected_rows, distance_mm, deflection_mm):
+def assert_rows_agree(rows, expected_rows, distance_mm, deflection_mm, sandwich=False):
     """Rows of two fits of the same trials agree within :func:`fit_row_tolerances`.
 
     NaN must meet NaN and an infinity the same infinity.
@@ -214,7 +336,7 @@ def assert_rows_agree(rows, expected_rows, distance_mm, deflection_mm):
     assert len(rows) == len(expected_rows)
     for i, (row, expected) in enumerate(zip(rows, expected_rows, strict=True)):
         assert list(row) == list(expected)
-        tolerances = fit_row_tolerances(expected, distance_mm[i], deflection_mm[i])
+        tolerances = fit_row_tolerances(expected, distance_mm[i], deflection_mm[i], sandwich)
         for name, value in expected.items():
             actual = row[name]
             if isinstance(value, str):

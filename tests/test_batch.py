@@ -19,6 +19,7 @@ import pytest
 import reference_averaging
 from conftest import REPO
 from lineload import averaging, fitting, io, models, sensitivity, synthetic
+from lineload.coverage import TRUE_NOISE
 from lineload.validation import check_no_duplicate_readings, read_columns, read_table
 from numerics import assert_rows_agree, fit_rounding_mm2, fit_row_tolerances
 
@@ -122,6 +123,16 @@ def test_the_agreement_check_can_fail(trials):
         moved[1][name] += 100 * fit_row_tolerances(rows[1], x[1], y[1])[name]
         with pytest.raises(AssertionError, match=name):
             assert_rows_agree(moved, rows, x, y)
+    # and the intervals made with a noise model (the sandwich's), as the tables have them
+    rows = fitting.fit_trials(x, y, depth, 3.0, noise=TRUE_NOISE)
+    names = ("arc_L_ci_low_mm", "waterbed_L_ci_high_mm", "boussinesq_A_ci_high_mm")
+    for name in (*names, "boussinesq_x0_ci_low_mm"):
+        tolerance = fit_row_tolerances(rows[1], x[1], y[1], sandwich=True)[name]
+        assert 0 < tolerance < 1e-6 * abs(rows[1][name]), (name, tolerance)
+        moved = [dict(row) for row in rows]
+        moved[1][name] += 100 * tolerance
+        with pytest.raises(AssertionError, match=name):
+            assert_rows_agree(moved, rows, x, y, sandwich=True)
 
 
 # ------------------------------------------------------------------ what a fit is
