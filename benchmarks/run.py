@@ -89,12 +89,15 @@ def snakemake(*args, raw, results):
 
 
 def jobs_run(output):
-    """Rules that ran, with counts, from Snakemake's job table."""
-    table = re.search(r"Job stats:\n(.*?)\n\n", output, re.S)
-    if not table:
-        return "none"
-    rows = [line.split() for line in table.group(1).splitlines()[2:]]
-    return ", ".join(f"{r[0]} x{r[1]}" for r in rows if len(r) == 2 and r[0] != "total")
+    """Rules that ran, with counts, from the jobs Snakemake announced.
+
+    Not from its job table: that is printed when the run starts, and the jobs after
+    the raw-data check (a checkpoint) are decided only once it has passed.
+    """
+    counts = {}
+    for rule in re.findall(r"^(?:local)?(?:rule|checkpoint) (\w+):$", output, re.M):
+        counts[rule] = counts.get(rule, 0) + 1
+    return ", ".join(f"{rule} x{n}" for rule, n in counts.items()) or "none"
 
 
 def median_of(repeats, measure):

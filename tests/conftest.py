@@ -177,7 +177,7 @@ def build_outputs(results):
 # files (deletes an intermediate, edits a raw file) works on a copy of its own
 # (:func:`copy_build`), never on the shared folder.
 
-#: The shared datasets: name -> (subjects for write_small_dataset, NOTICE.txt, outlines)
+#: The NOTICE.txt of the shared builds that carry one.
 SHARED_NOTICE = "Invented readings, for a test."
 
 
