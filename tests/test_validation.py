@@ -335,6 +335,18 @@ CASES = {
     "nan_in_number": _bad_number("distance_image_mm", "NaN", "NaN", subject="HU", block="1,right,"),
     "empty_number_cell": _bad_number("deflection_image_mm", "", "empty"),
     "inf_in_number": _bad_number("deflection_image_mm", "inf", "inf", block="1,left,", offset=8),
+    # Python's float() reads both as numbers (99 and 12); a person does not
+    "digit_separator_in_number": _bad_number(
+        "deflection_image_mm", "9_9", "'9_9'", "digit separators", block="1,left,", offset=4
+    ),
+    "other_digits_in_number": _bad_number(
+        "distance_image_mm",
+        "\u0661\u0662",
+        "digit separators",
+        subject="HU",
+        block="1,right,",
+        offset=5,
+    ),
     "negative_distance": _bad_number("distance_image_mm", "-1.000", ">= 0", "-1.000"),
     "zero_depth": _bad_number("depth_mm", "0", "> 0", offset=10),
     "negative_depth": _bad_number("depth_mm", "-1", "> 0", "-1", block="1,right,"),

@@ -211,6 +211,22 @@ def _to_float(text):
         return np.nan
 
 
+#: The characters a number in a raw file may be written with: digits, a point, a sign,
+#: an exponent, and spaces around it (a space inside stops the reading anyway).  Python
+#: (and numpy) would also read "9_9" as 99 and other scripts' digits as ours; a person
+#: reads neither so.
+_NUMBER_CHARACTERS = frozenset("0123456789.+-eE ")
+
+
+def _not_plain_numbers(cells):
+    """Which cells hold a character a plainly written number does not (None if none)."""
+    if _NUMBER_CHARACTERS.issuperset("".join(cells)):  # one pass over the column
+        return None
+    return np.fromiter(
+        (not _NUMBER_CHARACTERS.issuperset(cell) for cell in cells), dtype=bool, count=len(cells)
+    )
+
+
 def _more(lines, bad, what="cells of this column break the same rule"):
     """' (and 3 more ...: lines 7, 9, 12)' for the bad cells after the first; '' if none."""
     others = [lines[i] for i in np.flatnonzero(bad)[1:]]
@@ -238,6 +254,9 @@ def _check_column(path, column, cells, lines, rules, found):
             values = np.array([_to_float(cell) for cell in cells], dtype=float)
         with np.errstate(invalid="ignore"):
             bad = ~np.isfinite(values)
+            odd = _not_plain_numbers(cells)
+            if odd is not None:
+                bad |= odd
             if kind == "integer":
                 bad |= values != np.round(values)
             if "exclusiveMinimum" in rules:
@@ -251,11 +270,15 @@ def _check_column(path, column, cells, lines, rules, found):
             expected = _expected_number(rules)
             if kind == "integer":
                 expected = expected.replace("a number", "an integer")
+            hint = ""
+            if odd is not None and odd[i]:
+                hint = " (numbers are read as written with digits, '.', a sign and an exponent:"
+                hint += " no digit separators or other characters)"
             found.error(
                 path,
                 lines[i],
                 column,
-                f"expected {expected}, got {_shown(cells[i])}" + _more(lines, bad),
+                f"expected {expected}, got {_shown(cells[i])}{hint}" + _more(lines, bad),
             )
             values[bad] = np.nan
         return values
