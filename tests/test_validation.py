@@ -330,6 +330,17 @@ def _config(*settings, words):
     return refuse_config
 
 
+def _folders(setting, key, *words):
+    """A results (or raw) folder where the workflow must not write: ``setting(raw)``
+    gives the --config entry."""
+
+    def refuse_config(raw):
+        prefix = f"Error: config, key '{key}'"
+        return Expect(None, None, (), words, config=(setting(raw),), prefix=prefix)
+
+    return refuse_config
+
+
 CASES = {
     "text_in_number": _bad_number("deflection_image_mm", "abc", "'abc'"),
     "nan_in_number": _bad_number("distance_image_mm", "NaN", "NaN", subject="HU", block="1,right,"),
@@ -383,6 +394,13 @@ CASES = {
     "config_unknown_key": _config("colour=red", words=("colour",)),
     "config_wrong_type": _config("fit_window_mm=abc", words=("fit_window_mm", "number")),
     "config_not_positive": _config("fit_window_mm=0", words=("fit_window_mm", "0")),
+    "results_at_the_root": _folders(lambda raw: "results=/", "results", "root"),
+    "results_inside_the_raw_folder": _folders(
+        lambda raw: f"results={raw}/derived", "results", "inside the raw-data folder"
+    ),
+    "raw_inside_the_results_folder": _folders(
+        lambda raw: f"results={raw.parent}", "raw_data", "inside the results folder"
+    ),
 }
 
 
@@ -400,6 +418,9 @@ END_TO_END = (
     "config_unknown_key",
     "config_wrong_type",
     "config_not_positive",
+    "results_at_the_root",
+    "results_inside_the_raw_folder",
+    "raw_inside_the_results_folder",
 )
 
 
@@ -1138,3 +1159,18 @@ def test_a_check_that_raises_is_folded_into_the_pass():
     with collecting() as own:
         pass  # nothing found: nothing raised
     assert own.errors == []
+
+
+def test_folders_apart_are_accepted_and_nested_ones_refused(tmp_path):
+    from lineload.startup import folder_problem
+
+    raw = tmp_path / "raw"
+    # side by side, one named like the other's start, or relative: accepted
+    for results in (tmp_path / "results", tmp_path / "raw2", tmp_path / "raw-results"):
+        assert folder_problem(str(raw), str(results)) is None, results
+    assert folder_problem("data/raw", "results") is None
+    # the same folder, one inside the other (also through '..'), or the root: refused
+    assert "is the raw-data folder" in folder_problem(str(raw), str(tmp_path / "x" / ".." / "raw"))
+    assert "inside the raw-data folder" in folder_problem(str(raw), str(raw / "out"))
+    assert "key 'raw_data'" in folder_problem(str(raw / "a"), str(raw))
+    assert "root of the file system" in folder_problem(str(raw), "/")

@@ -24,6 +24,7 @@ __all__ = [
     "abort",
     "abort_inputs",
     "data_folder",
+    "folder_problem",
     "list_raw_files",
     "notice_text",
     "portable_config",
@@ -124,6 +125,45 @@ def data_folder(path, repository):
     if Path(path).is_absolute() or Path(path).exists() or not own.is_dir():
         return path
     return str(own)
+
+
+def folder_problem(raw_dir, results_dir):
+    """What is wrong with where the raw data and the results lie, or None.
+
+    The workflow writes only under the results folder and only reads the raw folder:
+    the results may not be a file system's root (every output would land at the top of
+    the disk), the raw folder itself or inside it (derived files would mix with the
+    data and be read as data), nor hold the raw folder (Snakemake would find the raw
+    files among its own outputs).
+
+    Parameters
+    ----------
+    raw_dir, results_dir : str
+        The config's ``raw_data`` and ``results`` (relative to the working folder).
+
+    Returns
+    -------
+    str or None
+        One sentence naming the config key, the folder and what was expected.
+    """
+    raw, results = Path(raw_dir).resolve(), Path(results_dir).resolve()
+    if results == Path(results.anchor):
+        return (
+            f"config, key 'results': {results_dir!r} is the root of the file system; "
+            "expected a folder of its own for the outputs (e.g. results)"
+        )
+    if results == raw or raw in results.parents:
+        where = "is the raw-data folder" if results == raw else "lies inside the raw-data folder"
+        return (
+            f"config, key 'results': {results_dir!r} {where} {raw_dir!r}; expected a "
+            "folder outside it (the raw folder is only read, never written)"
+        )
+    if results in raw.parents:
+        return (
+            f"config, key 'raw_data': {raw_dir!r} lies inside the results folder "
+            f"{results_dir!r}; expected the raw data outside the folder the workflow writes"
+        )
+    return None
 
 
 def read_subject_sheet(raw_dir, schema):

@@ -35,6 +35,8 @@ RAW = config["raw_data"] = startup.data_folder(
     config["raw_data"], Path(workflow.basedir).parent
 )
 RES = config["results"]
+if problem := startup.folder_problem(RAW, RES):
+    startup.abort(problem)
 
 RAW_FILES = startup.list_raw_files(RAW)
 try:  # Subject id -> species, magnification, label, contact length; sheet order.
