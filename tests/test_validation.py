@@ -394,6 +394,9 @@ CASES = {
     "config_unknown_key": _config("colour=red", words=("colour",)),
     "config_wrong_type": _config("fit_window_mm=abc", words=("fit_window_mm", "number")),
     "config_not_positive": _config("fit_window_mm=0", words=("fit_window_mm", "0")),
+    "config_beyond_its_range": _config(
+        "figures__png_dpi=100000", words=("png_dpi", "maximum of 1200")
+    ),
     "results_at_the_root": _folders(lambda raw: "results=/", "results", "root"),
     "results_inside_the_raw_folder": _folders(
         lambda raw: f"results={raw}/derived", "results", "inside the raw-data folder"
@@ -418,6 +421,7 @@ END_TO_END = (
     "config_unknown_key",
     "config_wrong_type",
     "config_not_positive",
+    "config_beyond_its_range",
     "results_at_the_root",
     "results_inside_the_raw_folder",
     "raw_inside_the_results_folder",
@@ -1174,3 +1178,16 @@ def test_folders_apart_are_accepted_and_nested_ones_refused(tmp_path):
     assert "inside the raw-data folder" in folder_problem(str(raw), str(raw / "out"))
     assert "key 'raw_data'" in folder_problem(str(raw / "a"), str(raw))
     assert "root of the file system" in folder_problem(str(raw), "/")
+    assert "home folder" in folder_problem(str(raw), str(Path.home()))
+
+
+def test_a_huge_cell_is_echoed_cut_to_a_readable_length(tmp_path):
+    raw = write_small_dataset(tmp_path / "raw")
+    path = raw / "profiles" / "MK.csv"
+    n = find_line(path, lambda t: t.startswith("2,left,"), nth=2)
+    set_cell(path, n, "deflection_image_mm", "9" * 500 + "x" * 1_000_000)
+    with pytest.raises(InputError) as caught:
+        check_dataset(str(raw), {t: load_schema(t) for t in ("subjects", "profiles", "outlines")})
+    (message,) = [line for line in report_lines(caught.value) if line.startswith("Error: ")]
+    assert f"line {n}" in message and "(1000500 characters)" in message
+    assert len(message) < 400, len(message)

@@ -131,10 +131,10 @@ def folder_problem(raw_dir, results_dir):
     """What is wrong with where the raw data and the results lie, or None.
 
     The workflow writes only under the results folder and only reads the raw folder:
-    the results may not be a file system's root (every output would land at the top of
-    the disk), the raw folder itself or inside it (derived files would mix with the
-    data and be read as data), nor hold the raw folder (Snakemake would find the raw
-    files among its own outputs).
+    the results may not be a file system's root or the home folder (every output would
+    land among everything else there), the raw folder itself or inside it (derived files
+    would mix with the data and be read as data), nor hold the raw folder (Snakemake
+    would find the raw files among its own outputs).
 
     Parameters
     ----------
@@ -147,11 +147,13 @@ def folder_problem(raw_dir, results_dir):
         One sentence naming the config key, the folder and what was expected.
     """
     raw, results = Path(raw_dir).resolve(), Path(results_dir).resolve()
-    if results == Path(results.anchor):
-        return (
-            f"config, key 'results': {results_dir!r} is the root of the file system; "
-            "expected a folder of its own for the outputs (e.g. results)"
-        )
+    for folder, name in ((Path(results.anchor), "the root of the file system"),
+                         (Path.home().resolve(), "the home folder")):  # fmt: skip
+        if results == folder:
+            return (
+                f"config, key 'results': {results_dir!r} is {name}; "
+                "expected a folder of its own for the outputs (e.g. results)"
+            )
     if results == raw or raw in results.parents:
         where = "is the raw-data folder" if results == raw else "lies inside the raw-data folder"
         return (

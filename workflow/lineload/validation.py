@@ -200,8 +200,17 @@ def _expected_number(rules):
     return "a number" + (" " + " and ".join(bounds) if bounds else "")
 
 
+#: Longest cell echoed whole in a message; a longer one is cut, with its length said.
+SHOWN_CHARACTERS = 60
+
+
 def _shown(value):
-    return "an empty cell" if value == "" else repr(value)
+    """A cell as a message quotes it: cut to :data:`SHOWN_CHARACTERS` if longer."""
+    if value == "":
+        return "an empty cell"
+    if len(value) > SHOWN_CHARACTERS:
+        return f"{value[:SHOWN_CHARACTERS]!r}... ({len(value)} characters)"
+    return repr(value)
 
 
 def _to_float(text):
