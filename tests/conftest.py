@@ -155,6 +155,19 @@ def leftovers(results):
     return sorted(str(p) for p in results.rglob("*") if p.is_file() and p != log)
 
 
+def refused_run(raw, results, config=()):
+    """Run the default target on a raw folder that must be refused: a non-zero exit, no
+    traceback, nothing written but the check's log.  Returns the process, its whole
+    output and its ``Error: `` lines."""
+    process = run_snakemake(raw=str(raw), results=str(results), config=config)
+    output = process.stdout + process.stderr
+    assert process.returncode != 0, output
+    assert not TRACEBACK.search(without_failed_check(output)), output
+    assert leftovers(results) == [], "partial output written"
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    return process, output, errors
+
+
 def build_outputs(results):
     """Every output of a build but logs and timings, by path, with the folder's own name
     (which the provenance record and the specs hold, as a results folder outside the
@@ -233,24 +246,30 @@ def shared(tmp_path_factory, name, make):
     return Path(outcome["raw"]), Path(outcome["results"])
 
 
-def shared_build(tmp_path_factory, name, write_raw, *targets, in_copy=False):
-    """Build ``targets`` (default: everything) of the raw folder ``write_raw(folder)``
-    writes, once per session (:func:`shared`); return ``(raw, results)``.
+def shared_build(tmp_path_factory, name, write_raw, outputs=(), in_copy=False):
+    """Build ``outputs`` (paths under the results folder; default: everything) of the
+    raw folder ``write_raw(folder)`` writes, once per session (:func:`shared`); return
+    ``(raw, results)``.
 
-    ``in_copy``: from a copy of the checkout (:func:`copy_checkout`, its own package
-    imported), as another lab's copy would be: no git history there.
+    ``in_copy``: from a copy of the checkout (:func:`copy_checkout`), as another lab's
+    copy would be: no git history there.
     """
 
     def make(folder):
         raw, results = write_raw(folder / "raw"), folder / "results"
+        targets = [str(results / output) for output in outputs]
         if not in_copy:
             return raw, results, run_snakemake(*targets, raw=raw, results=results)
         checkout = copy_checkout(folder / "checkout")
-        env = {"PYTHONPATH": str(checkout / "workflow")}
-        done = run_snakemake(*targets, raw=raw, results=results, cwd=checkout, env=env)
-        return raw, results, done
+        return raw, results, run_in_checkout(checkout, *targets, raw=raw, results=results)
 
     return shared(tmp_path_factory, name, make)
+
+
+def run_in_checkout(checkout, *args, raw, results):
+    """:func:`run_snakemake` in a copy of the checkout, with that copy's own package."""
+    env = {"PYTHONPATH": str(checkout / "workflow")}
+    return run_snakemake(*args, raw=raw, results=results, cwd=checkout, env=env)
 
 
 def copy_checkout(destination):
@@ -305,10 +324,8 @@ def shipped_build(tmp_path_factory):
     def shipped(folder):
         return REPO / "data" / "raw"  # read, never written
 
-    # the targets are paths under the results folder the helper chooses
-    results = _shared_root(tmp_path_factory) / "shared-shipped" / "results"
-    targets = [str(results / "tables" / n) for n in ("fits.csv", "claims.csv", "mechanics.csv")]
-    return shared_build(tmp_path_factory, "shipped", shipped, *targets)
+    outputs = [f"tables/{name}" for name in ("fits.csv", "claims.csv", "mechanics.csv")]
+    return shared_build(tmp_path_factory, "shipped", shipped, outputs)
 
 
 @pytest.fixture(scope="session")
@@ -320,8 +337,7 @@ def checkout_build(tmp_path_factory):
     def make(folder):
         checkout = copy_checkout(folder / "checkout")
         write_shared_dataset(checkout / "raw", SHARED_NOTICE)
-        env = {"PYTHONPATH": str(checkout / "workflow")}
-        done = run_snakemake(raw="raw", results="results", cwd=checkout, env=env)
+        done = run_in_checkout(checkout, raw="raw", results="results")
         return checkout / "raw", checkout / "results", done
 
     raw, results = shared(tmp_path_factory, "checkout", make)

@@ -76,7 +76,7 @@ def _jacobian(curve, x, depth, L_mm):
     return (curve(x, depth, L_mm) - above) / step
 
 
-def _sandwich_rise(model, x, y, depth, L_mm, sse_min, ends, rounding):
+def _sandwich_rise(curve, x, y, depth, L_mm, sse_min, ends, rounding, jacobian):
     """How far the sum of squares rises at the interval's ends (the sandwich's
     ``delta``), and a bound on the part of two paths' difference in ``delta`` that
     rounding makes.
@@ -88,7 +88,6 @@ def _sandwich_rise(model, x, y, depth, L_mm, sse_min, ends, rounding):
     ``J``, twice that in ``J'CJ`` and in ``H``.  (The other part, the two paths'
     L being apart, is :func:`_sandwich_shift`.)
     """
-    curve = CURVES[model]
     rises = [
         float(np.sum((y - curve(x, depth, end)) ** 2)) - sse_min for end in ends if np.isfinite(end)
     ]
@@ -96,7 +95,6 @@ def _sandwich_rise(model, x, y, depth, L_mm, sse_min, ends, rounding):
     if not rises:
         return None, 0.0
     step = SANDWICH_STEP * L_mm
-    jacobian = _jacobian(curve, x, depth, L_mm)
     size = float(np.max(np.maximum(np.abs(y), np.abs(curve(x, depth, L_mm)))))
     j_rms = max(float(np.sqrt(np.mean(jacobian**2))), np.finfo(float).tiny)
     relative = 4.0 * OPERATIONS_PER_POINT * EPS * size / (step * j_rms)
@@ -105,7 +103,7 @@ def _sandwich_rise(model, x, y, depth, L_mm, sse_min, ends, rounding):
     return rise, rise * relative + 2.0 * rounding
 
 
-def _sandwich_shift(model, x, depth, L_mm, tol_L):
+def _sandwich_shift(curve, x, depth, L_mm, tol_L, jacobian):
     """Relative change of the sandwich's ``delta`` when L moves by ``tol_L``.
 
     Two paths find L only to ``tol_L`` (the minimum of a sum of squares is flat) and
@@ -115,8 +113,6 @@ def _sandwich_shift(model, x, depth, L_mm, tol_L):
     the sum, and the misfit term of ``H`` (residuals times the curvature, the
     residuals moving by ``J tol_L``) by about as much again: six times in all.
     """
-    curve = CURVES[model]
-    jacobian = _jacobian(curve, x, depth, L_mm)
     moved = _jacobian(curve, x, depth, L_mm + tol_L)
     norm = max(float(np.linalg.norm(jacobian)), np.finfo(float).tiny)
     return 6.0 * float(np.linalg.norm(moved - jacobian)) / norm
@@ -134,10 +130,12 @@ def _one_parameter_tolerances(row, model, x, y, rounding, sandwich=False):
     low, high = row[f"{model}_L_ci_low_mm"], row[f"{model}_L_ci_high_mm"]
     sse_min = n * row[f"{model}_rmse_mm"] ** 2
     threshold = max(sse_min, np.finfo(float).tiny) * math.exp(CHI2_1DOF_95 / max(n, 1))
-    delta_error = 0.0
+    curve, depth, jacobian, delta_error = CURVES[model], row["depth_mm"], None, 0.0
     if sandwich and np.isfinite(L_mm):
-        depth = row["depth_mm"]
-        rise, delta_error = _sandwich_rise(model, x, y, depth, L_mm, sse_min, (low, high), rounding)
+        jacobian = _jacobian(curve, x, depth, L_mm)
+        rise, delta_error = _sandwich_rise(
+            curve, x, y, depth, L_mm, sse_min, (low, high), rounding, jacobian
+        )
         if rise is not None:
             threshold = sse_min + rise
     half = (high - low) / 2.0
@@ -145,17 +143,14 @@ def _one_parameter_tolerances(row, model, x, y, rounding, sandwich=False):
         half = abs(L_mm) if np.isfinite(L_mm) else 1.0
     # both paths round: twice the bound; the root finder's own stop adds its share
     both = 2.0 * rounding
-    tol_L, tol_end = solution_tolerance(
-        sse_min, threshold, half, both + ROOT_FTOL * threshold + delta_error
-    )
-    if sandwich and np.isfinite(L_mm) and threshold > sse_min:
+    error = both + ROOT_FTOL * threshold + delta_error
+    tol_L = solution_tolerance(sse_min, threshold, half, error)[0]
+    if jacobian is not None and threshold > sse_min:
         # the ends also follow delta, evaluated at each path's own L
-        delta_error += (threshold - sse_min) * _sandwich_shift(
-            model, x, row["depth_mm"], L_mm, float(tol_L)
+        error += (threshold - sse_min) * _sandwich_shift(
+            curve, x, depth, L_mm, float(tol_L), jacobian
         )
-        tol_end = solution_tolerance(
-            sse_min, threshold, half, both + ROOT_FTOL * threshold + delta_error
-        )[1]
+    tol_end = solution_tolerance(sse_min, threshold, half, error)[1]
     tol_L = float(tol_L) + 2.0 * SEARCH_RTOL * abs(L_mm)
     rise = max(threshold - sse_min, np.finfo(float).tiny)
     d_sse = both + rise * min((tol_L / half) ** 2, 1.0)

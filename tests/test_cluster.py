@@ -119,8 +119,8 @@ def test_killed_builds_stop_and_resume_to_the_same_files(tmp_path, small_build):
     """`kill` (SIGTERM) at many moments: the build and its jobs stop within seconds, and
     `--rerun-incomplete` then ends with the same files as an uninterrupted build.
 
-    One results folder goes through every moment in turn, in the order the build
-    reaches them: each build starts where the killed one before it stopped and is
+    Each chain's results folder goes through its moments in turn, in the order the
+    build reaches them: each build starts where the killed one before it stopped and is
     killed at the next moment, a new file of that stage, so every stage is cut once.
     """
     raw, reference = small_build  # the uninterrupted build, shared with other tests

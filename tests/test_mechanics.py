@@ -12,13 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import (
-    TRACEBACK,
-    leftovers,
-    run_snakemake,
-    without_failed_check,
-    write_small_dataset,
-)
+from conftest import refused_run, run_snakemake, write_small_dataset
 from lineload import mechanics, models, synthetic
 from lineload.io import load_schema
 from lineload.validation import InputError, check_dataset, check_forces, read_forces
@@ -440,14 +434,8 @@ def test_bad_forces_file_stops_the_build_with_one_line(kind, tmp_path, snakemake
     raw = write_small_dataset(tmp_path / "raw")
     lines, line, columns, words = bad_forces(kind)
     write_forces(raw, lines)
-    results = tmp_path / "out"
-    process = run_snakemake(raw=str(raw), results=str(results))
-    output = process.stdout + process.stderr
-    assert process.returncode != 0, output
-    errors = [text for text in output.splitlines() if text.startswith("Error: ")]
+    _, output, errors = refused_run(raw, tmp_path / "out")
     assert len(errors) == 1, output
-    assert not TRACEBACK.search(without_failed_check(output)), output
-    assert leftovers(results) == [], "partial output written"
     check_message(errors[0][len("Error: ") :], str(raw), "forces.csv", line, columns, words)
 
 

@@ -50,8 +50,7 @@ def open_item(page, report, steps, item):
         if target.is_visible():
             target.click()
     row.locator("a[iconname=eye]").click()
-    page.wait_for_function("document.querySelectorAll('iframe').length > 0")
-    # the item's page has loaded once its body shows text
+    # the item's page (an iframe) has loaded once its body shows text
     page.frame_locator("iframe").first.locator("body", has_text=re.compile(r"\S")).wait_for()
     shown = next(f for f in page.frames if f != page.main_frame)
     return shown, " ".join(shown.inner_text("body").split())

@@ -27,13 +27,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import (
-    TRACEBACK,
-    leftovers,
-    run_snakemake,
-    without_failed_check,
-    write_small_dataset,
-)
+from conftest import refused_run, run_snakemake, write_small_dataset
 from lineload.io import load_schema
 from lineload.validation import (
     PLAUSIBILITY_DEFAULTS,
@@ -453,16 +447,8 @@ def check_message(message, raw, expect):
 def test_broken_input_is_refused_with_one_line(name, tmp_path, snakemake_available):
     raw = write_small_dataset(tmp_path / "raw")
     expect = CASES[name](raw)
-    results = tmp_path / "out"
-
-    proc = run_snakemake(raw=str(raw), results=str(results), config=expect.config)
-    output = proc.stdout + proc.stderr
-
-    assert proc.returncode != 0, output
-    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    _, output, errors = refused_run(raw, tmp_path / "out", expect.config)
     assert len(errors) == 1, output
-    assert not TRACEBACK.search(without_failed_check(output)), output
-    assert leftovers(results) == [], "partial output written"
     check_message(errors[0], raw, expect)
 
 
@@ -981,13 +967,8 @@ def test_every_problem_of_a_messy_export_is_reported_at_once(tmp_path):
 def test_a_messy_export_is_refused_with_every_problem_in_one_run(tmp_path, snakemake_available):
     raw = write_lab_dataset(tmp_path / "raw")
     expected = make_messy(raw)
-    results = tmp_path / "out"
-    proc = run_snakemake(raw=str(raw), results=str(results))
-    output = proc.stdout + proc.stderr
+    proc, output, errors = refused_run(raw, tmp_path / "out")
     assert proc.returncode == 1, output
-    assert not TRACEBACK.search(without_failed_check(output)), output
-    assert leftovers(results) == []
-    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
     assert [e.split(",")[0] for e in errors] == [f"Error: {raw}/{f}" for f, _, _ in expected]
     warnings = [line for line in output.splitlines() if line.startswith("Warning: ")]
     assert warnings == [
