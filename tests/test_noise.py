@@ -55,6 +55,38 @@ def test_estimate_recovers_the_reading_and_tracing_errors():
         assert abs(value - getattr(TRUTH, name)) < 4 * se, name
 
 
+def test_trials_sharing_a_grid_share_one_factorisation():
+    # the likelihood factorises each distinct reading grid once; it must equal the sum
+    # of every trial's own likelihood, on a dataset whose trials are read on three grids
+    from lineload.noise import _covariances, _padded, _restricted_terms
+
+    trials = simulated_differences(TRUTH, 12, seed=4)
+    thinned = []
+    for i, (x, d, slope) in enumerate(trials):
+        keep = np.arange(x.size) % 3 != i % 3 if i % 4 else np.ones(x.size, dtype=bool)
+        thinned.append((x[keep], d[keep], slope[keep]))
+    trials = thinned
+    x, d, design, real, grids, group = _padded(trials)
+    assert len(grids[0]) == 4  # the full grid and three thinned ones
+    theta = np.log([0.008, 0.006, 0.5])
+    together = _restricted_terms(theta, d, design, grids, group)[0]
+    alone = 0.0
+    for trial in trials:
+        _, d_one, design_one, _, grids_one, group_one = _padded([trial])
+        alone += _restricted_terms(theta, d_one, design_one, grids_one, group_one)[0]
+    # both whiten with the inverse Cholesky factor of the same matrices: rounding grows
+    # with its condition number and with the number of terms summed
+    condition = np.linalg.cond(_covariances(theta, *grids)).max()
+    tolerance = np.finfo(float).eps * math.sqrt(condition) * real.sum() * abs(alone)
+    assert abs(together - alone) <= tolerance
+    # and a trial given another trial's grid would not agree
+    wrong = group.copy()
+    wrong[0], wrong[1] = group[1], group[0]
+    assert group[0] != group[1]
+    misassigned = _restricted_terms(theta, d, design, grids, wrong)[0]
+    assert abs(misassigned - alone) > 100 * tolerance
+
+
 def test_rotation_and_a_smooth_asymmetry_are_not_taken_for_noise():
     # the same reading errors with and without large rotations and sides of different
     # spans (a line and a parabola in their difference): the fixed effects take those

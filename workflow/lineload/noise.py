@@ -52,6 +52,7 @@ import numpy as np
 
 __all__ = [
     "MEASURED",
+    "MIN_DIFFERENCES",
     "NOISE_COLUMNS",
     "PRIORS",
     "NoiseEstimate",
@@ -61,6 +62,7 @@ __all__ = [
     "exponential_kernel",
     "model_from_rows",
     "noise_rows",
+    "noise_trials",
     "reading_noise_mm",
     "trial_differences",
 ]
@@ -71,6 +73,9 @@ MEASURED = ("reading_sd_mm", "tracing_sd_mm", "tracing_length_mm", "side_offset_
 PRIORS = ("shared_offset_sd_mm", "shared_tilt_sd", "depth_sd_mm")
 #: Columns of the noise table.
 NOISE_COLUMNS = ["scope", "parameter", "value", "se", "source", "n_trials", "n_differences"]
+#: Fewest differences a trial needs to enter the noise fit (four fixed effects
+#: leave too little below this).
+MIN_DIFFERENCES = 5
 #: Smallest standard deviation searched (mm): far below any reading's resolution.
 _LOG_FLOOR = math.log(1e-7)
 #: L-BFGS-B's stopping rules, tightened: where one error dominates, the likelihood is
@@ -242,14 +247,54 @@ def trial_differences(distance_mm, left_mm, right_mm, window_mm=np.inf):
         (central differences on the points both sides share), the regressor of a
         misplaced wedge.
     """
-    x = np.asarray(distance_mm, dtype=float)
-    left = np.asarray(left_mm, dtype=float)
-    right = np.asarray(right_mm, dtype=float)
-    both = np.isfinite(left) & np.isfinite(right) & (x > 0) & (x <= window_mm)
+    x, left, right = (np.asarray(v, dtype=float) for v in (distance_mm, left_mm, right_mm))
+    both = _both_read(x, left, right, window_mm)
     x, left, right = x[both], left[both], right[both]
     mean = 0.5 * (left + right)
     slope = np.gradient(mean, x) if x.size >= 2 else np.zeros_like(x)
     return x, left - right, slope
+
+
+def _both_read(distance_mm, left_mm, right_mm, window_mm):
+    """Where both sides were read inside the window."""
+    x = distance_mm
+    return np.isfinite(left_mm) & np.isfinite(right_mm) & (x > 0) & (x <= window_mm)
+
+
+def _evenly(items, count):
+    """At most ``count`` of ``items``, taken evenly through the sequence."""
+    if len(items) <= count:
+        return list(items)
+    pick = np.unique(np.linspace(0, len(items) - 1, count).round().astype(int))
+    return [items[i] for i in pick]
+
+
+def noise_trials(profiles, window_mm=np.inf, max_trials=400):
+    """The left-right differences of the trials the noise is measured from.
+
+    Parameters
+    ----------
+    profiles : sequence of tuple
+        ``(distance_mm, left_mm, right_mm)`` of every trial of the dataset.
+    window_mm : float, optional
+        As in :func:`trial_differences`.
+    max_trials : int, optional
+        As in :func:`estimate_noise`: the trials with enough differences, at most
+        this many, taken evenly through the sequence (chosen before any slope is
+        computed, so a dataset of ten thousand subjects costs no more than the
+        reading).
+
+    Returns
+    -------
+    list of tuple
+        :func:`trial_differences` of each chosen trial.
+    """
+    usable = [
+        profile
+        for profile in profiles
+        if np.count_nonzero(_both_read(*profile, window_mm)) >= MIN_DIFFERENCES
+    ]
+    return [trial_differences(*profile, window_mm) for profile in _evenly(usable, max_trials)]
 
 
 @dataclass(frozen=True)
@@ -275,7 +320,13 @@ class NoiseEstimate:
 
 
 def _padded(trials, columns=4):
-    """Trials' differences stacked, padded with decoupled rows that add nothing."""
+    """Trials' differences stacked, padded with decoupled rows that add nothing.
+
+    Returns the stacked distances, differences, fixed-effect designs and the
+    mask of real rows, and the distinct reading grids: ``grids`` (distances and
+    mask of each) and ``group``, the grid of every trial.  Trials read on one
+    grid share their covariance, so each grid's is factorised once.
+    """
     width = max(t[0].size for t in trials)
     count = len(trials)
     x = np.zeros((count, width))
@@ -289,11 +340,15 @@ def _padded(trials, columns=4):
         design[i, :n, 1] = xi
         design[i, :n, 2] = slope
         design[i, :n, 3] = xi**2
-    return x, d, design, real
+    keys, first, group = np.unique(
+        np.concatenate([x, real], axis=1), axis=0, return_index=True, return_inverse=True
+    )
+    del keys
+    return x, d, design, real, (x[first], real[first]), group.reshape(-1)
 
 
 def _covariances(theta, x, real):
-    """``2 (reading^2 I + tracing^2 K)`` of every trial; identity on padded rows."""
+    """``2 (reading^2 I + tracing^2 K)`` on every grid; identity on padded rows."""
     reading, tracing, length = np.exp(theta)
     kernel = exponential_kernel(x, length)
     pair = real[:, :, None] & real[:, None, :]
@@ -302,23 +357,26 @@ def _covariances(theta, x, real):
     return covariance + np.where(real, 0.0, 1.0)[:, :, None] * eye
 
 
-def _restricted_terms(theta, x, d, design, real):
+def _restricted_terms(theta, d, design, grids, group):
     """-2 log restricted likelihood (up to a constant), GLS effects and their covariance."""
-    chol = np.linalg.cholesky(_covariances(theta, x, real))
-    # whiten: solve L z = d, L Z = X
-    zd = np.linalg.solve(chol, d[..., None])[..., 0]
-    zx = np.linalg.solve(chol, design)
-    information = np.einsum("tni,tnj->tij", zx, zx)
+    chol = np.linalg.cholesky(_covariances(theta, *grids))
+    # whiten with each grid's inverse factor: z = L^-1 d, Z = L^-1 X
+    whiten = np.linalg.inv(chol)[group]
+    zd = (whiten @ d[..., None])[..., 0]
+    zx = whiten @ design
+    zx_t = zx.transpose(0, 2, 1)
+    information = zx_t @ zx
     # a column that is zero for a trial (e.g. a flat profile's slope) is dropped
     diagonal = np.einsum("tii->ti", information)
     dead = diagonal <= 1e-12 * np.maximum(diagonal.max(axis=1, keepdims=True), 1e-300)
     information = information + np.eye(design.shape[2]) * dead[:, :, None]
     information_chol = np.linalg.cholesky(information)
-    rhs = np.einsum("tni,tn->ti", zx, zd)
-    effects = np.linalg.solve(information, rhs[..., None])[..., 0]
-    residual = zd - np.einsum("tni,ti->tn", zx, effects)
+    effects = np.linalg.solve(information, zx_t @ zd[..., None])
+    residual = zd - (zx @ effects)[..., 0]
+    effects = effects[..., 0]
+    log_det = 2.0 * np.log(np.einsum("gii->gi", chol)).sum(axis=1)
     value = (
-        2.0 * np.log(np.einsum("tii->ti", chol)).sum()
+        log_det[group].sum()
         + 2.0 * np.log(np.einsum("tii->ti", information_chol)).sum()
         + np.sum(residual**2)
     )
@@ -332,8 +390,8 @@ def estimate_noise(trials, max_trials=400):
     ----------
     trials : sequence of tuple
         ``(distance_mm, difference_mm, slope)`` per trial, as
-        :func:`trial_differences` gives them.  Trials with fewer than five
-        differences are left out (three fixed effects leave too little).
+        :func:`trial_differences` gives them.  Trials with fewer than
+        :data:`MIN_DIFFERENCES` differences are left out.
     max_trials : int, optional
         At most this many trials enter the likelihood, taken evenly through the
         sequence (a dataset of thousands of subjects measures the noise as well
@@ -350,15 +408,13 @@ def estimate_noise(trials, max_trials=400):
     """
     from scipy.optimize import minimize
 
-    usable = [t for t in trials if np.asarray(t[0]).size >= 5]
+    usable = [t for t in trials if np.asarray(t[0]).size >= MIN_DIFFERENCES]
     if len(usable) < 2:
         raise ValueError(
             "the noise needs at least two trials with five or more distances read on both sides"
         )
-    if len(usable) > max_trials:
-        pick = np.unique(np.linspace(0, len(usable) - 1, max_trials).round().astype(int))
-        usable = [usable[i] for i in pick]
-    x, d, design, real = _padded(usable)
+    usable = _evenly(usable, max_trials)
+    x, d, design, real, grids, group = _padded(usable)
     n_differences = int(real.sum())
     spacing = np.diff(np.sort(np.unique(x[real])))
     span = float(x[real].max() - x[real].min())
@@ -376,7 +432,7 @@ def estimate_noise(trials, max_trials=400):
     ]
 
     def objective(theta):
-        return _restricted_terms(theta, x, d, design, real)[0]
+        return _restricted_terms(theta, d, design, grids, group)[0]
 
     best = None
     # a few starts: the tracing part may be nil, short or long
@@ -395,7 +451,7 @@ def estimate_noise(trials, max_trials=400):
             best = result
     theta = best.x
     se_log = _log_parameter_se(objective, theta, bounds)
-    _, effects, effect_covariance, _ = _restricted_terms(theta, x, d, design, real)
+    _, effects, effect_covariance, _ = _restricted_terms(theta, d, design, grids, group)
     reading, tracing, length = np.exp(theta)
     # side offsets: the spread of the trials' offsets beyond their own noise.  The
     # difference of two side offsets has twice their variance.
