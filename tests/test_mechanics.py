@@ -350,6 +350,13 @@ def bad_forces(kind):
         "header_only": (GOOD[:1], None, (), ("no data rows",)),
         "empty_file": ([""], None, (), ("empty",)),
         "unsafe_subject": ([*GOOD, "../x,1,0.4"], 5, ("subject",), ("letters",)),
+        "force_in_millinewtons": (
+            [*GOOD[:2], "MK,2,930", GOOD[3]],
+            3,
+            ("force_N",),
+            ("at most 20 N", "force_max_N", "millinewtons"),
+        ),
+        "force_beyond_any_unit": ([*GOOD[:3], "HU,1,1e300"], 4, ("force_N",), ("newtons",)),
     }
     return cases[kind]
 
@@ -366,6 +373,8 @@ FORCE_CASES = [
     "header_only",
     "empty_file",
     "unsafe_subject",
+    "force_in_millinewtons",
+    "force_beyond_any_unit",
 ]
 
 
@@ -407,8 +416,18 @@ def test_each_kind_of_bad_forces_file_is_one_input_error(kind, tmp_path):
     check_message(str(caught.value), "RAW", "forces.csv", line, columns, words)
 
 
-@pytest.mark.parametrize("value", ["0", "-3", "wide", ""])
-def test_bad_contact_length_is_refused(tmp_path, value):
+@pytest.mark.parametrize(
+    ("value", "words"),
+    [
+        ("0", ("> 0",)),
+        ("-3", ("> 0",)),
+        ("wide", ("> 0",)),
+        ("", ("> 0",)),
+        ("9500", ("reach_max_mm", "micrometres")),
+        ("1e300", ("reach_max_mm", "fingertip")),
+    ],
+)
+def test_bad_contact_length_is_refused(tmp_path, value, words):
     raw = write_small_dataset(tmp_path / "raw")
     sheet = (raw / "subjects.csv").read_text().splitlines()
     sheet[0] += ",contact_length_mm"
@@ -417,7 +436,7 @@ def test_bad_contact_length_is_refused(tmp_path, value):
     (raw / "subjects.csv").write_text("\n".join(sheet) + "\n")
     with pytest.raises(InputError) as caught:
         check_dataset(str(raw), SCHEMAS, raw_dir_shown="RAW")
-    check_message(str(caught.value), "RAW", "subjects.csv", 3, ("contact_length_mm",), ("> 0",))
+    check_message(str(caught.value), "RAW", "subjects.csv", 3, ("contact_length_mm",), words)
 
 
 # ------------------------------------------------------------------ through snakemake

@@ -30,7 +30,6 @@ import pytest
 from conftest import refused_run, run_snakemake, write_small_dataset
 from lineload.io import load_schema
 from lineload.validation import (
-    PLAUSIBILITY_DEFAULTS,
     InputError,
     Problems,
     check_dataset,
@@ -317,6 +316,53 @@ def _scaled_readings(factor, *words):
     return corrupt
 
 
+def _set_reading(column, value, *words, subject="MK", block="2,left,", offset=3):
+    """One reading of a profile set to ``value``; the message names ``words``."""
+
+    def corrupt(raw):
+        path = raw / "profiles" / f"{subject}.csv"
+        n = find_line(path, lambda t: t.startswith(block), nth=offset)
+        set_cell(path, n, column, value)
+        return Expect(f"profiles/{subject}.csv", n, (column,), words)
+
+    return corrupt
+
+
+def _thin_trial(raw):
+    """MK at 2 mm keeps two readings within the 3 mm window (the left side's first two)."""
+    path = _mk(raw)
+    lines = read_lines(path)
+    kept, near_left = [lines[0]], 0
+    for text in lines[1:]:
+        depth, side, distance, _ = text.split(",")
+        if depth == "2" and float(distance) / 20 <= 3.0:
+            near_left += side == "left"
+            if side != "left" or near_left > 2:
+                continue
+        kept.append(text)
+    write_lines(path, kept)
+    first = find_line(path, lambda t: t.startswith("2,"))
+    return Expect(
+        "profiles/MK.csv",
+        first,
+        ("distance_image_mm",),
+        ("depth 2 mm 2 distances", "at least 5", "min_points_in_window"),
+    )
+
+
+def _magnification_beyond_a_photograph(raw):
+    n = find_line(_subjects(raw), lambda t: t.startswith("HU,"))
+    set_cell(_subjects(raw), n, "magnification", "1e6")
+    return Expect("subjects.csv", n, ("magnification",), ("1000", "1e6"))
+
+
+def _outline_point_beyond_any_finger(raw):
+    path = raw / "outlines" / "MK.csv"
+    write_outline(path, depths=(1.0, 2.0))
+    set_cell(path, 6, "z_image_mm", "1e300")
+    return Expect("outlines/MK.csv", 6, ("z_image_mm",), ("reach_max_mm", "fingertip"))
+
+
 def _config(*settings, words):
     def refuse_config(raw):
         return Expect(None, None, (), words, config=settings, prefix="Error: config")
@@ -363,6 +409,7 @@ CASES = {
     "subject_without_profile": _missing_profile,
     "bad_species": _bad_species,
     "zero_magnification": _bad_magnification("0"),
+    "magnification_beyond_a_photograph": _magnification_beyond_a_photograph,
     "negative_magnification": _bad_magnification("-20"),
     "unsafe_subject_id": _unsafe_subject,
     "ragged_row_extra_field": _ragged(extra=True),
@@ -376,6 +423,18 @@ CASES = {
     "file_name_other_case": _file_named("hu.csv"),
     "file_with_txt_extension": _file_named("HU.txt"),
     "depth_in_micrometres": _depths_in_micrometres,
+    # magnitudes no fingertip has: refused with the limit, not fitted into infinities
+    "distance_beyond_any_finger": _set_reading(
+        "distance_image_mm", "1e300", "reach_max_mm", "fingertip"
+    ),
+    "distance_in_micrometres": _set_reading(
+        "distance_image_mm", "40000", "reach_max_mm", "micrometres", subject="HU", block="1,"
+    ),
+    "deflection_far_beyond_the_depth": _set_reading(
+        "deflection_image_mm", "1e6", "deflection_factor", "times the depth", offset=6
+    ),
+    "outline_point_beyond_any_finger": _outline_point_beyond_any_finger,
+    "trial_too_thin_to_fit": _thin_trial,
     "readings_already_in_tissue_mm": _scaled_readings(1 / 20, "magnification", "should be 1"),
     "readings_upward_positive": _scaled_readings(-1, "upward positive"),
     "depth_beyond_a_configured_limit": lambda raw: Expect(
@@ -472,8 +531,10 @@ def test_every_broken_raw_folder_is_refused_by_the_check_with_one_line(name, tmp
     expect = CASES[name](raw)
     schemas = {table: load_schema(table) for table in ("subjects", "profiles", "outlines")}
     schemas["forces"] = load_schema("forces")
+    top = load_schema("config")["properties"]
+    window = (top["fit_window_mm"]["default"], top["min_points_in_window"]["default"])
     with pytest.raises(InputError) as caught:
-        check_dataset(str(raw), schemas, plausibility=config_checks(expect.config))
+        check_dataset(str(raw), schemas, plausibility=config_checks(expect.config), window=window)
     lines = report_lines(caught.value)
     errors = [line for line in lines if line.startswith("Error: ")]  # warnings aside
     assert len(errors) == 1, lines
@@ -1121,9 +1182,19 @@ def test_deflection_within_the_factor_passes_and_the_factor_is_the_limit(raw):
     error(check_deflection_near_wedge, profile, "p.csv", 20.0 * 3.1, 3.0)
 
 
-def test_plausibility_defaults_are_the_config_defaults():
-    schema = load_schema("config")["properties"]["input_checks"]["properties"]
-    assert {key: rules["default"] for key, rules in schema.items()} == PLAUSIBILITY_DEFAULTS
+def test_without_limits_the_check_uses_the_config_schemas_defaults(tmp_path):
+    # the one source of the limits is the config schema: a distance just beyond its
+    # reach_max_mm is refused, one just inside passes (a restated default would drift)
+    reach_mm = load_schema("config")["properties"]["input_checks"]["properties"]["reach_max_mm"]
+    for factor, refused in ((1.001, True), (0.999, False)):
+        raw = write_small_dataset(tmp_path / f"raw{factor}")
+        path = raw / "profiles" / "HU.csv"
+        last = len(read_lines(path))  # a far reading at the edge of the right side
+        set_cell(path, last, "distance_image_mm", f"{factor * reach_mm['default'] * 20:.6f}")
+        if refused:
+            assert "reach_max_mm" in error(check_dataset, str(raw), SCHEMAS)
+        else:
+            check_dataset(str(raw), SCHEMAS)
 
 
 def test_a_check_that_raises_is_folded_into_the_pass():

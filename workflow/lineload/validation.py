@@ -9,8 +9,11 @@ in seconds, and every failure is reported as one line naming the file, the
 line (the header is line 1) and the column, with what was expected and what
 was found.  Rules that span rows (unique ids, duplicate readings, a profile
 file for each subject, one force per trial) are checked here too, since a row
-schema cannot say them, and so are two plausibility rules on units
-(:func:`check_depth_range`, :func:`check_deflection_near_wedge`).
+schema cannot say them, and so are the plausibility rules on magnitudes
+(:func:`check_depth_range`, :func:`check_deflection_near_wedge`,
+:func:`check_reach`, :func:`check_forces`), each with its limit in the config's
+``input_checks`` (defaults from the config schema, the one source), and the
+rule that a trial has enough readings to fit (:func:`check_thin_trials`).
 
 All problems of a run in one pass
 ---------------------------------
@@ -39,7 +42,6 @@ import numpy as np
 
 __all__ = [
     "MAX_REPORTED",
-    "PLAUSIBILITY_DEFAULTS",
     "InputError",
     "Problems",
     "check_dataset",
@@ -47,7 +49,9 @@ __all__ = [
     "check_depth_range",
     "check_forces",
     "check_no_duplicate_readings",
+    "check_reach",
     "check_subjects",
+    "check_thin_trials",
     "collecting",
     "read_columns",
     "read_forces",
@@ -59,10 +63,13 @@ __all__ = [
 #: Errors printed for one run; beyond them a last line says how many more there are.
 MAX_REPORTED = 20
 
-#: Plausibility limits on units (the ``input_checks`` keys of the config, same defaults):
-#: depths outside [depth_min_mm, depth_max_mm], and a deflection next to the wedge more
-#: than deflection_factor times larger or smaller than the depth, are refused.
-PLAUSIBILITY_DEFAULTS = {"depth_min_mm": 0.05, "depth_max_mm": 10.0, "deflection_factor": 3.0}
+
+def plausibility_defaults():
+    """The plausibility limits' defaults: the config schema's ``input_checks``."""
+    from .io import config_defaults
+
+    return config_defaults("input_checks")
+
 
 #: Separators that spreadsheets write instead of commas, with how messages name them.
 OTHER_SEPARATORS = {";": "semicolons (';')", "\t": "tabs", "|": "vertical bars ('|')"}
@@ -785,8 +792,8 @@ def _unit_hint(value_mm, low_mm, high_mm, magnification=None):
     just beyond a lab's own narrower limits is no unit mistake), and only when
     converting it lands inside the range.
     """
-    default_low = PLAUSIBILITY_DEFAULTS["depth_min_mm"]
-    default_high = PLAUSIBILITY_DEFAULTS["depth_max_mm"]
+    defaults = plausibility_defaults()
+    default_low, default_high = defaults["depth_min_mm"], defaults["depth_max_mm"]
 
     def inside(v):
         return low_mm <= v <= high_mm
@@ -947,10 +954,162 @@ def check_deflection_near_wedge(profile, path, magnification, factor, problems=N
         )
 
 
+def _reach_hint(value_mm, reach_max_mm):
+    """A likely cause for a length of ``value_mm`` of tissue beyond ``reach_max_mm``."""
+    if value_mm / 1000 <= reach_max_mm:
+        return f"it looks like micrometres ({value_mm:g} µm = {value_mm / 1000:g} mm)"
+    return "a fingertip is a few tens of millimetres across"
+
+
+def check_reach(table, path, magnification, reach_max_mm, deflection_factor=None, problems=None):
+    """Refuse lengths no fingertip has: readings or outline points too far from the wedge.
+
+    Every coordinate on the enlargement, divided by the magnification, must lie
+    within ``reach_max_mm`` of tissue of the wedge: the distances and
+    deflections of a profile, the ``x`` and ``z`` of an outline.  With
+    ``deflection_factor``, a profile's deflections must also stay within that
+    factor of their depth, above or below: the skin moves most under the wedge,
+    by about the depth, and less everywhere else.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame or tuple
+        A profile or outline from :func:`read_table` or :func:`read_columns`
+        (``depth_mm`` within its range).
+    path : str
+        File name used in the message.
+    magnification : float
+        The subject's enlargement (> 0).
+    reach_max_mm : float
+        Config ``input_checks: reach_max_mm``.
+    deflection_factor : float, optional
+        Config ``input_checks: deflection_factor`` (profiles only).
+    problems : Problems, optional
+        Collector to add problems to; without one, they are raised.
+
+    Raises
+    ------
+    InputError
+        Without a collector: the first value of each column out of range (and
+        how many more lines are), with a likely cause.
+    """
+    with collecting(problems) as found:
+        columns, lines = _as_columns(table)
+        lines = [int(n) for n in lines]
+        names = [c for c in ("distance_image_mm", "x_image_mm", "z_image_mm") if c in columns]
+        limit = {name: reach_max_mm for name in names}
+        if deflection_factor is not None:
+            names.append("deflection_image_mm")
+            depth_mm = np.asarray(columns["depth_mm"], dtype=float)
+            limit["deflection_image_mm"] = np.minimum(deflection_factor * depth_mm, reach_max_mm)
+        for name in names:
+            value_mm = np.asarray(columns[name], dtype=float) / magnification
+            with np.errstate(invalid="ignore"):
+                bad = np.abs(value_mm) > limit[name]
+            if not bad.any():
+                continue
+            i = int(np.argmax(bad))
+            read = f"got {value_mm[i] * magnification:g} on the x{magnification:g} enlargement"
+            if name == "deflection_image_mm" and limit[name][i] < reach_max_mm:
+                expected = (
+                    f"expected a deflection of at most {deflection_factor:g} times the depth "
+                    f"({limit[name][i]:g} mm of tissue at {depth_mm[i]:g} mm; config "
+                    f"input_checks: deflection_factor), {read} = {value_mm[i]:.4g} mm of "
+                    "tissue; the skin moves most under the wedge, by about the depth"
+                )
+            else:
+                expected = (
+                    f"expected at most {reach_max_mm:g} mm of tissue from the wedge (config "
+                    f"input_checks: reach_max_mm), {read} = {value_mm[i]:.4g} mm of tissue; "
+                    + _reach_hint(abs(float(value_mm[i])), reach_max_mm)
+                )
+            found.error(
+                path, lines[i], name, expected + _more(lines, bad, "lines out of that range")
+            )
+
+
+def check_thin_trials(profile, path, magnification, window_mm, min_points, problems=None):
+    """Refuse a trial with too few readings near the wedge to fit.
+
+    The fits use the left-right mean at every distance read on either side
+    with ``0 < distance <= window_mm`` (tissue mm).  A trial with fewer than
+    ``min_points`` such distances is refused: one or two points would give an
+    L, an interval and a misfit that look like any other.
+
+    Parameters
+    ----------
+    profile : pandas.DataFrame or tuple
+        A profile without contract problems (:func:`read_table` or
+        :func:`read_columns`).
+    path : str
+        File name used in the message.
+    magnification : float
+        The subject's enlargement (> 0).
+    window_mm : float
+        Config ``fit_window_mm``.
+    min_points : int
+        Config ``min_points_in_window``.
+    problems : Problems, optional
+        Collector to add the problem to; without one, it is raised.
+
+    Raises
+    ------
+    InputError
+        Without a collector: one line for the file, at the first reading of the
+        first thin depth (naming the other thin depths).
+    """
+    from .averaging import DISTANCE_TOLERANCE_MM
+
+    with collecting(problems) as found:
+        columns, lines = _as_columns(profile)
+        depth_mm = np.asarray(columns["depth_mm"], dtype=float)
+        distance_mm = np.asarray(columns["distance_image_mm"], dtype=float) / magnification
+        thin = []  # (depth, points, first row)
+        for depth in np.unique(depth_mm):
+            rows = np.flatnonzero(depth_mm == depth)
+            near = np.sort(
+                distance_mm[rows][(distance_mm[rows] > 0) & (distance_mm[rows] <= window_mm)]
+            )
+            points = int(near.size and 1 + np.count_nonzero(np.diff(near) > DISTANCE_TOLERANCE_MM))
+            if points < min_points:
+                thin.append((float(depth), points, int(rows[np.argmin(lines[rows])])))
+        if not thin:
+            return
+        depth, points, row = thin[0]
+        also = ""
+        if len(thin) > 1:
+            also = f" (so do depths {', '.join(f'{d:g}' for d, _, _ in thin[1:])} mm)"
+        found.error(
+            path,
+            int(lines[row]),
+            "distance_image_mm",
+            f"at depth {depth:g} mm {points} distance{'s' if points != 1 else ''} within "
+            f"{window_mm:g} mm of the wedge were read{also}; expected at least {min_points} "
+            "(config min_points_in_window, fit_window_mm): fewer cannot give the fits' "
+            "numbers; read the profile more finely near the wedge, or leave the depth out",
+        )
+
+
+def _check_contact_lengths(subjects, path, reach_max_mm, problems):
+    """Refuse a contact length of wedge edge longer than any fingertip is wide."""
+    if "contact_length_mm" not in subjects:
+        return
+    for line, value in zip(subjects.index, subjects["contact_length_mm"], strict=True):
+        if value == value and value > reach_max_mm:  # NaN: an empty optional cell
+            problems.error(
+                path,
+                int(line),
+                "contact_length_mm",
+                f"expected a contact length of at most {reach_max_mm:g} mm (config "
+                f"input_checks: reach_max_mm), got {value:g}; "
+                + _reach_hint(float(value), reach_max_mm),
+            )
+
+
 # ---------------------------------------------------------------- a whole raw folder
 
 
-def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
+def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, window=None):
     """Validate a whole raw-data folder before anything is computed.
 
     Every file is checked, and every problem found is reported together.
@@ -966,8 +1125,12 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
     raw_dir_shown : str, optional
         How to name the folder in messages (defaults to ``raw_dir``).
     plausibility : dict, optional
-        ``depth_min_mm``, ``depth_max_mm`` and ``deflection_factor``
-        (:data:`PLAUSIBILITY_DEFAULTS` for any not given).
+        The config's ``input_checks`` (:func:`plausibility_defaults` for any not
+        given).
+    window : tuple, optional
+        ``(fit_window_mm, min_points_in_window)`` of the config: a trial with
+        fewer distinct distances within the window is refused
+        (:func:`check_thin_trials`); not checked if None.
 
     Returns
     -------
@@ -984,7 +1147,7 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
         line and column) and the warnings.
     """
     shown = raw_dir_shown or raw_dir
-    limits = {**PLAUSIBILITY_DEFAULTS, **(plausibility or {})}
+    limits = {**plausibility_defaults(), **(plausibility or {})}
     found = Problems()
 
     def here(*parts):
@@ -1027,6 +1190,17 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
             check_deflection_near_wedge(
                 profile, path_shown, magnification, limits["deflection_factor"], found
             )
+        if found.count() == before and magnification:  # then every reading, not the nearest
+            check_reach(
+                profile,
+                path_shown,
+                magnification,
+                limits["reach_max_mm"],
+                limits["deflection_factor"],
+                found,
+            )
+        if found.count() == before and magnification and window is not None:
+            check_thin_trials(profile, path_shown, magnification, *window, problems=found)
         path, path_shown = here("outlines", f"{subject}.csv")
         if os.path.isfile(path):
             outline = read_columns(path, schemas["outlines"], path_shown, found)
@@ -1039,10 +1213,23 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
                     magnification,
                     found,
                 )
+                if magnification:
+                    check_reach(
+                        outline, path_shown, magnification, limits["reach_max_mm"], None, found
+                    )
                 outlines[subject] = sorted(float(d) for d in set(outline[0]["depth_mm"]) if d == d)
+    _check_contact_lengths(subjects, sheet_shown, limits["reach_max_mm"], found)
     forces_schema = schemas.get("forces") or _forces_schema()
     with found.collect():  # (a check that raises is folded in the same way)
-        check_forces(raw_dir, forces_schema, subjects, depths_mm, shown, problems=found)
+        check_forces(
+            raw_dir,
+            forces_schema,
+            subjects,
+            depths_mm,
+            shown,
+            problems=found,
+            force_max_N=limits["force_max_N"],
+        )
     sheet_ids = [str(s) for s in subjects["subject"]]
     for folder in ("profiles", "outlines"):
         folder_path, folder_shown = here(folder)
@@ -1059,7 +1246,9 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None):
 # ------------------------------------------------------------------ forces (optional)
 
 
-def check_forces(raw_dir, schema, subjects, depths_mm, raw_dir_shown=None, problems=None):
+def check_forces(
+    raw_dir, schema, subjects, depths_mm, raw_dir_shown=None, problems=None, force_max_N=None
+):
     """Check the optional ``forces.csv``: typed cells, known trials, one force per trial.
 
     Parameters
@@ -1076,6 +1265,9 @@ def check_forces(raw_dir, schema, subjects, depths_mm, raw_dir_shown=None, probl
         How to name the folder in messages.
     problems : Problems, optional
         Collector to add problems to; without one, they are raised.
+    force_max_N : float, optional
+        Largest plausible force (config ``input_checks: force_max_N``; the
+        schema's default if None).
 
     Returns
     -------
@@ -1087,9 +1279,10 @@ def check_forces(raw_dir, schema, subjects, depths_mm, raw_dir_shown=None, probl
     ------
     InputError
         Without a collector, naming the line and column of each problem: a
-        cell that breaks the schema (a force of zero or less, text), a subject
-        not in the subject sheet, a depth with no profile for that subject, or
-        a second force for the same subject and depth.
+        cell that breaks the schema (a force of zero or less, text), a force
+        above ``force_max_N``, a subject not in the subject sheet, a depth with
+        no profile for that subject, or a second force for the same subject
+        and depth.
     """
     path = os.path.join(raw_dir, "forces.csv")
     if not os.path.isfile(path):
@@ -1101,6 +1294,11 @@ def check_forces(raw_dir, schema, subjects, depths_mm, raw_dir_shown=None, probl
             return None
         known = set(subjects["subject"])
         id_rule = schema.get("properties", {}).get("subject", {}).get("pattern", "")
+        if force_max_N is None:
+            force_max_N = plausibility_defaults()["force_max_N"]
+        for line, force in zip(forces.index, forces["force_N"], strict=True):
+            if force == force and force > force_max_N:
+                found.error(shown, line, "force_N", _force_message(force, force_max_N))
         seen = {}
         for line, subject, depth_mm in zip(
             forces.index, forces["subject"], forces["depth_mm"], strict=True
@@ -1137,6 +1335,17 @@ def check_forces(raw_dir, schema, subjects, depths_mm, raw_dir_shown=None, probl
                 )
             seen.setdefault(key, line)
     return forces
+
+
+def _force_message(force_N, force_max_N):
+    """What a force above the plausible limit is likely to be."""
+    text = (
+        f"expected a force of at most {force_max_N:g} N (config input_checks: force_max_N), "
+        f"got {force_N:g}; "
+    )
+    if force_N / 1000 <= force_max_N:
+        return text + f"it looks like millinewtons ({force_N:g} mN = {force_N / 1000:g} N)"
+    return text + "force_N is in newtons"
 
 
 def read_forces(path):

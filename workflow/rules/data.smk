@@ -6,7 +6,12 @@
 checkpoint check_raw_data:
     """Check every raw file against the data contract: every problem at once, one line each."""
     input:
-        spec=spec("check_raw_data", input_checks=config["input_checks"]),
+        spec=spec(
+            "check_raw_data",
+            input_checks=config["input_checks"],
+            window_mm=config["fit_window_mm"],
+            min_points=config["min_points_in_window"],
+        ),
         sheet=f"{RAW}/subjects.csv",
         # every file of the folder, a stray one too (the check warns about it)
         files=RAW_FILES["all"],

@@ -18,12 +18,17 @@ from lineload.validation import InputError, check_dataset, report_lines
 TABLES = ("subjects", "profiles", "outlines", "forces")
 
 
-def check_raw_data(sheet, output, input_checks):
+def check_raw_data(sheet, output, input_checks, window_mm, min_points):
     """Check the folder of ``sheet``; write the summary. Returns the lines for the user."""
     raw_dir = os.path.dirname(sheet)  # as configured: the messages name it so
     schemas = {name: load_schema(name) for name in TABLES}
     try:
-        dataset = check_dataset(raw_dir, schemas, plausibility=input_checks)
+        dataset = check_dataset(
+            raw_dir,
+            schemas,
+            plausibility=input_checks,
+            window=(window_mm, min_points),
+        )
     except InputError as error:
         lines = report_lines(error)
         for line in lines:
