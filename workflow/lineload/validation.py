@@ -681,7 +681,9 @@ def _near_names(subject, names):
     ]
 
 
-def check_subjects(subjects, path, profile_dir, profile_dir_shown=None, problems=None):
+def check_subjects(
+    subjects, path, profile_dir, profile_dir_shown=None, problems=None, id_pattern=None
+):
     """Rules on the subject sheet that span rows or files.
 
     Subject ids must be unique, and each listed subject must have its profile
@@ -701,6 +703,9 @@ def check_subjects(subjects, path, profile_dir, profile_dir_shown=None, problems
         How to name that folder in messages.
     problems : Problems, optional
         Collector to add problems to; without one, they are raised.
+    id_pattern : re.Pattern, optional
+        The schema's rule for ids: an id that breaks it is the schema's to report
+        (it names no file), so no profile file is looked for.
 
     Raises
     ------
@@ -721,9 +726,15 @@ def check_subjects(subjects, path, profile_dir, profile_dir_shown=None, problems
                 f"subject {ids.iloc[i]!r} is already listed on line {ids.index[first]}; "
                 "expected unique ids",
             )
-        for line, subject in ids[~duplicated].items():
-            if os.path.isfile(os.path.join(profile_dir, f"{subject}.csv")):
-                continue
+        # one line for every subject without its file: the first, and how many more
+        missing = [
+            (line, subject)
+            for line, subject in ids[~duplicated].items()
+            if (id_pattern is None or id_pattern.search(subject))
+            and not os.path.isfile(os.path.join(profile_dir, f"{subject}.csv"))
+        ]
+        if missing:
+            line, subject = missing[0]
             message = f"no profile file for subject {subject!r}; expected {shown_dir}/{subject}.csv"
             near = _near_names(subject, names)
             if near:
@@ -731,6 +742,8 @@ def check_subjects(subjects, path, profile_dir, profile_dir_shown=None, problems
                     f", found {shown_dir}/{near[0]} (file names are matched exactly: "
                     "rename it, with the extension .csv in lower case)"
                 )
+            lines = [n for n, _ in missing]
+            message += _more(lines, np.ones(len(lines), dtype=bool), "subjects without one")
             found.error(path, line, "subject", message)
 
 
@@ -1158,8 +1171,8 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
     if subjects is None:
         found.raise_if_any()
     profile_dir, profile_dir_shown = here("profiles")
-    check_subjects(subjects, sheet_shown, profile_dir, profile_dir_shown, found)
     id_pattern = re.compile(schemas["subjects"]["properties"]["subject"]["pattern"])
+    check_subjects(subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern)
     magnifications = dict(zip(subjects["subject"], subjects["magnification"], strict=True))
     listed = [
         s
@@ -1176,7 +1189,8 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
         profile = read_columns(path, schemas["profiles"], path_shown, found)
         if profile is None:
             continue
-        check_no_duplicate_readings(profile, path_shown, problems=found)
+        if found.count() == before:  # keys a cell rule refused would repeat as NaN
+            check_no_duplicate_readings(profile, path_shown, problems=found)
         check_depth_range(
             profile,
             path_shown,
