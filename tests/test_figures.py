@@ -242,6 +242,24 @@ def test_figure1_is_drawn_to_one_scale():
     assert np.max(np.abs(human_x)) == pytest.approx(11.0)
 
 
+def test_labels_and_notice_from_the_data_are_drawn_as_typed_whatever_they_hold():
+    # '$\\foo$' is not valid mathtext: drawn as maths it stops the figure with a parse
+    # error; from the data it must be drawn as typed, dollars and backslash included
+    outlines = circle_outline("M1", 1.0, 8.0, 6.0)
+    label = r"$\foo$ & 50 % <b>"
+    subjects = pd.DataFrame({"subject": ["M1"], "species": ["monkey"], "label": [label]})
+    fig = data.figure_outlines(outlines, subjects, ["M1"], 1.0)
+    style.add_footer(fig, r"notice with $\bar$")
+    FigureCanvasAgg(fig).draw()  # raised ValueError (ParseFatalException) before
+    title = fig.axes[0].get_title(loc="left")
+    assert title.startswith(label.replace("$", r"\$"))
+    assert any(r"notice with \$\bar\$" in t.get_text() for t in fig.texts)
+    # and unescaped, the same label does stop matplotlib: the test can fail
+    fig.axes[0].set_title(label, loc="left")
+    with pytest.raises(ValueError):
+        FigureCanvasAgg(fig).draw()
+
+
 def test_figure1_without_outlines_says_so():
     fig = data.figure_outlines(pd.DataFrame(), pd.DataFrame(), [], None)
     assert len(fig.axes) == 1

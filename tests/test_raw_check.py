@@ -179,3 +179,30 @@ def test_what_start_up_imports_leaves_pandas_out(tmp_path):
     )
     process = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert process.stdout.strip() == "False", process.stderr
+
+
+def test_a_link_loop_or_a_notice_not_in_utf8_stops_start_up_with_one_sentence(tmp_path, capsys):
+    from lineload import startup
+
+    raw = write_small_dataset(tmp_path / "raw")
+    (raw / "outlines").mkdir()
+    (raw / "outlines" / "a.csv").symlink_to("b.csv")
+    (raw / "outlines" / "b.csv").symlink_to("a.csv")
+    with pytest.raises(SystemExit) as stopped:
+        startup.list_raw_files(str(raw))
+    assert stopped.value.code == 1
+    said = capsys.readouterr().err
+    assert said.count("\n") == 1 and said.startswith(f"Error: {raw}/outlines/a.csv: cannot be")
+    # without the loop the folder lists
+    for name in ("a.csv", "b.csv"):
+        (raw / "outlines" / name).unlink()
+    assert startup.list_raw_files(str(raw))["outlines"] == {}
+    # a notice written in Latin-1: one sentence naming the file and the byte
+    notice = raw / "NOTICE.txt"
+    notice.write_bytes("Données synthétiques\n".encode("latin-1"))
+    with pytest.raises(SystemExit):
+        startup.notice_text(None, str(notice))
+    said = capsys.readouterr().err
+    assert said.count("\n") == 1 and "byte 5 is not UTF-8" in said and "NOTICE.txt" in said
+    notice.write_text("Données synthétiques\n", encoding="utf-8")
+    assert startup.notice_text(None, str(notice)) == "Données synthétiques"

@@ -11,6 +11,7 @@ from lineload.fitting import FIT_COLUMNS
 from lineload.tables import (
     SUMMARY_COLUMNS,
     escape_latex,
+    escape_markdown,
     fits_latex,
     fits_markdown,
     format_fixed,
@@ -280,3 +281,13 @@ def test_a_value_is_given_to_the_digits_its_interval_supports():
     assert tables.with_interval(13.28123, 13.26844, 13.29498) == "13.281 (13.268–13.295)"
     assert tables.with_interval(13.28123, 11.9, 14.6) == "13.3 (11.9–14.6)"
     assert tables.with_interval(float("nan"), 1.0, 2.0) == "–"
+
+
+def test_html_from_the_data_is_shown_as_typed_in_markdown():
+    # a notice or label holding markup must not become markup in claims.md or fits.md
+    cell = escape_markdown("<script>alert(1)</script> <!-- x --> p < 0.05 & a|b")
+    assert "<script" not in cell and "</script" not in cell and "<!--" not in cell
+    assert cell.startswith("&lt;script>alert(1)&lt;/script> &lt;!-- x -->")
+    assert "p < 0.05" in cell and "a\\|b" in cell  # a comparison stays as written
+    footer = notice_footer("Synthetic <b>reconstruction</b>")
+    assert footer == "\nNote: Synthetic &lt;b>reconstruction&lt;/b>\n"

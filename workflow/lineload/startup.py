@@ -244,9 +244,11 @@ def list_raw_files(raw_dir):
     for sub in RAW_SUBFOLDERS:
         folder = os.path.join(raw_dir, sub) if sub else raw_dir
         try:
-            names = sorted(e.name for e in os.scandir(folder) if e.is_file())
+            names = sorted(e.name for e in os.scandir(folder) if _is_file(e))
         except (FileNotFoundError, NotADirectoryError):
             names = []
+        except OSError as error:  # e.g. a symbolic link that leads back to itself
+            abort(f"{folder}: the folder cannot be read ({error.strerror}); expected a folder")
         paths = {name: "/".join(p for p in (raw_dir.rstrip("/"), sub, name) if p) for name in names}
         found["all"] += paths.values()
         if sub:
@@ -255,6 +257,17 @@ def list_raw_files(raw_dir):
             found["forces"] = paths.get("forces.csv")
             found["notice"] = paths.get("NOTICE.txt")
     return found
+
+
+def _is_file(entry):
+    """Whether a folder entry is a file; a link that cannot be followed stops the run."""
+    try:
+        return entry.is_file()
+    except OSError as error:  # a symbolic link loop, a file that vanished while listing
+        abort(
+            f"{entry.path}: cannot be followed ({error.strerror}); expected a file, or "
+            "nothing: remove the link"
+        )
 
 
 def notice_text(configured, notice_path):
@@ -276,7 +289,14 @@ def notice_text(configured, notice_path):
         return configured
     if notice_path is None:
         return ""
-    lines = Path(notice_path).read_text(encoding="utf-8").splitlines()
+    try:
+        lines = Path(notice_path).read_text(encoding="utf-8").splitlines()
+    except UnicodeDecodeError as error:
+        abort(
+            f"{notice_path}: byte {error.start + 1} is not UTF-8 text "
+            f"({error.object[error.start : error.start + 1]!r}); expected the notice as "
+            "UTF-8: save the file with that encoding (or set data_notice in the config)"
+        )
     return lines[0].strip() if lines else ""
 
 

@@ -12,6 +12,7 @@ The LaTeX tables use the ``booktabs`` rules (``\\toprule``, ``\\midrule``,
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pandas as pd
@@ -189,7 +190,7 @@ def notice_footer(notice):
     str
         ``"\\nNote: <notice>\\n"``, to append after a table; empty for an empty notice.
     """
-    return f"\nNote: {' '.join(notice.split())}\n" if notice else ""
+    return f"\nNote: {escape_markdown(notice)}\n" if notice else ""
 
 
 def escape_latex(text):
@@ -206,8 +207,16 @@ def escape_latex(text):
     return "".join(_LATEX_SPECIALS.get(char, char) for char in str(text))
 
 
+#: A ``<`` that starts HTML markup: a tag, a closing tag, a comment or a declaration.
+_HTML_OPENING = re.compile(r"<(?=[A-Za-z/!?])")
+
+
 def escape_markdown(text):
-    """Make text safe inside a Markdown table cell (pipes escaped, one line).
+    """Make text safe inside a Markdown table cell (pipes escaped, one line, no HTML).
+
+    A ``<`` that would open an HTML tag, comment or entity's markup (``<b>``,
+    ``</td>``, ``<!--``) becomes ``&lt;``, so text from the data is shown as
+    typed; ``p < 0.05`` stays as written.
 
     Parameters
     ----------
@@ -217,7 +226,7 @@ def escape_markdown(text):
     -------
     str
     """
-    return " ".join(str(text).replace("|", "\\|").split())
+    return _HTML_OPENING.sub("&lt;", " ".join(str(text).replace("|", "\\|").split()))
 
 
 def markdown_table(headers, rows, align):

@@ -253,7 +253,7 @@ def add_footer(fig, notice):
     width_pt = fig.get_figwidth() * 72.0
     # DejaVu Sans averages about 0.55 em per character; leave a margin.
     per_line = max(20, int(0.92 * width_pt / (0.58 * FOOTER_FONT_PT)))
-    lines = textwrap.wrap(notice, per_line) or [notice]
+    lines = textwrap.wrap(as_typed(notice), per_line) or [as_typed(notice)]
     height_pt = fig.get_figheight() * 72.0
     pad_pt = 3.0
     footer_pt = len(lines) * 1.25 * FOOTER_FONT_PT + 2 * pad_pt
@@ -337,6 +337,15 @@ def panel_title(label, species):
     return label if species.lower() in label.lower() else f"{label} ({species})"
 
 
+def as_typed(text):
+    """Text from the data (a label, the notice) as matplotlib should show it: as typed.
+
+    A ``$`` would otherwise start mathtext, and a label such as ``$\\foo$`` stop the
+    figure with a parse error; the workflow's own labels keep their maths.
+    """
+    return str(text).replace("$", r"\$")
+
+
 def subject_table(subjects):
     """Subject sheet as a DataFrame indexed by id, with a label for every subject.
 
@@ -349,13 +358,16 @@ def subject_table(subjects):
     Returns
     -------
     pandas.DataFrame
+        Labels as typed (:func:`as_typed`), ready for matplotlib.
     """
     table = pd.DataFrame(subjects).copy()
     if "label" not in table.columns:
         table["label"] = table["subject"]
     labels = table["label"].astype(object)
     missing = labels.isna() | (labels.astype(str).str.strip() == "")
-    table["label"] = np.where(missing, table["subject"], labels.astype(str))
+    table["label"] = [
+        as_typed(label) for label in np.where(missing, table["subject"], labels.astype(str))
+    ]
     return table.set_index("subject", drop=False)
 
 
