@@ -55,6 +55,24 @@ def test_a_refused_folder_leaves_only_the_checks_log(tmp_path, snakemake_availab
 
 
 @pytest.mark.e2e
+def test_the_check_target_prints_twenty_problems_and_logs_every_one(tmp_path, snakemake_available):
+    subjects = {f"S{k:02d}": ("monkey", [1.0], 5.0) for k in range(25)}
+    raw = write_small_dataset(tmp_path / "raw", subjects=subjects)
+    for subject in subjects:  # one broken cell in each of 25 files: 25 problems
+        set_cell(raw / "profiles" / f"{subject}.csv", 3, "side", "middle")
+    results = tmp_path / "out"
+    process = run_snakemake("check", raw=str(raw), results=str(results))
+    assert process.returncode != 0
+    printed = [line for line in process.stderr.splitlines() if line.startswith("Error: ")]
+    log = results.joinpath(*CHECK_LOG)
+    assert len(printed) == 20
+    assert f"... and 5 more errors not shown here, every one in {log}" in process.stderr
+    logged = [line for line in log.read_text().splitlines() if line.startswith("Error: ")]
+    assert len(logged) == 25 and logged[:20] == printed
+    assert "Traceback" not in process.stdout + process.stderr
+
+
+@pytest.mark.e2e
 def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_available):
     """Snakemake's timestamps remember a passed check; an edit reruns it and only the
     jobs of the edited file; a later corruption is still caught, leaving the rest alone."""

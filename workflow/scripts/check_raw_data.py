@@ -18,8 +18,9 @@ from lineload.validation import InputError, check_dataset, report_lines
 TABLES = ("subjects", "profiles", "outlines", "forces")
 
 
-def check_raw_data(sheet, output, input_checks, window_mm, min_points):
-    """Check the folder of ``sheet``; write the summary. Returns the lines for the user."""
+def check_raw_data(sheet, output, log, input_checks, window_mm, min_points):
+    """Check the folder of ``sheet``; write the summary (or every problem into ``log``).
+    Returns the lines for the user: at most MAX_REPORTED errors and where the rest are."""
     raw_dir = os.path.dirname(sheet)  # as configured: the messages name it so
     schemas = {name: load_schema(name) for name in TABLES}
     try:
@@ -30,9 +31,11 @@ def check_raw_data(sheet, output, input_checks, window_mm, min_points):
             window=(window_mm, min_points),
         )
     except InputError as error:
+        for line in report_lines(error, limit=len(error.problems)):
+            print(line)  # every problem, into the log
         lines = report_lines(error)
-        for line in lines:
-            print(line)
+        if len(error.problems) > len(lines):
+            lines[-1] = lines[-1].replace("not shown", f"not shown here, every one in {log}")
         return lines, 1
     name = portable_path(raw_dir)
     summary = {
@@ -57,7 +60,10 @@ def check_raw_data(sheet, output, input_checks, window_mm, min_points):
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
         said, status = check_raw_data(
-            snakemake.input.sheet, snakemake.output[0], **read_json(snakemake.input.spec)
+            snakemake.input.sheet,
+            snakemake.output[0],
+            snakemake.log[0],
+            **read_json(snakemake.input.spec),
         )
     sys.stderr.write("".join(f"{line}\n" for line in said))  # the user sees them too
     sys.exit(status)
