@@ -121,3 +121,96 @@ def test_a_slice_of_the_committed_verdict_calibration_reproduces():
         assert row["n_wrong"] == group["wrong"].sum()
         if truth != "identity":
             assert row["n_holds"] == (group["verdict"] == HOLDS).sum()
+
+
+def true_verdict(world, effect, seed):
+    claim, _, family, _, placing = calibration.BOUNDARY_WORLDS[world]
+    table = calibration.reconstruction_claims(
+        seed, WINDOW_MM, PRIORS, MAX_TRIALS, placing, errors=False, subjects=family(effect)
+    )
+    return dict(zip(table["claim"], table["verdict"], strict=True))[claim]
+
+
+def test_each_boundary_world_crosses_its_claims_boundary_where_the_study_says():
+    # the committed effect of each world: on its failing side the claim's error-free verdict
+    # is not 'holds', one bisection step towards the holding end it is
+    summary = pd.read_csv(COMMITTED / "boundary.csv").drop_duplicates("world")
+    assert list(summary["world"]) == list(calibration.BOUNDARY_WORLDS)
+    for world, effect in zip(summary["world"], summary["effect"], strict=True):
+        _, _, _, (holds_at, fails_at), _ = calibration.BOUNDARY_WORLDS[world]
+        step = (holds_at - fails_at) * 2.0**-12
+        assert true_verdict(world, effect, (2026, 0)) != HOLDS, world
+        assert true_verdict(world, effect + step, (2026, 0)) == HOLDS, world
+
+
+def test_a_world_that_does_not_bracket_its_boundary_is_refused(monkeypatch):
+    claim, what, family, (holds_at, _), placing = calibration.BOUNDARY_WORLDS["sides-unequal"]
+    # both ends where the claim holds: no boundary between them to find
+    monkeypatch.setitem(
+        calibration.BOUNDARY_WORLDS,
+        "sides-unequal",
+        (claim, what, family, (holds_at, 0.0), placing),
+    )
+    with pytest.raises(ValueError, match=r"C2 should hold at t = -0\.03 and not at t = 0\.0"):
+        calibration.boundary_effect("sides-unequal", (2026, 0), WINDOW_MM, PRIORS, MAX_TRIALS)
+
+
+def test_a_slice_of_the_committed_boundary_calibration_reproduces():
+    # one world's bisection and first dataset rerun alone, as committed
+    with open(COMMITTED / "boundary_datasets.csv", newline="") as handle:
+        committed = [
+            row
+            for row in csv.DictReader(handle)
+            if row["world"] == "sides-unequal" and row["dataset"] == "0"
+        ]
+    rerun = calibration.boundary_study("sides-unequal", 2026, 1, WINDOW_MM, PRIORS, MAX_TRIALS)
+    assert [(r["claim"], r["truth"], r["verdict"]) for r in rerun] == [
+        (r["claim"], r["truth"], r["verdict"]) for r in committed
+    ]
+    assert rerun[0]["effect"] == pytest.approx(float(committed[0]["effect"]), abs=1e-9)
+    # the committed summary counts the committed datasets
+    datasets = pd.read_csv(COMMITTED / "boundary_datasets.csv")
+    summary = pd.read_csv(COMMITTED / "boundary.csv")
+    for _, row in summary.iterrows():
+        group = datasets[(datasets["world"] == row["world"]) & (datasets["truth"] == row["truth"])]
+        assert row["n_datasets"] == len(group)
+        assert row["n_holds"] == (group["verdict"] == HOLDS).sum()
+        assert row["n_wrong"] == group["wrong"].sum()
+
+
+def test_error_rates_name_each_claims_calibration_and_its_boundary():
+    study = rows(
+        (0, "C2", HOLDS, HOLDS),
+        (1, "C2", HOLDS, FAILS),
+        (0, "C7", IDENTITY, IDENTITY),
+        (1, "C7", IDENTITY, IDENTITY),
+    )
+    verdicts = pd.DataFrame(calibration.summarise_verdicts(study))
+    at_boundary = [
+        {"world": "sides-unequal", "effect": -0.1, **row}
+        for row in rows(
+            (0, "C2", FAILS, HOLDS),
+            (1, "C2", FAILS, FAILS),
+            (2, "C2", UNTESTABLE, HOLDS),
+            (3, "C2", HOLDS, HOLDS),  # this dataset's grid keeps the claim true: not counted
+        )
+    ]
+    for row in at_boundary:
+        row["wrong"] = row["verdict"] == HOLDS and row["truth"] != HOLDS
+    boundary = pd.DataFrame(calibration.summarise_boundary(at_boundary))
+    rates = calibration.claim_error_rates(verdicts, boundary)
+    assert list(rates) == ["C2"]  # the identity is not evidence
+    assert rates["C2"].startswith("wrong in 1 of 2 reconstructions")
+    assert rates["C2"].endswith(
+        "where the claim only just fails, 'holds' in 2 of 3 (95 % upper bound "
+        f"{100 * binomial_interval(2, 3)[1]:.1f} %)"
+    )
+    # claims.md gets a section with them, and none without
+    claims = pd.DataFrame(
+        [{"claim": "C2", "statement": "s", "paper_location": "p", "paper_value": "v",
+          "our_value": "o", "verdict": HOLDS, "reason": "r", "rule": "rule"}]
+    )  # fmt: skip
+    from lineload.claims import claims_markdown
+
+    assert f"- **C2**: {rates['C2']}." in claims_markdown(claims, error_rates=rates)
+    assert "How often each rule is wrong" not in claims_markdown(claims)

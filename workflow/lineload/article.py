@@ -16,8 +16,8 @@ import math
 import numpy as np
 
 from . import paper
+from .calibration import claim_error_rates
 from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
-from .coverage import binomial_interval
 from .tables import format_fixed, span_text
 
 __all__ = ["article_facts", "join_words", "number_words", "shown", "span_text"]
@@ -174,8 +174,8 @@ def article_facts(
     mechanics : pandas.DataFrame, optional
         The per-subject membrane mechanics, when the workflow made them.
     calibration : dict of pandas.DataFrame, optional
-        ``verdicts`` and ``coverage``: the calibration tables
-        (``docs/calibration/verdicts.csv`` and ``coverage.csv``).
+        ``verdicts``, ``coverage`` and optionally ``boundary``: the calibration
+        tables (``docs/calibration/verdicts.csv``, ``coverage.csv``, ``boundary.csv``).
 
     Returns
     -------
@@ -236,7 +236,9 @@ def article_facts(
     if mechanics is not None and len(mechanics):
         facts["mechanics"] = _mechanics_facts(mechanics)
     if calibration is not None:
-        facts["calibration"] = _calibration_facts(calibration["verdicts"], calibration["coverage"])
+        facts["calibration"] = _calibration_facts(
+            calibration["verdicts"], calibration["coverage"], calibration.get("boundary")
+        )
     return facts
 
 
@@ -245,8 +247,9 @@ def _percent(rate, low, high):
     return f"{100 * rate:.1f} ({100 * low:.1f}-{100 * high:.1f})"
 
 
-def _calibration_facts(verdicts, coverage):
-    """The verdict calibration per claim and truth, and the pooled coverage per parameter."""
+def _calibration_facts(verdicts, coverage, boundary=None):
+    """The verdict calibration per claim and truth, the verdicts at each claim's boundary
+    (where a boundary table is given) and the pooled coverage per parameter."""
     rows = []
     for _, row in verdicts[verdicts["claim"] != "any"].iterrows():
         identity = row["truth"] == "identity"
@@ -265,20 +268,25 @@ def _calibration_facts(verdicts, coverage):
         )
     every = verdicts[verdicts["claim"] == "any"].iloc[0]
     pooled = coverage[coverage["species"] == "all"]
-    by_claim = {}
-    for claim, group in verdicts[verdicts["claim"] != "any"].groupby("claim", sort=False):
-        if (group["truth"] == "identity").all():
-            continue
-        n, wrong = int(group["n_datasets"].sum()), int(group["n_wrong"].sum())
-        undecided = int(group["n_untestable"].sum())
-        high = binomial_interval(wrong, n)[1]
-        by_claim[str(claim)] = (
-            f"wrong in {wrong} of {n} reconstructions with fresh errors (95 % upper bound "
-            f"{100 * high:.1f} %), undecided in {undecided}"
-        )
+    at_boundary = []
+    if boundary is not None:
+        # only the datasets where the claim is not true: 'holds' there is wrong
+        for _, row in boundary[boundary["truth"] != "holds"].iterrows():
+            at_boundary.append(
+                {
+                    "claim": str(row["claim"]),
+                    "n": str(int(row["n_datasets"])),
+                    "holds": str(int(row["n_holds"])),
+                    "fails": str(int(row["n_fails"])),
+                    "untestable": str(int(row["n_untestable"])),
+                    "wrong": _percent(row["wrong_rate"], row["wrong_ci_low"], row["wrong_ci_high"]),
+                }
+            )
+    by_claim = claim_error_rates(verdicts, boundary)
     return {
         "by_claim": by_claim,
         "rows": rows,
+        "boundary": at_boundary,
         "n_datasets": str(int(every["n_datasets"])),
         "any_wrong": str(int(every["n_wrong"])),
         "any_rate": (

@@ -1581,8 +1581,9 @@ def summary_sentence(claims):
     return text + ("; " + "; ".join(extras) if extras else "") + "."
 
 
-def claims_markdown(claims, notice=""):
-    """The claims table as Markdown: a table of verdicts, then the rule of each claim.
+def claims_markdown(claims, notice="", error_rates=None):
+    """The claims table as Markdown: a table of verdicts, the rule of each claim, and
+    how often each rule was wrong in the calibration.
 
     Parameters
     ----------
@@ -1590,6 +1591,9 @@ def claims_markdown(claims, notice=""):
         Output of :func:`compute_claims`.
     notice : str, optional
         Data notice; when non-empty it is added as a footer line.
+    error_rates : dict, optional
+        Claim -> sentence, from :func:`lineload.calibration.claim_error_rates`
+        (the calibration kept in ``docs/calibration/``); no section if None.
 
     Returns
     -------
@@ -1620,4 +1624,18 @@ def claims_markdown(claims, notice=""):
     text += "".join(
         f"- **{r['claim']}**: {' '.join(r['rule'].split())}\n" for _, r in claims.iterrows()
     )
+    if error_rates:
+        text += (
+            "\n## How often each rule is wrong\n\n"
+            "Measured by `snakemake calibration` (kept in `docs/calibration/`) on the "
+            "synthetic reconstruction's design: its seven fingers and reading grids, read "
+            "again and again with fresh digitising errors, in its own world and in worlds "
+            "where a claim only just fails. The rates hold for other data as far as their "
+            "design and noise resemble it.\n\n"
+        )
+        text += "".join(
+            f"- **{claim}**: {error_rates[claim]}.\n"
+            for claim in claims["claim"]
+            if claim in error_rates
+        )
     return text + notice_footer(notice)

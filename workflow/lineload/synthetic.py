@@ -188,7 +188,8 @@ class SubjectParameters:
     exponent_shallow, exponent_deep : float
         Power ``p`` of the broad term at 0.5 and 2 mm depth (> 1).
     near_fraction_deep : float
-        Weight ``beta`` of the near-field term at 2 mm (0 at 0.5 mm).
+        Weight ``beta`` of the near-field term at 2 mm (at 0.5 mm:
+        ``near_fraction_shallow``).
     side_asymmetry : float
         ``a``: the left edge is ``e (1 + a)``, the right edge ``e (1 - a)``.
     resting_radius_mm : float or None
@@ -201,6 +202,12 @@ class SubjectParameters:
         Membrane stiffness ``E`` (modulus times thickness, N/mm).
     prestrain : float or None
         Pre-strain ``N0 / E`` of the membrane at rest.
+    near_fraction_shallow : float
+        Weight ``beta`` of the near-field term at 0.5 mm (0: the shipped fingers).
+    near_exponent : float
+        Power ``q`` of the near-field term (the shipped fingers: :data:`NEAR_EXPONENT`).
+        With ``p = 2``, ``q = 1`` and ``beta = 2/3`` at every depth the profile is
+        the waterbed's eq. 19 with ``L = 3 e`` up to its zero at ``L / 3``.
     """
 
     subject: str
@@ -218,6 +225,8 @@ class SubjectParameters:
     contact_length_mm: float | None = None
     stiffness_N_per_mm: float | None = None
     prestrain: float | None = None
+    near_fraction_shallow: float = 0.0
+    near_exponent: float = NEAR_EXPONENT
 
     @property
     def pretension_N_per_mm(self):
@@ -397,9 +406,9 @@ def draw_subjects(n_monkeys, n_humans, seed=DEFAULT_SEED):
 def trial_parameters(subject, depth_mm):
     """True-profile parameters of ``subject`` at ``depth_mm``.
 
-    ``e`` and ``p`` are interpolated linearly in depth between their 0.5 and
-    2 mm values, ``beta`` rises linearly from 0 at 0.5 mm to its 2 mm value
-    (depths outside [0.5, 2] mm take the nearer end).  Each side's edge is
+    ``e``, ``p`` and ``beta`` are interpolated linearly in depth between their
+    0.5 and 2 mm values (``beta`` is 0 at 0.5 mm for the shipped fingers; depths
+    outside [0.5, 2] mm take the nearer end).  Each side's edge is
     rounded to the 0.05 mm reading grid.
 
     Parameters
@@ -424,8 +433,12 @@ def trial_parameters(subject, depth_mm):
         extent_left_mm=on_grid(extent_mm * (1.0 + subject.side_asymmetry)),
         extent_right_mm=on_grid(extent_mm * (1.0 - subject.side_asymmetry)),
         exponent=round(exponent, 4),
-        near_fraction=round(t * subject.near_fraction_deep, 4),
-        near_exponent=NEAR_EXPONENT,
+        near_fraction=round(
+            subject.near_fraction_shallow
+            + t * (subject.near_fraction_deep - subject.near_fraction_shallow),
+            4,
+        ),
+        near_exponent=subject.near_exponent,
     )
 
 

@@ -24,13 +24,9 @@ rule article:
         checks=rules.sensitivity_tables.output.checks,
         noise=rules.noise.output[0],
         mechanics=rules.mechanics.output.subjects,
-        # the calibration tables kept in the repository (snakemake calibration remakes them)
-        verdict_calibration=os.path.relpath(
-            Path(workflow.basedir).parent / "docs" / "calibration" / "verdicts.csv"
-        ),
-        coverage=os.path.relpath(
-            Path(workflow.basedir).parent / "docs" / "calibration" / "coverage.csv"
-        ),
+        verdict_calibration=COMMITTED_CALIBRATION["verdicts"],
+        coverage=COMMITTED_CALIBRATION["coverage"],
+        boundary_calibration=COMMITTED_CALIBRATION["boundary"],
         figures=[f for f in FIGURE_FILES if f.endswith(".pdf")],
         code=code("write_article.py"),
     output:

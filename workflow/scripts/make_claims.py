@@ -4,6 +4,7 @@ import sys
 
 import pandas as pd
 
+from lineload.calibration import claim_error_rates
 from lineload.claims import (
     CLAIM_COLUMNS,
     ClaimSettings,
@@ -16,8 +17,11 @@ from lineload.noise import model_from_rows
 from lineload.validation import read_forces
 
 
-def make_claims(fits_path, averaged_paths, forces_paths, noise_path, outputs, settings, notice):
-    """Compute the claims from fits, averaged profiles, noise and forces; write CSV, Markdown."""
+def make_claims(inputs, outputs, settings, notice):
+    """Compute the claims from fits, averaged profiles, noise and forces; write CSV, Markdown
+    (with each rule's error rate from the committed calibration)."""
+    fits_path, averaged_paths, noise_path = inputs.fits, inputs.averaged, inputs.noise
+    forces_paths = list(inputs.forces)
     fits = read_results_csv(fits_path)
     averaged = pd.concat([read_results_csv(path) for path in averaged_paths], ignore_index=True)
     forces = read_forces(forces_paths[0]) if forces_paths else None
@@ -26,7 +30,11 @@ def make_claims(fits_path, averaged_paths, forces_paths, noise_path, outputs, se
         fits, averaged, ClaimSettings(**settings, noise_model=noise_model), forces=forces
     )
     write_csv(claims, outputs.csv, columns=CLAIM_COLUMNS)
-    write_text(claims_markdown(claims, notice), outputs.md)
+    error_rates = claim_error_rates(
+        read_results_csv(inputs.verdict_calibration),
+        read_results_csv(inputs.boundary_calibration),
+    )
+    write_text(claims_markdown(claims, notice, error_rates), outputs.md)
     for _, row in claims.iterrows():
         print(f"{row['claim']}: {row['verdict']} ({row['our_value']})")
 
@@ -34,14 +42,7 @@ def make_claims(fits_path, averaged_paths, forces_paths, noise_path, outputs, se
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
         try:
-            make_claims(
-                snakemake.input.fits,
-                snakemake.input.averaged,
-                list(snakemake.input.forces),
-                snakemake.input.noise,
-                snakemake.output,
-                **read_json(snakemake.input.spec),
-            )
+            make_claims(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
         except InternalError as error:
             # a bug, not a finding: one sentence where the user looks, no claims written
             print(f"Error: {error}")

@@ -70,6 +70,7 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
         {
             "verdicts": read_results_csv(inputs.verdict_calibration),
             "coverage": read_results_csv(inputs.coverage),
+            "boundary": read_results_csv(inputs.boundary_calibration),
         },
     )
     write_text(json_text(facts), outputs.facts)
