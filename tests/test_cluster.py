@@ -117,7 +117,8 @@ def stop(process, timeout_s=15):
 
 def test_killed_builds_stop_and_resume_to_the_same_files(tmp_path, small_build):
     """`kill` (SIGTERM) at many moments: the build and its jobs stop within seconds, and
-    `--rerun-incomplete` then ends with the same files as an uninterrupted build.
+    the plain command then ends with the same files as an uninterrupted build (the
+    workflow profile reruns incomplete jobs: no --rerun-incomplete to remember).
 
     Each chain's results folder goes through its moments in turn, in the order the
     build reaches them: each build starts where the killed one before it stopped and is
@@ -130,14 +131,14 @@ def test_killed_builds_stop_and_resume_to_the_same_files(tmp_path, small_build):
         results = tmp_path / f"chain-{number}" / "results"  # the reference folder's name
         for kind, when in chain:
             before = set(results.glob(when)) if kind == "file" else set()
-            process = start_build(raw, results, work, "--rerun-incomplete")
+            process = start_build(raw, results, work)
             if kind == "after":
                 time.sleep(when)
             else:
                 wait_for_new_file(process, results, when, before)
             os.kill(process.pid, signal.SIGTERM)
             stop(process)
-        resumed = run_snakemake("--rerun-incomplete", raw=raw, results=results, cwd=work)
+        resumed = run_snakemake(raw=raw, results=results, cwd=work)
         check_ok(resumed)
         assert build_outputs(results) == expected, chain
 
@@ -152,5 +153,5 @@ def test_hard_killed_build_resumes_after_unlock(tmp_path):
     process.wait(timeout=60)
     check_ok(run_snakemake("--unlock", raw=raw, results=results, cwd=work))
     # the locks are gone: a build gets through (the fit table, the first stages whole)
-    check_ok(run_snakemake("fits", "--rerun-incomplete", raw=raw, results=results, cwd=work))
+    check_ok(run_snakemake("fits", raw=raw, results=results, cwd=work))
     assert (results / "tables" / "fits.csv").is_file()
