@@ -300,6 +300,17 @@ def summarise_verdicts(rows):
     return summary
 
 
+#: The columns both calibration tables give each claim and truth.
+_COUNT_HEADER = [
+    "true verdict",
+    "datasets",
+    "holds",
+    "does not hold",
+    "cannot be checked",
+    "wrong (95 % CI)",
+]
+
+
 def _percent_interval(row):
     return (
         f"{100 * row['wrong_rate']:.1f} % "
@@ -311,15 +322,7 @@ def verdict_markdown(summary, command, notice=""):
     """The verdict calibration as a Markdown table with the command that made it."""
     from .tables import markdown_table
 
-    header = [
-        "claim",
-        "true verdict",
-        "datasets",
-        "holds",
-        "does not hold",
-        "cannot be checked",
-        "wrong (95 % CI)",
-    ]
+    header = ["claim", *_COUNT_HEADER]
     cells = []
     for row in summary:
         if row["claim"] == "any":
@@ -384,16 +387,21 @@ def _changed(subjects, change):
     return [replace(s, **change(s)) if change(s) else s for s in subjects]
 
 
-def _human_extents(t):
-    """C1: every human's deformed region ``t`` times as wide (1: the shipped humans)."""
+def _extents_scaled(t, chosen):
+    """The shipped fingers, the deformed region of each ``chosen`` one ``t`` times as wide."""
     return _changed(
         synthetic.shipped_subjects(),
         lambda s: (
             {"extent_shallow_mm": t * s.extent_shallow_mm, "extent_deep_mm": t * s.extent_deep_mm}
-            if s.species == "human"
+            if chosen(s)
             else None
         ),
     )
+
+
+def _human_extents(t):
+    """C1: every human's deformed region ``t`` times as wide (1: the shipped humans)."""
+    return _extents_scaled(t, lambda s: s.species == "human")
 
 
 def _side_asymmetry(t):
@@ -406,14 +414,7 @@ def _side_asymmetry(t):
 
 def _wider_h3(t):
     """C5: the third human's deformed region ``t`` times as wide (its L grows with it)."""
-    return _changed(
-        synthetic.shipped_subjects(),
-        lambda s: (
-            {"extent_shallow_mm": t * s.extent_shallow_mm, "extent_deep_mm": t * s.extent_deep_mm}
-            if s.subject == "H3"
-            else None
-        ),
-    )
+    return _extents_scaled(t, lambda s: s.subject == "H3")
 
 
 def _toward_waterbed(t):
@@ -608,16 +609,7 @@ def boundary_markdown(summary, command, notice=""):
     """The boundary study's summary as a Markdown table with the command that made it."""
     from .tables import markdown_table
 
-    header = [
-        "claim",
-        "world (effect t at the boundary)",
-        "true verdict",
-        "datasets",
-        "holds",
-        "does not hold",
-        "cannot be checked",
-        "wrong (95 % CI)",
-    ]
+    header = ["claim", "world (effect t at the boundary)", *_COUNT_HEADER]
     cells = [
         [
             row["claim"],
