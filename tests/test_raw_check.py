@@ -73,6 +73,40 @@ def test_the_check_target_prints_twenty_problems_and_logs_every_one(tmp_path, sn
 
 
 @pytest.mark.e2e
+def test_a_file_put_back_with_its_old_time_is_named_with_what_to_do(tmp_path, snakemake_available):
+    import os
+
+    raw = write_small_dataset(tmp_path / "raw")
+    results = tmp_path / "out"
+    first = run_snakemake("fits", raw=str(raw), results=str(results))
+    assert first.returncode == 0, first.stderr[-3000:]
+    profile = raw / "profiles" / "MK.csv"
+    old = profile.stat()
+    # another version of the file, put back with a time before the build (as cp -p or a
+    # backup would): Snakemake alone sees nothing to do
+    text = profile.read_text().replace("\n2,left,", "\n2,left,", 1) + "2,left,199.000,0.000\n"
+    profile.write_text(text)
+    os.utime(profile, ns=(old.st_atime_ns, old.st_mtime_ns - 10**9))
+    again = run_snakemake("fits", raw=str(raw), results=str(results))
+    assert again.returncode == 0, again.stderr[-3000:]
+    warnings = [line for line in again.stderr.splitlines() if line.startswith("Warning: ")]
+    assert warnings == [
+        f"Warning: {profile} differs from the file checked last time but is not newer than "
+        "the results, so Snakemake would keep them (was it put back with its old time, by "
+        f"cp -p, rsync or a backup?); run `touch {profile}` and build again to redo them"
+    ], again.stderr
+    assert "Nothing to be done" in again.stdout + again.stderr
+    # doing what it says redoes the file's results, and the warning goes
+    profile.touch()
+    redone = run_snakemake("fits", raw=str(raw), results=str(results))
+    assert redone.returncode == 0, redone.stderr[-3000:]
+    assert "prepare_profiles" in redone.stderr and "Warning: " not in redone.stderr
+    # an untouched folder gives no warning: the rule is not always on
+    quiet = run_snakemake("fits", raw=str(raw), results=str(results))
+    assert "Warning: " not in quiet.stderr
+
+
+@pytest.mark.e2e
 def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_available):
     """Snakemake's timestamps remember a passed check; an edit reruns it and only the
     jobs of the edited file; a later corruption is still caught, leaving the rest alone."""

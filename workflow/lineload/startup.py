@@ -15,6 +15,7 @@ job spec and no output.
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import sys
 from pathlib import Path
@@ -268,6 +269,77 @@ def _is_file(entry):
             f"{entry.path}: cannot be followed ({error.strerror}); expected a file, or "
             "nothing: remove the link"
         )
+
+
+def file_metadata(paths, raw_dir):
+    """Size and modification time (ns) of each raw file, keyed by its path in the folder.
+
+    The raw-data check records these for the files it checked
+    (:func:`restored_files` compares them at the next start).
+
+    Parameters
+    ----------
+    paths : iterable of str
+        Files under ``raw_dir``.
+    raw_dir : str
+
+    Returns
+    -------
+    dict
+        ``relative path -> [size, mtime_ns]``.
+    """
+    found = {}
+    for path in paths:
+        info = os.stat(path)
+        found[os.path.relpath(path, raw_dir)] = [info.st_size, info.st_mtime_ns]
+    return found
+
+
+def check_record(log_path):
+    """Where the raw-data check records the files it checked: beside its log.
+
+    Not a declared output or log (Snakemake would create or remove it with the
+    job): written only by a check that passes, read by :func:`restored_files`.
+    """
+    return os.path.join(os.path.dirname(log_path), "check_raw_data.files.json")
+
+
+def restored_files(paths, raw_dir, record_path, checked_path):
+    """Raw files that changed since the last check but look older than its results.
+
+    Snakemake reruns a job when an input is newer than its outputs.  A file
+    put back with its old time (``cp -p``, ``rsync -t``, a backup) is not, so
+    the results would silently stay those of the other bytes.  Such a file
+    differs in size or modification time from what the last check recorded,
+    yet is no newer than the check's summary.
+
+    Parameters
+    ----------
+    paths : iterable of str
+        The raw files now (:func:`list_raw_files`'s ``all``).
+    raw_dir : str
+    record_path : str
+        What the last successful check recorded (:func:`file_metadata`, JSON).
+    checked_path : str
+        The check's summary: its time is when the check ran.
+
+    Returns
+    -------
+    list of str
+        The paths of such files; empty without a record or a summary.
+    """
+    try:
+        with open(record_path, encoding="utf-8") as handle:
+            record = json.load(handle)
+        checked_ns = os.stat(checked_path).st_mtime_ns
+    except (OSError, ValueError):
+        return []
+    now = file_metadata(paths, raw_dir)
+    return [
+        os.path.join(raw_dir, name)
+        for name, (size, mtime_ns) in now.items()
+        if name in record and record[name] != [size, mtime_ns] and mtime_ns <= checked_ns
+    ]
 
 
 def notice_text(configured, notice_path):

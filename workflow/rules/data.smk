@@ -28,6 +28,23 @@ checkpoint check_raw_data:
         "../scripts/check_raw_data.py"
 
 
+# A raw file put back with its old time since the last check (cp -p, rsync, a backup):
+# Snakemake would not see it; say which, and how to have its results made again.
+if workflow.is_main_process:
+    for path in startup.restored_files(
+        RAW_FILES["all"],
+        RAW,
+        startup.check_record(rules.check_raw_data.log[0]),
+        rules.check_raw_data.output[0],
+    ):
+        print(
+            f"Warning: {path} differs from the file checked last time but is not newer than "
+            "the results, so Snakemake would keep them (was it put back with its old time, by "
+            f"cp -p, rsync or a backup?); run `touch {path}` and build again to redo them",
+            file=sys.stderr,
+        )
+
+
 rule prepare_profiles:
     """Convert a batch of subjects' readings to tissue mm and average the two sides."""
     input:

@@ -11,14 +11,14 @@ import os
 import sys
 
 from lineload.io import json_text, load_schema, output_to, read_json, write_text
-from lineload.startup import portable_path
+from lineload.startup import check_record, file_metadata, portable_path
 from lineload.validation import InputError, check_dataset, report_lines
 
 #: The tables of the data contract, each with its row schema.
 TABLES = ("subjects", "profiles", "outlines", "forces")
 
 
-def check_raw_data(sheet, output, log, input_checks, window_mm, min_points):
+def check_raw_data(sheet, files, output, log, input_checks, window_mm, min_points):
     """Check the folder of ``sheet``; write the summary (or every problem into ``log``).
     Returns the lines for the user: at most MAX_REPORTED errors and where the rest are."""
     raw_dir = os.path.dirname(sheet)  # as configured: the messages name it so
@@ -46,6 +46,9 @@ def check_raw_data(sheet, output, log, input_checks, window_mm, min_points):
         "warnings": [w.replace(f"{raw_dir}/", f"{name}/") for w in dataset["warnings"]],
     }
     write_text(json_text(summary), output)
+    # size and time of every file checked: a file later put back with an old time is
+    # noticed at the next start (lineload.startup.restored_files)
+    write_text(json_text(file_metadata([sheet, *files], raw_dir)), check_record(log))
     trials = sum(len(d) for d in dataset["depths_mm"].values())
     print(
         f"{raw_dir}: {len(dataset['depths_mm'])} subjects, {trials} profiles, "
@@ -61,6 +64,7 @@ if __name__ == "__main__":
     with output_to(snakemake.log[0]):
         said, status = check_raw_data(
             snakemake.input.sheet,
+            snakemake.input.files,
             snakemake.output[0],
             snakemake.log[0],
             **read_json(snakemake.input.spec),
