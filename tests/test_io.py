@@ -1,6 +1,8 @@
 """Output files: atomic, byte-stable, readable by others like any file the user writes."""
 
+import errno
 import os
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -147,3 +149,48 @@ def test_row_writer_without_quoted_cells_matches_the_pandas_writer(tmp_path):
     io.write_csv(pd.DataFrame(rows, columns=columns).astype({"n": "Int64"}), tmp_path / "f.csv")
     assert (tmp_path / "rows.csv").read_bytes() == (tmp_path / "f.csv").read_bytes()
     assert (tmp_path / "rows.csv").read_bytes() == b"subject,x_mm,n\nM1,0.25,3\nH1,,\n"
+
+
+@pytest.mark.parametrize(
+    ("code", "words"),
+    [
+        (errno.ENOSPC, "the disk is full"),
+        (errno.EROFS, "read-only disk"),
+        (errno.EACCES, "no permission"),
+    ],
+)
+def test_a_job_that_cannot_write_says_what_where_and_what_to_do(tmp_path, capfd, code, words):
+    log = tmp_path / "job.log"
+    with pytest.raises(SystemExit) as stopped, io.output_to(log):
+        raise OSError(code, os.strerror(code), str(tmp_path / "tables" / "fits.csv"))
+    assert stopped.value.code == 1
+    said = capfd.readouterr().err
+    assert said == (
+        f"Error: could not write {tmp_path / 'tables' / 'fits.csv'}: {os.strerror(code)}; "
+        + said.split("; ", 1)[1]
+    )
+    assert words in said and said.count("\n") == 1 and "Traceback" not in said
+    assert "Traceback" in log.read_text()  # the details stay in the job's log
+
+
+def test_a_figure_path_that_is_a_folder_is_one_sentence(tmp_path, capfd):
+    (tmp_path / "figure.pdf").mkdir()
+    with pytest.raises(SystemExit), io.output_to(tmp_path / "job.log"):
+        io.write_text("x", tmp_path / "figure.pdf")
+    said = capfd.readouterr().err
+    assert said.startswith(f"Error: could not write {tmp_path / 'figure.pdf'}")
+    assert "a folder stands where the file belongs" in said
+
+
+def test_other_errors_keep_their_traceback(tmp_path):
+    # an error the job cannot explain is a bug: it stays an exception, with its traceback
+    with pytest.raises(FileNotFoundError), io.output_to(tmp_path / "job.log"):
+        open(tmp_path / "missing.csv")
+
+
+def test_a_temporary_file_is_named_by_the_file_it_stands_for(tmp_path):
+    # a full disk fails while the temporary is written: the message names the output
+    with io.replaced_atomically(tmp_path / "fits.csv") as temporary:
+        assert io._destination(temporary) == str(tmp_path / "fits.csv")
+        Path(temporary).write_text("x")
+    assert io._destination(tmp_path / "notes.txt") == str(tmp_path / "notes.txt")

@@ -1231,6 +1231,33 @@ def test_folders_apart_are_accepted_and_nested_ones_refused(tmp_path):
     assert "key 'raw_data'" in folder_problem(str(raw / "a"), str(raw))
     assert "root of the file system" in folder_problem(str(raw), "/")
     assert "home folder" in folder_problem(str(raw), str(Path.home()))
+    # a results folder that cannot be made: under a file, or where nothing may be written
+    (tmp_path / "a-file").write_text("x")
+    said = folder_problem(str(raw), str(tmp_path / "a-file" / "results"))
+    assert "cannot be made" in said and "is a file" in said
+
+
+def test_a_results_folder_on_a_read_only_disk_is_refused_before_anything_runs(
+    tmp_path, monkeypatch
+):
+    # root may write anywhere and CI runs as root, so the operating system's answer for a
+    # read-only disk is played by os.access; the folder asked about is the nearest that exists
+    from lineload import startup
+
+    asked = []
+
+    def read_only(path, mode):
+        asked.append(Path(path))
+        return False
+
+    monkeypatch.setattr(startup.os, "access", read_only)
+    said = startup.folder_problem(str(tmp_path / "raw"), str(tmp_path / "new" / "results"))
+    assert asked == [tmp_path]
+    assert said == (
+        f"config, key 'results': {str(tmp_path / 'new' / 'results')!r} cannot be made, "
+        f"{str(tmp_path)!r} cannot be written (read-only or no permission); expected a "
+        "folder you can write to (--config results=...)"
+    )
 
 
 def test_a_huge_cell_is_echoed_cut_to_a_readable_length(tmp_path):

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import errno
 import functools
 import io
 import json
@@ -19,6 +20,7 @@ import numbers
 import os
 import re
 import signal
+import sys
 import tempfile
 import traceback
 import warnings
@@ -469,9 +471,41 @@ def output_to(log_path):
     ):
         try:
             yield log
+        except OSError as error:
+            hint = _WRITE_HINTS.get(error.errno)
+            with contextlib.suppress(OSError):  # a full disk may refuse the log too
+                traceback.print_exc()
+            if hint is None:
+                raise
+            # a sentence where the user looks, not a traceback: what, where, what to do
+            where = _destination(error.filename2 or error.filename or "a file")
+            sys.__stderr__.write(f"Error: could not write {where}: {error.strerror}; {hint}\n")
+            raise SystemExit(1) from None
         except BaseException:
             traceback.print_exc()
             raise
+
+
+def _destination(path):
+    """The file a temporary of :func:`replaced_atomically` stands for (else ``path``)."""
+    found = _TEMPORARY.fullmatch(os.path.basename(str(path)))
+    return os.path.join(os.path.dirname(str(path)), found.group(1)) if found else str(path)
+
+
+#: The name mkstemp gives a temporary of replaced_atomically: ``.<name>.<random>.tmp``.
+_TEMPORARY = re.compile(r"\.(.+)\.[A-Za-z0-9_]+\.tmp")
+
+#: What to do when a job cannot write its output, by errno.
+_WRITE_HINTS = {
+    errno.ENOSPC: "the disk is full: free some space and run the same command again",
+    errno.EDQUOT: "your disk quota is used up: free some space and run the same command again",
+    errno.EROFS: "the results folder is on a read-only disk: choose another (--config results=...)",
+    errno.EACCES: "no permission to write there: choose a results folder you can write to "
+    "(--config results=...)",
+    errno.EPERM: "no permission to write there: choose a results folder you can write to "
+    "(--config results=...)",
+    errno.EISDIR: "a folder stands where the file belongs: remove or rename it, then run again",
+}
 
 
 def concatenate_csv(paths, output):

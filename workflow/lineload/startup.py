@@ -135,7 +135,8 @@ def folder_problem(raw_dir, results_dir):
     the results may not be a file system's root or the home folder (every output would
     land among everything else there), the raw folder itself or inside it (derived files
     would mix with the data and be read as data), nor hold the raw folder (Snakemake
-    would find the raw files among its own outputs).
+    would find the raw files among its own outputs), and it must be a folder the
+    workflow can write (checked before anything is written).
 
     Parameters
     ----------
@@ -165,6 +166,18 @@ def folder_problem(raw_dir, results_dir):
         return (
             f"config, key 'raw_data': {raw_dir!r} lies inside the results folder "
             f"{results_dir!r}; expected the raw data outside the folder the workflow writes"
+        )
+    # the folder, or the nearest one above it that exists, must take new files
+    existing = next(folder for folder in (results, *results.parents) if folder.exists())
+    if not existing.is_dir() or not os.access(existing, os.W_OK | os.X_OK):
+        why = (
+            "is a file"
+            if not existing.is_dir()
+            else "cannot be written (read-only or no permission)"
+        )
+        return (
+            f"config, key 'results': {results_dir!r} cannot be made, {str(existing)!r} {why}; "
+            "expected a folder you can write to (--config results=...)"
         )
     return None
 
