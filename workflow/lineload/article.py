@@ -322,7 +322,8 @@ def _mechanics_facts(mechanics):
         {
             "subject": str(row["subject"]),
             "species": str(row["species"]),
-            "n_depths": str(int(row["n_depths"])),
+            # as many forces as constants: the fit passes through them, no scatter left
+            "n_depths": str(int(row["n_depths"])) + (" (exact)" if int(row["dof"]) == 0 else ""),
             "pretension": _with_error(row["pretension_N_per_mm"], row["pretension_se_N_per_mm"], 3),
             "stiffness": _with_error(row["stiffness_N_per_mm"], row["stiffness_se_N_per_mm"], 2),
             "prestrain": _with_error(row["prestrain"], row["prestrain_se"], 2),
@@ -334,5 +335,6 @@ def _mechanics_facts(mechanics):
         "n_subjects": len(rows),
         "n_words": number_words(len(rows)),
         "with_contact_lengths": with_lengths,
+        "any_exact": bool((mechanics["dof"].to_numpy(int) == 0).any()),
         "rows": rows,
     }
