@@ -504,3 +504,23 @@ def test_shipped_data_recover_the_generators_membranes(shipped_build):
     assert "stress-free rejected in 7 of 7" in claims.loc["C11", "our_value"]
     # H1 keeps nearly one L at every depth: even tension alone exceeds the paper's ratio
     assert re.search(r"H1 \d+\.\d / none", claims.loc["C11", "our_value"])
+
+
+def test_a_broken_profile_is_one_line_not_more_about_its_forces(tmp_path):
+    # MK's 2 mm rows have a depth no one can read: its forces at 2 mm are not
+    # "at a depth without a profile" as well (the lines would all be one mistake)
+    raw = write_small_dataset(tmp_path / "raw")
+    write_forces(raw, GOOD)
+    path = raw / "profiles" / "MK.csv"
+    lines = path.read_text().splitlines()
+    path.write_text("\n".join("two" + t[1:] if t.startswith("2,") else t for t in lines) + "\n")
+    with pytest.raises(InputError) as caught:
+        check_dataset(str(raw), SCHEMAS, raw_dir_shown="RAW")
+    assert len(caught.value.problems) == 1, caught.value.problems
+    assert caught.value.problems[0].startswith("RAW/profiles/MK.csv")
+    # a force at a depth the (sound) profile lacks is still refused
+    write_forces(raw, [*GOOD, "HU,2,0.9"])
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError) as caught:
+        check_dataset(str(raw), SCHEMAS, raw_dir_shown="RAW")
+    assert [p.split(",")[0] for p in caught.value.problems] == ["RAW/forces.csv"]

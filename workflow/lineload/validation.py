@@ -1180,6 +1180,7 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
         if id_pattern.search(s) and os.path.isfile(os.path.join(profile_dir, f"{s}.csv"))
     ]
     depths_mm, outlines = {}, {}
+    refused = set()  # subjects whose profile has a problem: their depths are not known
     for subject in listed:
         magnification = float(magnifications[subject])
         if not magnification > 0:  # refused on the sheet already
@@ -1188,6 +1189,7 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
         before = found.count()
         profile = read_columns(path, schemas["profiles"], path_shown, found)
         if profile is None:
+            refused.add(subject)
             continue
         if found.count() == before:  # keys a cell rule refused would repeat as NaN
             check_no_duplicate_readings(profile, path_shown, problems=found)
@@ -1200,6 +1202,8 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
             found,
         )
         depths_mm[subject] = sorted(float(d) for d in set(profile[0]["depth_mm"]) if d == d)
+        if found.count() > before:
+            refused.add(subject)
         if found.count() == before and magnification:  # only a profile that is otherwise fine
             check_deflection_near_wedge(
                 profile, path_shown, magnification, limits["deflection_factor"], found
@@ -1243,6 +1247,7 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
             shown,
             problems=found,
             force_max_N=limits["force_max_N"],
+            unknown_depths=refused,
         )
     sheet_ids = [str(s) for s in subjects["subject"]]
     for folder in ("profiles", "outlines"):
@@ -1261,7 +1266,14 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
 
 
 def check_forces(
-    raw_dir, schema, subjects, depths_mm, raw_dir_shown=None, problems=None, force_max_N=None
+    raw_dir,
+    schema,
+    subjects,
+    depths_mm,
+    raw_dir_shown=None,
+    problems=None,
+    force_max_N=None,
+    unknown_depths=(),
 ):
     """Check the optional ``forces.csv``: typed cells, known trials, one force per trial.
 
@@ -1282,6 +1294,9 @@ def check_forces(
     force_max_N : float, optional
         Largest plausible force (config ``input_checks: force_max_N``; the
         schema's default if None).
+    unknown_depths : collection of str, optional
+        Subjects whose profile was refused: their depths are not known, so a
+        force is not checked against them (one mistake, one line).
 
     Returns
     -------
@@ -1328,7 +1343,9 @@ def check_forces(
                 )
                 continue
             profile_depths = depths_mm.get(subject, [])
-            if not any(abs(depth_mm - d) <= 1e-9 * max(1.0, d) for d in profile_depths):
+            if subject in unknown_depths:
+                pass  # its profile's problem is reported already
+            elif not any(abs(depth_mm - d) <= 1e-9 * max(1.0, d) for d in profile_depths):
                 listed = ", ".join(f"{d:g}" for d in profile_depths)
                 found.error(
                     shown,
