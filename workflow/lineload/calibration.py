@@ -109,6 +109,62 @@ def _scaled_noise(scale):
     )
 
 
+def _reconstruction_fits(subjects, seed, window_mm, priors, max_trials, errors=True):
+    """One dataset of ``subjects`` read, averaged, its noise measured and fitted.
+
+    Returns
+    -------
+    tuple
+        ``(fits, averaged, noise)``: the fit table (a DataFrame, as rule
+        ``fit_models`` writes it), the averaged columns and the noise model
+        (the generator's times :data:`TRUTH_SCALE` without errors).
+    """
+    converted = [
+        tissue_columns(
+            synthetic.profile_table(subject, seed, errors=errors),
+            subject.subject,
+            synthetic.MAGNIFICATION,
+        )
+        for subject in subjects
+    ]
+    averaged = average_subjects(converted)
+    trials = _trials_of(averaged)
+    columns = {
+        name: np.asarray(averaged[name], dtype=float)
+        for name in ("distance_mm", "deflection_mm", "left_mm", "right_mm", "n_sides")
+    }
+    if errors:
+        differences = [
+            trial_differences(
+                columns["distance_mm"][rows],
+                columns["left_mm"][rows],
+                columns["right_mm"][rows],
+                window_mm,
+            )
+            for _, _, rows in trials
+        ]
+        rows = noise_rows(estimate_noise(differences, max_trials=max_trials), priors)
+        noise = model_from_rows(rows)
+    else:
+        noise = _scaled_noise(TRUTH_SCALE)
+    fitted = fit_trials(
+        [columns["distance_mm"][r] for *_, r in trials],
+        [columns["deflection_mm"][r] for *_, r in trials],
+        [depth for _, depth, _ in trials],
+        window_mm,
+        noise=noise,
+        n_sides=[columns["n_sides"][r] for *_, r in trials],
+    )
+    species = {subject.subject: subject.species for subject in subjects}
+    fits = pd.DataFrame(
+        [
+            {"subject": name, "species": species[name], **row}
+            for (name, _, _), row in zip(trials, fitted, strict=True)
+        ]
+    )
+    return fits, averaged, noise
+
+
 def reconstruction_claims(
     seed, window_mm, priors, max_trials, claims=None, errors=True, subjects=None
 ):
@@ -140,51 +196,12 @@ def reconstruction_claims(
         The claims table (columns of :data:`lineload.claims.CLAIM_COLUMNS`).
     """
     subjects = synthetic.shipped_subjects() if subjects is None else subjects
-    converted = [
-        tissue_columns(
-            synthetic.profile_table(subject, seed, errors=errors),
-            subject.subject,
-            synthetic.MAGNIFICATION,
-        )
-        for subject in subjects
-    ]
-    averaged = average_subjects(converted)
-    trials = _trials_of(averaged)
-    columns = {
-        name: np.asarray(averaged[name], dtype=float)
-        for name in ("distance_mm", "deflection_mm", "left_mm", "right_mm", "n_sides")
-    }
     settings = dict(claims or {})
-    if errors:
-        differences = [
-            trial_differences(
-                columns["distance_mm"][rows],
-                columns["left_mm"][rows],
-                columns["right_mm"][rows],
-                window_mm,
-            )
-            for _, _, rows in trials
-        ]
-        rows = noise_rows(estimate_noise(differences, max_trials=max_trials), priors)
-        noise = model_from_rows(rows)
-    else:
-        noise = _scaled_noise(TRUTH_SCALE)
+    if not errors:
         settings["noise_mm"] = None
         settings["force_sd_N"] = TRUTH_SCALE * ClaimSettings(**settings).force_sd_N
-    fitted = fit_trials(
-        [columns["distance_mm"][r] for *_, r in trials],
-        [columns["deflection_mm"][r] for *_, r in trials],
-        [depth for _, depth, _ in trials],
-        window_mm,
-        noise=noise,
-        n_sides=[columns["n_sides"][r] for *_, r in trials],
-    )
-    species = {subject.subject: subject.species for subject in subjects}
-    fits = pd.DataFrame(
-        [
-            {"subject": name, "species": species[name], **row}
-            for (name, _, _), row in zip(trials, fitted, strict=True)
-        ]
+    fits, averaged, noise = _reconstruction_fits(
+        subjects, seed, window_mm, priors, max_trials, errors
     )
     forces = synthetic.force_table(subjects, seed, errors=errors)
     return compute_claims(
