@@ -214,3 +214,25 @@ def test_error_rates_name_each_claims_calibration_and_its_boundary():
 
     assert f"- **C2**: {rates['C2']}." in claims_markdown(claims, error_rates=rates)
     assert "How often each rule is wrong" not in claims_markdown(claims)
+
+
+def test_a_slice_of_the_committed_mechanics_coverage_reproduces():
+    # dataset 0 of the committed study reruns alone to the same estimates and verdicts
+    committed = pd.read_csv(COMMITTED / "mechanics_coverage_subjects.csv")
+    committed = committed[committed["dataset"] == 0]
+    force_sd_N = config_defaults("mechanics")["force_sd_N"]
+    rerun = pd.DataFrame(
+        calibration.mechanics_study(2026, 1, WINDOW_MM, PRIORS, MAX_TRIALS, force_sd_N)
+    )
+    assert list(rerun["subject"]) == list(committed["subject"])
+    assert list(rerun["parameter"]) == list(committed["parameter"])
+    assert list(rerun["covered"]) == list(committed["covered"])
+    # the fits behind them stop at a relative 1e-9 or finer; the CSV keeps 10 digits
+    np.testing.assert_allclose(rerun["estimate"], committed["estimate"], rtol=1e-6)
+    np.testing.assert_allclose(rerun["truth"], committed["truth"], rtol=1e-9)
+    # the committed summary counts the committed subjects
+    subjects = pd.read_csv(COMMITTED / "mechanics_coverage_subjects.csv")
+    summary = pd.read_csv(COMMITTED / "mechanics_coverage.csv")
+    for _, row in summary[summary["fit"] == "all"].iterrows():
+        group = subjects[subjects["parameter"] == row["parameter"]]
+        assert (row["n"], row["n_covered"]) == (len(group), group["covered"].sum())

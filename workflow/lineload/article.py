@@ -237,7 +237,10 @@ def article_facts(
         facts["mechanics"] = _mechanics_facts(mechanics)
     if calibration is not None:
         facts["calibration"] = _calibration_facts(
-            calibration["verdicts"], calibration["coverage"], calibration.get("boundary")
+            calibration["verdicts"],
+            calibration["coverage"],
+            calibration.get("boundary"),
+            calibration.get("mechanics"),
         )
     return facts
 
@@ -247,9 +250,10 @@ def _percent(rate, low, high):
     return f"{100 * rate:.1f} ({100 * low:.1f}-{100 * high:.1f})"
 
 
-def _calibration_facts(verdicts, coverage, boundary=None):
+def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None):
     """The verdict calibration per claim and truth, the verdicts at each claim's boundary
-    (where a boundary table is given) and the pooled coverage per parameter."""
+    (where a boundary table is given), the pooled coverage per parameter and that of the
+    membrane's parameters (where given)."""
     rows = []
     for _, row in verdicts[verdicts["claim"] != "any"].iterrows():
         identity = row["truth"] == "identity"
@@ -283,10 +287,18 @@ def _calibration_facts(verdicts, coverage, boundary=None):
                 }
             )
     by_claim = claim_error_rates(verdicts, boundary)
+    membrane = {}
+    if mechanics is not None:
+        for _, row in mechanics[mechanics["fit"] == "all"].iterrows():
+            membrane[str(row["parameter"])] = _percent(
+                row["coverage"], row["ci_low"], row["ci_high"]
+            )
+            membrane["n"] = str(int(row["n"]))
     return {
         "by_claim": by_claim,
         "rows": rows,
         "boundary": at_boundary,
+        "membrane": membrane or None,
         "n_datasets": str(int(every["n_datasets"])),
         "any_wrong": str(int(every["n_wrong"])),
         "any_rate": (

@@ -27,6 +27,7 @@ rule article:
         verdict_calibration=COMMITTED_CALIBRATION["verdicts"],
         coverage=COMMITTED_CALIBRATION["coverage"],
         boundary_calibration=COMMITTED_CALIBRATION["boundary"],
+        mechanics_coverage=COMMITTED_CALIBRATION["mechanics_coverage"],
         figures=[f for f in FIGURE_FILES if f.endswith(".pdf")],
         code=code("write_article.py"),
     output:

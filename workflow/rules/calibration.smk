@@ -84,9 +84,37 @@ rule boundary_calibration:
         "../scripts/run_boundary_calibration.py"
 
 
+rule mechanics_coverage:
+    """Coverage of the membrane's N0, E and pre-strain on reconstructions with fresh errors."""
+    input:
+        spec=spec(
+            "mechanics_coverage",
+            seed=config["calibration"]["seed"],
+            datasets=config["calibration"]["verdict_datasets"],
+            window_mm=config["fit_window_mm"],
+            priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+            max_trials=config["noise"]["max_trials"],
+            force_sd_N=config["mechanics"]["force_sd_N"],
+        ),
+        code=code("run_mechanics_coverage.py"),
+    output:
+        subjects=result("calibration", "mechanics_coverage_subjects.csv"),
+        summary=result("calibration", "mechanics_coverage.csv"),
+        markdown=result("calibration", "mechanics_coverage.md"),
+    log:
+        result("logs", "mechanics_coverage.log"),
+    benchmark:
+        result("benchmarks", "mechanics_coverage.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/run_mechanics_coverage.py"
+
+
 rule calibration:
     """Every calibration: snakemake --cores 2 calibration."""
     input:
         rules.coverage.output,
         rules.verdict_calibration.output,
         rules.boundary_calibration.output,
+        rules.mechanics_coverage.output,

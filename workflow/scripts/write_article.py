@@ -71,6 +71,7 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
             "verdicts": read_results_csv(inputs.verdict_calibration),
             "coverage": read_results_csv(inputs.coverage),
             "boundary": read_results_csv(inputs.boundary_calibration),
+            "mechanics": read_results_csv(inputs.mechanics_coverage),
         },
     )
     write_text(json_text(facts), outputs.facts)

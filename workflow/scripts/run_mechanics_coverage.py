@@ -1,0 +1,30 @@
+"""Rule mechanics_coverage: do the membrane's intervals cover its true N0, E, pre-strain?"""
+
+from lineload.calibration import (
+    MECHANICS_COLUMNS,
+    MECHANICS_SUMMARY_COLUMNS,
+    mechanics_markdown,
+    mechanics_study,
+    summarise_mechanics,
+)
+from lineload.io import output_to, read_json, write_rows, write_text
+
+
+def mechanics_coverage(outputs, seed, datasets, window_mm, priors, max_trials, force_sd_N):
+    """Run the study; write every subject's estimates, the coverage and its Markdown."""
+    rows = mechanics_study(seed, datasets, window_mm, priors, max_trials, force_sd_N)
+    summary = summarise_mechanics(rows)
+    write_rows(rows, MECHANICS_COLUMNS, outputs.subjects)
+    write_rows(summary, MECHANICS_SUMMARY_COLUMNS, outputs.summary)
+    command = (
+        f"snakemake --cores 2 calibration --config calibration='{{seed: {seed}, "
+        f"verdict_datasets: {datasets}}}'"
+    )
+    write_text(mechanics_markdown(summary, command), outputs.markdown)
+    for row in summary:
+        print(f"{row['parameter']} ({row['fit']}): {row['n_covered']}/{row['n']}")
+
+
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        mechanics_coverage(snakemake.output, **read_json(snakemake.input.spec))
