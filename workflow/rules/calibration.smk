@@ -111,6 +111,34 @@ rule mechanics_coverage:
         "../scripts/run_mechanics_coverage.py"
 
 
+rule bootstrap:
+    """A parametric bootstrap of the data's own fits: do their intervals cover there?"""
+    input:
+        spec=spec(
+            "bootstrap",
+            seed=config["calibration"]["seed"],
+            replicates=config["calibration"]["bootstrap_replicates"],
+            window_mm=config["fit_window_mm"],
+            notice=NOTICE,
+        ),
+        fits=rules.fits_table.output[0],
+        noise=rules.noise.output[0],
+        averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
+        code=code("run_bootstrap.py"),
+    output:
+        trials=result("calibration", "bootstrap_trials.csv"),
+        summary=result("calibration", "bootstrap.csv"),
+        markdown=result("calibration", "bootstrap.md"),
+    log:
+        result("logs", "bootstrap.log"),
+    benchmark:
+        result("benchmarks", "bootstrap.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/run_bootstrap.py"
+
+
 rule calibration:
     """Every calibration: snakemake --cores 2 calibration."""
     input:
@@ -118,3 +146,4 @@ rule calibration:
         rules.verdict_calibration.output,
         rules.boundary_calibration.output,
         rules.mechanics_coverage.output,
+        rules.bootstrap.output,
