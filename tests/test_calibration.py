@@ -89,7 +89,13 @@ def test_summary_counts_each_verdict_and_only_opposite_ones_as_wrong():
     assert (summary["any"]["n_wrong"], summary["any"]["n_datasets"]) == (2, 4)
     # the article quotes each claim's rate beside its verdict; identities are not evidence
     coverage = pd.read_csv(COMMITTED / "coverage.csv")
-    facts = article._calibration_facts(pd.DataFrame(list(summary.values())), coverage)
+    bootstrap = pd.read_csv(COMMITTED / "bootstrap.csv")
+    facts = article._calibration_facts(
+        pd.DataFrame(list(summary.values())), coverage, bootstrap=bootstrap
+    )
+    # each table's rows where they belong: the coverage study's scenarios, the bootstrap's
+    assert {r["scenario"] for r in facts["coverage"]} == set(coverage["scenario"])
+    assert len(facts["bootstrap"]["rows"]) == (bootstrap["species"] == "all").sum()
     assert facts["by_claim"]["C1"].startswith("wrong in 1 of 4 reconstructions")
     assert facts["by_claim"]["C1"].endswith("undecided in 1")
     assert "C7" not in facts["by_claim"]

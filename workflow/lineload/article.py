@@ -241,6 +241,7 @@ def article_facts(
             calibration["coverage"],
             calibration.get("boundary"),
             calibration.get("mechanics"),
+            calibration.get("bootstrap"),
         )
     return facts
 
@@ -250,10 +251,10 @@ def _percent(rate, low, high):
     return f"{100 * rate:.1f} ({100 * low:.1f}-{100 * high:.1f})"
 
 
-def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None):
+def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None, bootstrap=None):
     """The verdict calibration per claim and truth, the verdicts at each claim's boundary
-    (where a boundary table is given), the pooled coverage per parameter and that of the
-    membrane's parameters (where given)."""
+    (where a boundary table is given), the pooled coverage per parameter, that of the
+    membrane's parameters and that of the parametric bootstrap (where given)."""
     rows = []
     for _, row in verdicts[verdicts["claim"] != "any"].iterrows():
         identity = row["truth"] == "identity"
@@ -294,11 +295,25 @@ def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None):
                 row["coverage"], row["ci_low"], row["ci_high"]
             )
             membrane["n"] = str(int(row["n"]))
+    resampled = None
+    if bootstrap is not None:
+        replicated = bootstrap[bootstrap["species"] == "all"]
+        resampled = {
+            "n": str(int(replicated["n_trials"].iloc[0])),
+            "rows": [
+                {
+                    "what": f"{row['model']} {str(row['parameter']).removesuffix('_mm')}",
+                    "coverage": _percent(row["coverage"], row["ci_low"], row["ci_high"]),
+                }
+                for _, row in replicated.iterrows()
+            ],
+        }
     return {
         "by_claim": by_claim,
         "rows": rows,
         "boundary": at_boundary,
         "membrane": membrane or None,
+        "bootstrap": resampled,
         "n_datasets": str(int(every["n_datasets"])),
         "any_wrong": str(int(every["n_wrong"])),
         "any_rate": (

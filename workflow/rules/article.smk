@@ -28,6 +28,7 @@ rule article:
         coverage=COMMITTED_CALIBRATION["coverage"],
         boundary_calibration=COMMITTED_CALIBRATION["boundary"],
         mechanics_coverage=COMMITTED_CALIBRATION["mechanics_coverage"],
+        bootstrap=COMMITTED_CALIBRATION["bootstrap"],
         figures=[f for f in FIGURE_FILES if f.endswith(".pdf")],
         code=code("write_article.py"),
     output:

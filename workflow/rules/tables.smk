@@ -5,7 +5,7 @@ COMMITTED_CALIBRATION = {
     name: os.path.relpath(
         Path(workflow.basedir).parent / "docs" / "calibration" / f"{name}.csv"
     )
-    for name in ("verdicts", "coverage", "boundary", "mechanics_coverage")
+    for name in ("verdicts", "coverage", "boundary", "mechanics_coverage", "bootstrap")
 }
 
 

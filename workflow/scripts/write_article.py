@@ -72,6 +72,7 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
             "coverage": read_results_csv(inputs.coverage),
             "boundary": read_results_csv(inputs.boundary_calibration),
             "mechanics": read_results_csv(inputs.mechanics_coverage),
+            "bootstrap": read_results_csv(inputs.bootstrap),
         },
     )
     write_text(json_text(facts), outputs.facts)
