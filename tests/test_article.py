@@ -84,6 +84,18 @@ def test_facts_follow_the_tables():
         fits, claims, checks, subjects, depths, settings, "Made up.", software
     )
     assert synthetic["data"]["synthetic"] and synthetic["data"]["notice"] == "Made up."
+    assert facts["built_in"] is None and synthetic["built_in"] is None
+    # the generator's own list, when given, names what it built in and what follows
+    built_in = [
+        {"claim": "C1", "how": "tuned"},
+        {"claim": "C3", "how": "follows"},
+        {"claim": "C7", "how": "identity"},
+        {"claim": "C9", "how": "tuned"},
+    ]
+    listed = article_facts(
+        fits, claims, checks, subjects, depths, settings, "Made up.", software, built_in=built_in
+    )
+    assert listed["built_in"] == {"tuned": "C1 and C9", "follows": "C3"}
 
 
 def pdf_text(path):
@@ -113,3 +125,22 @@ def test_article_reports_the_claims_table_and_the_data(build, request):
         assert "These results come from synthetic data." in text and notice in text
     else:
         assert "synthetic" not in text.lower()
+
+
+def test_a_subject_measured_at_fewer_depths_is_named_not_folded_into_its_species():
+    from lineload.article import _group_depths_text
+
+    depths = {"H1": [0.5, 1.0, 1.5, 2.0], "H2": [0.5, 1.0, 1.5, 2.0], "H3": [1.0, 2.0]}
+    assert _group_depths_text(["H1", "H2", "H3"], depths) == (
+        "0.5, 1, 1.5 and 2 mm (H3: 1 and 2 mm)"
+    )
+    assert _group_depths_text(["H1", "H2"], depths) == "0.5, 1, 1.5 and 2 mm"
+
+
+def test_claim_lists_name_every_item_up_to_a_dozen():
+    from lineload.claims import _list
+
+    trials = [f"M{k} at 2 mm" for k in range(1, 9)]
+    assert _list(trials) == ", ".join(trials[:-1]) + " and M8 at 2 mm"  # all eight named
+    many = [f"S{k}" for k in range(1, 15)]
+    assert _list(many).endswith("S12 and 2 more (claims.csv per trial)")

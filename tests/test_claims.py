@@ -480,7 +480,7 @@ def test_c8_tests_the_slope_of_the_excess_misfit_across_subjects():
 
 def test_c9_needs_the_readings_below_every_fitted_curve():
     depth_mm = 2.0
-    # readings below all three curves of the fit table
+    # readings deflected less than all three curves of the fit table
     fits = table([fit_row("A", "monkey", depth_mm, shifted_L_mm=12.5, arc_L_mm=12.3)])
     lowest = np.minimum.reduce(
         [

@@ -18,7 +18,7 @@ import numpy as np
 from . import paper
 from .calibration import claim_error_rates
 from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
-from .tables import format_fixed, span_text
+from .tables import format_fixed, join_words, span_text
 
 __all__ = ["article_facts", "join_words", "number_words", "shown", "span_text"]
 
@@ -30,14 +30,6 @@ def number_words(count):
     """``3`` -> ``"three"`` up to ten, digits beyond."""
     count = int(count)
     return _WORDS[count] if 0 <= count < len(_WORDS) else str(count)
-
-
-def join_words(items):
-    """``["a", "b", "c"]`` -> ``"a, b and c"``."""
-    items = [str(item) for item in items]
-    if len(items) <= 1:
-        return "".join(items)
-    return ", ".join(items[:-1]) + " and " + items[-1]
 
 
 def shown(value):
@@ -60,6 +52,24 @@ def _depths_text(depths_mm):
     return join_words(f"{d:g}" for d in sorted(set(depths_mm))) + " mm"
 
 
+def _group_depths_text(members, depths_mm):
+    """The depths most of ``members`` have, then each other set with its subjects.
+
+    ``0.5, 1, 1.5 and 2 mm (H3: 1 and 2 mm)``: a subject measured at fewer depths
+    than the rest of its species is named, never folded into the others' depths.
+    """
+    sets = {}
+    for subject in members:
+        sets.setdefault(tuple(sorted(set(depths_mm[subject]))), []).append(subject)
+    common = max(sets, key=lambda key: len(sets[key]))
+    others = [
+        f"{join_words(subjects)}: {_depths_text(key)}"
+        for key, subjects in sets.items()
+        if key != common
+    ]
+    return _depths_text(common) + (f" ({'; '.join(others)})" if others else "")
+
+
 def _plural(species, count):
     return species if count == 1 else f"{species}s"
 
@@ -75,14 +85,13 @@ def _data_facts(subjects, depths_mm, notice):
     groups = []
     for species in order:
         members = by_species[species]
-        depths = sorted({d for s in members for d in depths_mm[s]})
         groups.append(
             {
                 "species": species,
                 "count": len(members),
                 "count_words": f"{number_words(len(members))} {_plural(species, len(members))}",
                 "subjects": join_words(members),
-                "depths": _depths_text(depths),
+                "depths": _group_depths_text(members, depths_mm),
                 "n_trials": sum(len(depths_mm[s]) for s in members),
             }
         )
@@ -152,6 +161,7 @@ def article_facts(
     software,
     mechanics=None,
     calibration=None,
+    built_in=None,
 ):
     """Every number and data-dependent phrase of the article.
 
@@ -173,6 +183,9 @@ def article_facts(
         from the provenance record.
     mechanics : pandas.DataFrame, optional
         The per-subject membrane mechanics, when the workflow made them.
+    built_in : list of dict, optional
+        ``data/built_in_verdicts.json`` of the generator (``claim`` and ``how``:
+        ``tuned``, ``follows`` or ``identity``), for its reconstruction.
     calibration : dict of pandas.DataFrame, optional
         ``verdicts``, ``coverage`` and optionally ``boundary``: the calibration
         tables (``docs/calibration/verdicts.csv``, ``coverage.csv``, ``boundary.csv``).
@@ -224,6 +237,12 @@ def article_facts(
         },
         "mechanics": None,
         "calibration": None,
+        "built_in": None
+        if built_in is None
+        else {
+            how: join_words(r["claim"] for r in built_in if r["how"] == how)
+            for how in ("tuned", "follows")
+        },
         "software": {
             "python": str(software["python"]),
             "packages": {name: str(v) for name, v in software["packages"].items() if v},

@@ -57,7 +57,7 @@ from .models import (
 )
 from .noise import NoiseModel
 from .sensitivity import curve_gap_mm
-from .tables import format_fixed, markdown_table, notice_footer
+from .tables import format_fixed, join_words, markdown_table, notice_footer
 from .tables import span_text as _span
 
 __all__ = [
@@ -169,7 +169,8 @@ CLAIM_TEXT = {
         "At the larger depths the measured deflection within about 3 mm of the load is "
         "smaller than the waterbed predicts, i.e. the fingertip is stiffer than the model.",
         "Discussion, third (last) paragraph (last sentence); Figs 6 and 7",
-        "data within 3 mm below the model curve at the higher depths, in all cases shown",
+        "data within 3 mm deflected less than the model curve at the higher depths, in all cases "
+        "shown",
     ),
     "C10": (
         "Skin that does not touch the indenter takes a circular (constant-curvature) shape.",
@@ -265,11 +266,16 @@ def _every(count, noun, plural=None):
     return f"the one {noun}" if count == 1 else f"all {count} {plural or noun + 's'}"
 
 
-def _list(labels, limit=6):
-    """'a, b, c' with at most ``limit`` items and a count of the rest."""
+def _list(labels, limit=12):
+    """'a, b and c': every item up to ``limit``; beyond it the first ones and a count.
+
+    A dataset of thousands of trials cannot be listed in a sentence: then the
+    first ``limit`` are named and the rest counted (claims.csv holds each trial).
+    """
     labels = list(labels)
-    shown = ", ".join(labels[:limit])
-    return shown + (f" and {len(labels) - limit} more" if len(labels) > limit else "")
+    if len(labels) <= limit:
+        return join_words(labels)
+    return ", ".join(labels[:limit]) + f" and {len(labels) - limit} more (claims.csv per trial)"
 
 
 def _row(claim, our_value, verdict, reason, rule):
@@ -1167,18 +1173,20 @@ def _p_text(p_value):
 
 
 def claim_c9(fits, averaged, settings):
-    """C9: at larger depths the data lie below the waterbed near the load, in any coordinates."""
+    """C9: at larger depths the data are deflected less than the waterbed near the load, in any
+    coordinates."""
     large = settings.large_depth_mm
     models = (PAPER_FIT, *CONSISTENT_FITS)
     rule = (
         f"Per trial at depth >= large_depth_mm = {large:g} mm: the fraction of the fitted "
         "points (the fit window) whose deflection is smaller than the fitted curve, and the "
         "mean residual, for the paper's procedure and for the two fits in measured "
-        "coordinates (shifted parabola, exact arc). Below = more than half the points below "
-        "and a negative mean residual. Holds if the readings are below all three curves in "
-        "every such trial; does not hold otherwise, and the reason says whether the readings "
-        "sit below the paper's curve only (then 'stiffer than the model' is an artefact of "
-        "the coordinates)."
+        "coordinates (shifted parabola, exact arc). Short of a curve = more than half the points "
+        "deflected less than it and a negative mean residual (in the figures, whose deflection "
+        "axis points down, such points sit above the curve). Holds if the readings fall short "
+        "of all three curves in every such trial; does not hold otherwise, and the reason says "
+        "whether they fall short of the paper's curve only (then 'stiffer than the model' is "
+        "an artefact of the coordinates)."
     )
     below = {m: [] for m in models}
     fractions = {m: [] for m in models}
@@ -1207,14 +1215,14 @@ def claim_c9(fits, averaged, settings):
         )
     our = "; ".join(
         f"{FIT_WORDS[m]}: {_pct(min(fractions[m]), 0)} to {_pct(max(fractions[m]), 0)} of "
-        f"points below, below in {sum(below[m])} of {len(labels)} trials"
+        f"points deflected less, short of the curve in {sum(below[m])} of {len(labels)} trials"
         for m in models
     )
     everywhere = [all(below[m][i] for m in models) for i in range(len(labels))]
     if all(everywhere):
         reason = (
             f"In {_every(len(labels), 'trial')} at {large:g} mm or deeper most readings lie "
-            "below the fitted curve, whichever coordinates the curve is placed in."
+            "deflected less than the fitted curve, whichever coordinates the curve is placed in."
         )
         return _row("C9", our, HOLDS, reason, rule)
     not_paper, coordinates, finite = [], [], []
@@ -1227,16 +1235,16 @@ def claim_c9(fits, averaged, settings):
             finite.append(lab)
     parts = []
     if not_paper:
-        parts.append(f"the readings are not below the paper's curve in {_list(not_paper)}")
+        parts.append(f"the readings do not fall short of the paper's curve in {_list(not_paper)}")
     if coordinates:
         parts.append(
-            f"in {_list(coordinates)} they are below the paper's curve but not below the same "
+            f"in {_list(coordinates)} they fall short of the paper's curve but not of the same "
             "parabola placed in measured coordinates, so there the 'stiffer' reading is an "
             f"artefact of the paper's coordinates ({COORDINATES_FIGURE})"
         )
     if finite:
         parts.append(
-            f"in {_list(finite)} they are below both parabolas but not below the exact arc, so "
+            f"in {_list(finite)} they fall short of both parabolas but not of the exact arc, so "
             "there it comes from the small-slope approximation rather than the fingertip"
         )
     reason = "; ".join(parts)

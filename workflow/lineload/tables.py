@@ -211,6 +211,14 @@ def escape_latex(text):
 _HTML_OPENING = re.compile(r"<(?=[A-Za-z/!?])")
 
 
+def join_words(items):
+    """``["a", "b", "c"]`` -> ``"a, b and c"``."""
+    items = [str(item) for item in items]
+    if len(items) <= 1:
+        return "".join(items)
+    return ", ".join(items[:-1]) + " and " + items[-1]
+
+
 def escape_markdown(text):
     """Make text safe inside a Markdown table cell (pipes escaped, one line, no HTML).
 

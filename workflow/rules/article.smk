@@ -29,6 +29,10 @@ rule article:
         boundary_calibration=COMMITTED_CALIBRATION["boundary"],
         mechanics_coverage=COMMITTED_CALIBRATION["mechanics_coverage"],
         bootstrap=COMMITTED_CALIBRATION["bootstrap"],
+        # what the reconstruction's generator built in (read only for its data)
+        built_in=os.path.relpath(
+            Path(workflow.basedir).parent / "data" / "built_in_verdicts.json"
+        ),
         figures=[f for f in FIGURE_FILES if f.endswith(".pdf")],
         code=code("write_article.py"),
     output:

@@ -25,6 +25,7 @@ from lineload.io import (
 )
 from lineload.noise import reading_noise_mm
 from lineload.provenance import git_state, package_versions
+from lineload.synthetic import DATA_NOTICE
 
 
 def compile_pdf(source, root):
@@ -74,6 +75,8 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
             "mechanics": read_results_csv(inputs.mechanics_coverage),
             "bootstrap": read_results_csv(inputs.bootstrap),
         },
+        # the generator's own list of what it built in: for its reconstruction only
+        read_json(inputs.built_in) if notice == DATA_NOTICE.splitlines()[0] else None,
     )
     write_text(json_text(facts), outputs.facts)
     with replaced_atomically(outputs.source) as temporary:
