@@ -874,7 +874,10 @@ def test_each_group_reads_the_tables_its_figures_take():
         "mechanics_trials",
         "noise",
     )
-    assert registry.arguments_of_group("schematics") == ("notice", "schematic_depth_ratio")
+    # the schematics show no data: the data notice is not theirs (nor a reason to redraw)
+    assert registry.arguments_of_group("schematics") == ("schematic_depth_ratio",)
+    for figure in registry.figures_in_group("schematics"):
+        assert dict(figure.fixed) == {"footer": registry.MODEL_FOOTER}
     assert registry.arguments_of_group("fits", "dataset") == ("subjects",)
 
 

@@ -160,6 +160,10 @@ class Figure:
 #: (Figures 6 and 7, the residual supplement).
 _PROFILES_AND_FITS = ("averaged", "fits", "subjects", "fit_window_mm", "notice")
 
+#: The footer of the schematics: drawn from the equations, they show no data, so the data
+#: notice is not theirs (a reader would take them for measurements).
+MODEL_FOOTER = "Drawn from the model's equations; no measurements are shown."
+
 #: Every figure: the paper's in its order, then the supplements.
 FIGURES = (
     Figure(
@@ -192,7 +196,8 @@ FIGURES = (
         "schematics",
         "schematics",
         "figure_channel_schematic",
-        ("schematic_depth_ratio", "notice"),
+        ("schematic_depth_ratio",),
+        fixed=(("footer", MODEL_FOOTER),),
         title="The waterbed model: a membrane over fluid in a rigid channel, under a line load",
     ),
     Figure(
@@ -200,7 +205,8 @@ FIGURES = (
         "schematics",
         "schematics",
         "figure_material_point",
-        ("schematic_depth_ratio", "notice"),
+        ("schematic_depth_ratio",),
+        fixed=(("footer", MODEL_FOOTER),),
         title="Where a point of the membrane moves: from (X, 0) to (X + U, W)",
     ),
     Figure(
@@ -208,7 +214,8 @@ FIGURES = (
         "schematics",
         "schematics",
         "figure_free_body",
-        ("schematic_depth_ratio", "notice"),
+        ("schematic_depth_ratio",),
+        fixed=(("footer", MODEL_FOOTER),),
         title="Force balance at the load and on a small piece of membrane",
     ),
     Figure(

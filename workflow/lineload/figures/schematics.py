@@ -6,7 +6,7 @@ units of the membrane half-width ``L``, and returns a
 :class:`matplotlib.figure.Figure`.
 
 gids: ``membrane-rest`` and ``membrane-deformed`` (Figures 3 and 4),
-``point-initial`` and ``point-final`` (Figure 4), ``footer`` for the data notice.
+``point-initial`` and ``point-final`` (Figure 4), ``footer`` for the footer.
 """
 
 from __future__ import annotations
@@ -106,7 +106,7 @@ def _same_box_aspect(limits):
 
 
 @styled
-def figure_channel_schematic(schematic_depth_ratio, notice=""):
+def figure_channel_schematic(schematic_depth_ratio, footer=""):
     """Figure 3: the waterbed model, drawn from eq. 19 at a given W0/L.
 
     A membrane of half-width ``L`` spans a rigid channel filled with
@@ -118,8 +118,9 @@ def figure_channel_schematic(schematic_depth_ratio, notice=""):
     ----------
     schematic_depth_ratio : float
         W0 / L at which the deformed membrane is drawn (0 < ratio <= 0.4).
-    notice : str
-        Footer text; empty for none.
+    footer : str
+        Footer text; empty for none (the workflow writes that the figure is drawn
+        from the equations: the data notice is not a schematic's).
 
     Returns
     -------
@@ -243,7 +244,7 @@ def figure_channel_schematic(schematic_depth_ratio, notice=""):
     ax.set_ylim(floor - wall - 0.12, top + 0.07)
     ax.set_xlabel("X / L")
     ax.set_ylabel("Z / L (height; W = −Z)")
-    add_footer(fig, notice)
+    add_footer(fig, footer)
     return fig
 
 
@@ -278,15 +279,16 @@ def shift_exaggeration_for(depth_ratio, point_X_over_L, target_fraction=0.35):
 
 
 @styled
-def figure_material_point(schematic_depth_ratio, notice=""):
+def figure_material_point(schematic_depth_ratio, footer=""):
     """Figure 4: a material point at (X, 0) moves to (X + U, W) (eqs. 19 and 20).
 
     Parameters
     ----------
     schematic_depth_ratio : float
         W0 / L at which the membrane is drawn.
-    notice : str
-        Footer text; empty for none.
+    footer : str
+        Footer text; empty for none (the workflow writes that the figure is drawn
+        from the equations: the data notice is not a schematic's).
 
     Returns
     -------
@@ -382,7 +384,7 @@ def figure_material_point(schematic_depth_ratio, notice=""):
         Line2D([], [], color=DATA_COLOUR, label=f"deformed membrane (U drawn {k:g}×)"),
     ]
     fig.legend(handles=handles, loc="outside upper center", ncols=2)
-    add_footer(fig, notice)
+    add_footer(fig, footer)
     return fig
 
 
@@ -390,7 +392,7 @@ def figure_material_point(schematic_depth_ratio, notice=""):
 
 
 @styled
-def figure_free_body(schematic_depth_ratio, notice=""):
+def figure_free_body(schematic_depth_ratio, footer=""):
     """Figure 5: free-body diagrams at the load (A) and of a membrane element (B).
 
     (A) The load F is held by the two membrane forces N, each at the angle
@@ -403,8 +405,9 @@ def figure_free_body(schematic_depth_ratio, notice=""):
     ----------
     schematic_depth_ratio : float
         W0 / L of the solution the angles and radius come from.
-    notice : str
-        Footer text; empty for none.
+    footer : str
+        Footer text; empty for none (the workflow writes that the figure is drawn
+        from the equations: the data notice is not a schematic's).
 
     Returns
     -------
@@ -538,5 +541,5 @@ def figure_free_body(schematic_depth_ratio, notice=""):
         ax.set_ylim(*y_lim)
         ax.set_aspect("equal")
         ax.set_axis_off()
-    add_footer(fig, notice)
+    add_footer(fig, footer)
     return fig
