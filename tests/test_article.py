@@ -144,3 +144,24 @@ def test_claim_lists_name_every_item_up_to_a_dozen():
     assert _list(trials) == ", ".join(trials[:-1]) + " and M8 at 2 mm"  # all eight named
     many = [f"S{k}" for k in range(1, 15)]
     assert _list(many).endswith("S12 and 2 more (claims.csv per trial)")
+
+
+def test_the_appendix_prints_each_trials_fits_up_to_its_limit():
+    from lineload import article
+
+    def trial(k):
+        return {
+            "subject": f"S{k}", "depth_mm": 1.0,
+            "waterbed_L_mm": 12.0, "waterbed_L_ci_low_mm": 11.5,
+            "waterbed_L_ci_high_mm": float("inf") if k == 1 else 12.5,
+            "arc_L_mm": float("nan") if k == 2 else 12.2, "arc_L_ci_low_mm": 11.7,
+            "arc_L_ci_high_mm": 12.7, "waterbed_rmse_mm": 0.0123, "boussinesq_rmse_mm": 0.05,
+        }  # fmt: skip
+
+    fits = pd.DataFrame([trial(k) for k in range(article.APPENDIX_TRIALS + 5)])
+    facts = article._trial_facts(fits)
+    assert (facts["n"], facts["shown"]) == (article.APPENDIX_TRIALS + 5, article.APPENDIX_TRIALS)
+    first, second, third = facts["rows"][:3]
+    assert first["waterbed"] == "12.00 [11.50, 12.50]" and first["rmse_waterbed"] == "12.3"
+    assert second["waterbed"] == "12.00 [11.50, open]"  # an interval that does not close
+    assert third["arc"] == "–"  # a fit that gave no L

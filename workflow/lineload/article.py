@@ -237,6 +237,7 @@ def article_facts(
         },
         "mechanics": None,
         "calibration": None,
+        "trials": _trial_facts(fits),
         "built_in": None
         if built_in is None
         else {
@@ -350,6 +351,45 @@ def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None, bootst
             for _, row in pooled.iterrows()
         ],
     }
+
+
+#: Trials printed in the article's appendix; a larger dataset's others are in fits.csv.
+APPENDIX_TRIALS = 60
+
+
+def _interval_text(value, low, high, decimals=2):
+    """``12.34 [11.90, 12.80]``; ``-`` for a value not fitted, ``open`` for an open end."""
+    if not math.isfinite(value):
+        return "–"
+    ends = [format_fixed(v, decimals) if math.isfinite(v) else "open" for v in (low, high)]
+    return f"{format_fixed(value, decimals)} [{ends[0]}, {ends[1]}]"
+
+
+def _trial_facts(fits):
+    """Every trial's L of each waterbed fit with its 95 % interval, and both models' RMSE.
+
+    A reviewer finds in print each number a figure shows; beyond
+    :data:`APPENDIX_TRIALS` trials the rest are left to ``tables/fits.csv``.
+    """
+    rows = []
+    for _, row in fits.head(APPENDIX_TRIALS).iterrows():
+        rows.append(
+            {
+                "subject": str(row["subject"]),
+                "depth": f"{float(row['depth_mm']):g}",
+                **{
+                    model: _interval_text(
+                        float(row[f"{model}_L_mm"]),
+                        float(row[f"{model}_L_ci_low_mm"]),
+                        float(row[f"{model}_L_ci_high_mm"]),
+                    )
+                    for model in ("waterbed", "arc")
+                },
+                "rmse_waterbed": format_fixed(1000 * float(row["waterbed_rmse_mm"]), 1),
+                "rmse_boussinesq": format_fixed(1000 * float(row["boussinesq_rmse_mm"]), 1),
+            }
+        )
+    return {"rows": rows, "n": len(fits), "shown": len(rows)}
 
 
 def _with_error(value, error, decimals):
