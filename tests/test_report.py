@@ -83,7 +83,7 @@ def test_report_reads_as_a_reviewer_needs(tmp_path, browser, build, request):
     for i, (claim, verdict) in enumerate(zip(claims["claim"], claims["verdict"], strict=True)):
         cells = rows.nth(i).locator("td").all_inner_texts()
         assert cells[0] == claim and verdict in cells, (claim, verdict, cells[:6])
-    assert "quantitative statements" in text  # the caption, on the page
+    assert "Every statement of the paper the claims table tests" in text  # the caption
     # a figure with its caption beside it
     frame, text = open_item(
         page,

@@ -18,6 +18,7 @@ rule article:
             notice=NOTICE,
         ),
         source=os.path.relpath(Path(workflow.basedir, "article", "reproduction.typ")),
+        references=os.path.relpath(Path(workflow.basedir, "article", "references.yml")),
         checked=checked_raw_data,
         fits=rules.fits_table.output[0],
         claims=rules.claims_table.output.csv,
@@ -44,6 +45,7 @@ rule article:
         ),
         facts=result("article", "facts.json"),
         source=result("article", "reproduction.typ"),
+        references=result("article", "references.yml"),
     log:
         result("logs", "article.log"),
     benchmark:

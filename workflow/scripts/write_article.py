@@ -81,6 +81,8 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
     write_text(json_text(facts), outputs.facts)
     with replaced_atomically(outputs.source) as temporary:
         shutil.copyfile(inputs.source, temporary)
+    with replaced_atomically(outputs.references) as temporary:  # beside it, for Typst
+        shutil.copyfile(inputs.references, temporary)
     root = Path(outputs.pdf).resolve().parents[1]  # the results folder
     pdf = compile_pdf(Path(outputs.source).resolve(), root)
     with replaced_atomically(outputs.pdf) as temporary:
