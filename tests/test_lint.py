@@ -83,3 +83,17 @@ def test_github_workflow_check_can_fail(tmp_path):
     command = [str(BIN / "check-jsonschema"), "--builtin-schema", "vendor.github-workflows"]
     process = run(*command, str(broken))
     assert process.returncode != 0 and "runs-on" in process.stdout + process.stderr
+
+
+def test_github_workflow_passes_zizmor_offline(tmp_path):
+    # zizmor's security audits (no network: --offline): least privilege, pinned actions,
+    # no persisted credentials...
+    workflows = sorted((REPO / ".github" / "workflows").glob("*.yml"))
+    process = run(str(BIN / "zizmor"), "--offline", *(str(w) for w in workflows))
+    assert process.returncode == 0, process.stdout + process.stderr
+    # ... and it can fail: the same workflow with an action on a movable tag does
+    broken = tmp_path / "broken.yml"
+    text = (REPO / ".github" / "workflows" / "ci.yml").read_text()
+    broken.write_text(re.sub(r"actions/checkout@[0-9a-f]{40}", "actions/checkout@v4", text))
+    process = run(str(BIN / "zizmor"), "--offline", str(broken))
+    assert process.returncode != 0 and "unpinned" in process.stdout + process.stderr

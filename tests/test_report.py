@@ -1,6 +1,7 @@
 """The HTML report, read in headless Chromium as a reviewer reads it: the data statement
 follows the data, tables are shown as tables, figures with their captions beside them."""
 
+import os
 import re
 import shutil
 from pathlib import Path
@@ -12,7 +13,8 @@ from conftest import SHARED_NOTICE, run_snakemake
 
 pytestmark = pytest.mark.e2e
 
-CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+# CI's own image names its browser in CHROMIUM; Debian's package is chromium
+CHROMIUM = os.environ.get("CHROMIUM") or shutil.which("chromium") or "/usr/bin/chromium"
 # as the machine's notes say: no sandbox as root, no background networking (it is refused)
 ARGS = [
     "--no-sandbox",
