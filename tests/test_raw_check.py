@@ -258,3 +258,20 @@ def test_a_link_loop_or_a_notice_not_in_utf8_stops_start_up_with_one_sentence(tm
     assert said.count("\n") == 1 and "byte 5 is not UTF-8" in said and "NOTICE.txt" in said
     notice.write_text("Données synthétiques\n", encoding="utf-8")
     assert startup.notice_text(None, str(notice)) == "Données synthétiques"
+
+
+def test_the_report_command_is_read_as_snakemake_reads_it(tmp_path, capsys):
+    from lineload import startup
+
+    assert startup.report_argument(["snakemake", "--report", "out/r.html"]) == "out/r.html"
+    assert startup.report_argument(["snakemake", "--report=r.html", "-c1"]) == "r.html"
+    assert startup.report_argument(["snakemake", "--report", "--cores", "2"]) == "report.html"
+    assert startup.report_argument(["snakemake", "--cores", "2"]) is None
+    # the line is said only for a report that was written
+    startup.say_where_the_report_is(str(tmp_path / "missing.html"))
+    assert capsys.readouterr().err == ""
+    (tmp_path / "r.html").write_text("<html></html>")
+    startup.say_where_the_report_is(str(tmp_path / "r.html"))
+    assert (
+        capsys.readouterr().err == f"The report: {tmp_path / 'r.html'} (open it in a web browser)\n"
+    )

@@ -466,3 +466,30 @@ def where_to_look(documents, report):
     lines += [f"  {what}: {path}" for what, path in documents if Path(path).is_file()]
     lines.append(f"  the HTML report: snakemake --report {report}")
     return "\n".join(lines)
+
+
+def report_argument(argv):
+    """The file ``snakemake --report [FILE]`` writes (``report.html`` without one), or None.
+
+    Parameters
+    ----------
+    argv : list of str
+        The command line (``sys.argv``).
+
+    Returns
+    -------
+    str or None
+    """
+    for i, word in enumerate(argv):
+        if word.startswith("--report="):
+            return word.split("=", 1)[1]
+        if word == "--report":
+            following = argv[i + 1] if i + 1 < len(argv) else ""
+            return following if following and not following.startswith("-") else "report.html"
+    return None
+
+
+def say_where_the_report_is(path):
+    """After ``snakemake --report``: one line with the report's full path, if it was written."""
+    if os.path.isfile(path):
+        sys.stderr.write(f"The report: {os.path.abspath(path)} (open it in a web browser)\n")
