@@ -23,12 +23,13 @@ h1 { font-size: 18px; margin: 0 0 8px 0; }
            margin: 8px 0 14px 0; line-height: 1.45; }
 .notice { background: #fdf1dc; border-left: 4px solid #d55e00; padding: 6px 12px;
           margin: 8px 0 14px 0; }
-table { border-collapse: collapse; font-size: 13px; }
+table { border-collapse: collapse; font-size: 13px; display: block; max-width: 100%;
+        overflow-x: auto; }
 th, td { border-bottom: 1px solid #e5e7eb; padding: 4px 8px; text-align: left;
          vertical-align: top; }
 th { background: #f9fafb; position: sticky; top: 0; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
-img { max-width: 100%; height: auto; border: 1px solid #e5e7eb; }
+img { width: 100%; max-width: 1100px; height: auto; border: 1px solid #e5e7eb; }
 """
 
 
