@@ -128,13 +128,13 @@ def test_article_reports_the_claims_table_and_the_data(build, request):
 
 
 def test_a_subject_measured_at_fewer_depths_is_named_not_folded_into_its_species():
-    from lineload.article import _group_depths_text
+    from lineload.article import group_depths_text
 
     depths = {"H1": [0.5, 1.0, 1.5, 2.0], "H2": [0.5, 1.0, 1.5, 2.0], "H3": [1.0, 2.0]}
-    assert _group_depths_text(["H1", "H2", "H3"], depths) == (
+    assert group_depths_text(["H1", "H2", "H3"], depths) == (
         "0.5, 1, 1.5 and 2 mm (H3: 1 and 2 mm)"
     )
-    assert _group_depths_text(["H1", "H2"], depths) == "0.5, 1, 1.5 and 2 mm"
+    assert group_depths_text(["H1", "H2"], depths) == "0.5, 1, 1.5 and 2 mm"
 
 
 def test_claim_lists_name_every_item_up_to_a_dozen():

@@ -20,7 +20,14 @@ from .calibration import claim_error_rates
 from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
 from .tables import format_fixed, join_words, span_text
 
-__all__ = ["article_facts", "join_words", "number_words", "shown", "span_text"]
+__all__ = [
+    "article_facts",
+    "group_depths_text",
+    "join_words",
+    "number_words",
+    "shown",
+    "span_text",
+]
 
 #: Small counts in words, as a sentence would write them.
 _WORDS = ("no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
@@ -52,7 +59,7 @@ def _depths_text(depths_mm):
     return join_words(f"{d:g}" for d in sorted(set(depths_mm))) + " mm"
 
 
-def _group_depths_text(members, depths_mm):
+def group_depths_text(members, depths_mm):
     """The depths most of ``members`` have, then each other set with its subjects.
 
     ``0.5, 1, 1.5 and 2 mm (H3: 1 and 2 mm)``: a subject measured at fewer depths
@@ -91,7 +98,7 @@ def _data_facts(subjects, depths_mm, notice):
                 "count": len(members),
                 "count_words": f"{number_words(len(members))} {_plural(species, len(members))}",
                 "subjects": join_words(members),
-                "depths": _group_depths_text(members, depths_mm),
+                "depths": group_depths_text(members, depths_mm),
                 "n_trials": sum(len(depths_mm[s]) for s in members),
             }
         )

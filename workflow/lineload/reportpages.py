@@ -13,7 +13,14 @@ import base64
 import html
 import math
 
-__all__ = ["figure_page", "page", "table_page", "versions_page"]
+__all__ = [
+    "error_columns",
+    "figure_page",
+    "page",
+    "table_page",
+    "versions_page",
+    "with_supported_digits",
+]
 
 _STYLE = """
 body { font-family: "DejaVu Sans", Helvetica, Arial, sans-serif; font-size: 14px;
@@ -65,8 +72,78 @@ def page(title, body, caption_html="", notice=""):
     return "\n".join(parts)
 
 
+class _Fixed(str):
+    """A number already written with the digits its uncertainty supports."""
+
+
+def error_columns(columns):
+    """The uncertainty of each value column that has one.
+
+    ``x`` with a column ``x_se`` (``pretension_N_per_mm`` with
+    ``pretension_se_N_per_mm``) has a standard error; ``..._L_mm`` with
+    ``..._L_ci_low_mm`` and ``..._L_ci_high_mm`` has an interval.
+
+    Returns
+    -------
+    dict
+        Value column -> the columns of its uncertainty (one: a standard error;
+        two: an interval's ends).
+    """
+    columns = list(columns)
+    found = {}
+    for column in columns:
+        head, _, rest = column.partition("_")
+        se = f"{head}_se" + (f"_{rest}" if rest else "")
+        if se in columns:
+            found[column] = (se,)
+        if column.endswith("_mm"):
+            ends = (column[: -len("_mm")] + "_ci_low_mm", column[: -len("_mm")] + "_ci_high_mm")
+            if all(end in columns for end in ends):
+                found[column] = ends
+    return found
+
+
+def _supported_decimals(value, bounds):
+    """Decimals that show an uncertainty to two significant digits (None: unknown).
+
+    ``bounds`` holds a standard error, or an interval's two ends around ``value``.
+    """
+    try:
+        if len(bounds) == 1:
+            error = abs(float(bounds[0]))
+        else:
+            error = (float(bounds[1]) - float(bounds[0])) / 2
+    except (TypeError, ValueError):
+        return None
+    if not (math.isfinite(error) and error > 0 and math.isfinite(float(value))):
+        return None
+    return max(0, 1 - math.floor(math.log10(error)))
+
+
+def with_supported_digits(columns, rows):
+    """Rows with each value that has an uncertainty, and the uncertainty, rounded to the
+    digits it supports (two significant digits of the error); other cells as they were."""
+    columns = list(columns)
+    errors = error_columns(columns)
+    index = {c: i for i, c in enumerate(columns)}
+    for row in rows:
+        cells = list(row)
+        for column, bounds in errors.items():
+            value = cells[index[column]]
+            decimals = _supported_decimals(value, [cells[index[b]] for b in bounds])
+            if decimals is None:
+                continue
+            for name in (column, *bounds):
+                number = cells[index[name]]
+                if isinstance(number, (int, float)) and math.isfinite(float(number)):
+                    cells[index[name]] = _Fixed(f"{float(number):.{decimals}f}")
+        yield cells
+
+
 def _cell(value):
     """A table cell: numbers right-aligned with up to 6 significant digits, text escaped."""
+    if isinstance(value, _Fixed):
+        return f'<td class="num">{value}</td>'
     if isinstance(value, bool):
         return f"<td>{value}</td>"
     if isinstance(value, (int, float)):
@@ -85,7 +162,9 @@ def table_page(title, columns, rows, caption_html="", notice=""):
     columns : list of str
         Column headers.
     rows : iterable of sequence
-        Cell values (numbers or text), one sequence per row.
+        Cell values (numbers or text), one sequence per row.  A value with an
+        uncertainty in the table (:func:`error_columns`) is shown with the digits
+        that uncertainty supports; the CSV keeps every digit.
     caption_html, notice : str, optional
         As for :func:`page`.
 
@@ -94,6 +173,7 @@ def table_page(title, columns, rows, caption_html="", notice=""):
     str
     """
     head = "".join(f"<th>{html.escape(str(c))}</th>" for c in columns)
+    rows = with_supported_digits(columns, rows)
     body = "".join("<tr>" + "".join(_cell(v) for v in row) + "</tr>" for row in rows)
     table = f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
     return page(title, table, caption_html, notice)

@@ -10,6 +10,7 @@ from pathlib import Path
 from docutils.core import publish_parts
 from jinja2 import Template
 
+from lineload.article import group_depths_text
 from lineload.figures import registry
 from lineload.io import output_to, read_json, read_results_csv, write_text
 from lineload.provenance import git_state, package_versions
@@ -49,14 +50,14 @@ def write_report_pages(inputs, outputs, tables, config, notice, subjects, reposi
     by_species = {}
     for subject, about in subjects.items():
         by_species.setdefault(about["species"], []).append(subject)
+    # a subject measured at fewer depths than its species is named (as in the article)
     rows = [
-        (species, len(members), ", ".join(members),
-         ", ".join(f"{d:g}" for d in sorted({d for s in members for d in depths_mm[s]})))
+        (species, len(members), ", ".join(members), group_depths_text(members, depths_mm))
         for species, members in by_species.items()
-    ]  # fmt: skip
+    ]
     data = table_page(
         "The data",
-        ["species", "subjects", "ids", "depths (mm)"],
+        ["species", "subjects", "ids", "depths"],
         rows,
         caption(captions / "data.rst", config),
         notice,
