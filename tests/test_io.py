@@ -151,26 +151,47 @@ def test_row_writer_without_quoted_cells_matches_the_pandas_writer(tmp_path):
     assert (tmp_path / "rows.csv").read_bytes() == b"subject,x_mm,n\nM1,0.25,3\nH1,,\n"
 
 
-@pytest.mark.parametrize(
-    ("code", "words"),
-    [
-        (errno.ENOSPC, "the disk is full"),
-        (errno.EROFS, "read-only disk"),
-        (errno.EACCES, "no permission"),
-    ],
-)
-def test_a_job_that_cannot_write_says_what_where_and_what_to_do(tmp_path, capfd, code, words):
+def test_a_full_disk_names_the_output_that_could_not_be_written(tmp_path, capfd):
+    # a real failed write: /dev/full refuses every byte, and the error names no file
     log = tmp_path / "job.log"
+    destination = tmp_path / "tables" / "fits.csv"
     with pytest.raises(SystemExit) as stopped, io.output_to(log):
-        raise OSError(code, os.strerror(code), str(tmp_path / "tables" / "fits.csv"))
+        with io.replaced_atomically(destination), open("/dev/full", "w") as full:
+            full.write("x")
+            full.flush()
     assert stopped.value.code == 1
     said = capfd.readouterr().err
     assert said == (
-        f"Error: could not write {tmp_path / 'tables' / 'fits.csv'}: {os.strerror(code)}; "
-        + said.split("; ", 1)[1]
+        f"Error: could not write {destination}: {os.strerror(errno.ENOSPC)}; the disk is "
+        "full: free some space and run the same command again\n"
     )
-    assert words in said and said.count("\n") == 1 and "Traceback" not in said
     assert "Traceback" in log.read_text()  # the details stay in the job's log
+    assert not list((tmp_path / "tables").iterdir())  # and no temporary is left
+
+
+@pytest.mark.parametrize(
+    ("code", "words"),
+    [(errno.EROFS, "read-only disk"), (errno.EACCES, "choose a results folder")],
+)
+def test_an_output_on_a_read_only_disk_or_without_permission_says_so(tmp_path, capfd, code, words):
+    destination = tmp_path / "fits.csv"
+    with pytest.raises(SystemExit), io.output_to(tmp_path / "job.log"):
+        with io.replaced_atomically(destination):
+            raise OSError(code, os.strerror(code))
+    said = capfd.readouterr().err
+    assert said.startswith(f"Error: could not write {destination}: {os.strerror(code)}; ")
+    assert words in said and said.count("\n") == 1
+
+
+def test_a_file_that_cannot_be_read_is_not_blamed_on_the_results_folder(tmp_path, capfd):
+    # a raw file without read permission: no advice to move the results
+    with pytest.raises(SystemExit), io.output_to(tmp_path / "job.log"):
+        raise PermissionError(errno.EACCES, "Permission denied", "/data/raw/profiles/M1.csv")
+    said = capfd.readouterr().err
+    assert said == (
+        "Error: could not open /data/raw/profiles/M1.csv: Permission denied; no permission: "
+        "check the permissions of the file and its folders\n"
+    )
 
 
 def test_a_figure_path_that_is_a_folder_is_one_sentence(tmp_path, capfd):
@@ -194,3 +215,9 @@ def test_a_temporary_file_is_named_by_the_file_it_stands_for(tmp_path):
         assert io._destination(temporary) == str(tmp_path / "fits.csv")
         Path(temporary).write_text("x")
     assert io._destination(tmp_path / "notes.txt") == str(tmp_path / "notes.txt")
+
+
+def test_a_table_without_rows_has_no_trials(tmp_path):
+    path = tmp_path / "averaged.csv"
+    path.write_text("subject,depth_mm,distance_mm,deflection_mm\n", encoding="utf-8")
+    assert io.read_trials(path) == {}

@@ -518,6 +518,13 @@ def test_a_broken_profile_is_one_line_not_more_about_its_forces(tmp_path):
         check_dataset(str(raw), SCHEMAS, raw_dir_shown="RAW")
     assert len(caught.value.problems) == 1, caught.value.problems
     assert caught.value.problems[0].startswith("RAW/profiles/MK.csv")
+    # nor when the profile file is missing altogether: one line, about the file
+    path.rename(path.with_suffix(".bak"))
+    with pytest.raises(InputError) as caught:
+        check_dataset(str(raw), SCHEMAS, raw_dir_shown="RAW")
+    assert len(caught.value.problems) == 1, caught.value.problems
+    assert "no profile file for subject 'MK'" in caught.value.problems[0]
+    path.with_suffix(".bak").rename(path)
     # a force at a depth the (sound) profile lacks is still refused
     write_forces(raw, [*GOOD, "HU,2,0.9"])
     path.write_text("\n".join(lines) + "\n")

@@ -267,7 +267,12 @@ def test_the_report_command_is_read_as_snakemake_reads_it(tmp_path, capsys):
     assert startup.report_argument(["snakemake", "--report=r.html", "-c1"]) == "r.html"
     assert startup.report_argument(["snakemake", "--report", "--cores", "2"]) == "report.html"
     assert startup.report_argument(["snakemake", "--cores", "2"]) is None
-    # the line is said only for a report that was written
+    # the line is said only for a report this run wrote, not for one left from before
+    import time
+
+    (tmp_path / "old.html").write_text("<html></html>")
+    startup.say_where_the_report_is(str(tmp_path / "old.html"), time.time_ns() + 10**9)
+    assert capsys.readouterr().err == ""
     startup.say_where_the_report_is(str(tmp_path / "missing.html"))
     assert capsys.readouterr().err == ""
     (tmp_path / "r.html").write_text("<html></html>")

@@ -216,7 +216,15 @@ def reconstruction_claims(
 
 
 def verdict_study(
-    seed, datasets, window_mm, priors, max_trials, claims=None, first=0, subjects=None
+    seed,
+    datasets,
+    window_mm,
+    priors,
+    max_trials,
+    claims=None,
+    first=0,
+    subjects=None,
+    truth_claims=None,
 ):
     """The verdict of every claim on ``datasets`` reconstructions with fresh errors.
 
@@ -232,6 +240,9 @@ def verdict_study(
         Number of the first dataset (a slice of a larger study).
     subjects : list of SubjectParameters, optional
         As for :func:`reconstruction_claims`.
+    truth_claims : dict, optional
+        Settings of the claims for the error-free truth (``claims`` if None): a
+        boundary world judges its truth as its boundary was placed.
 
     Returns
     -------
@@ -244,7 +255,13 @@ def verdict_study(
             (seed, k), window_mm, priors, max_trials, claims, subjects=subjects
         )
         true = reconstruction_claims(
-            (seed, k), window_mm, priors, max_trials, claims, False, subjects
+            (seed, k),
+            window_mm,
+            priors,
+            max_trials,
+            claims if truth_claims is None else truth_claims,
+            False,
+            subjects,
         )
         for claim, verdict, truth in zip(
             read["claim"], read["verdict"], true["verdict"], strict=True
@@ -585,10 +602,20 @@ def boundary_study(world, seed, datasets, window_mm, priors, max_trials, claims=
     list of dict
         Columns :data:`BOUNDARY_COLUMNS`.
     """
-    claim, _, family, _, _ = BOUNDARY_WORLDS[world]
+    claim, _, family, _, placing = BOUNDARY_WORLDS[world]
     effect = boundary_effect(world, (seed, 0), window_mm, priors, max_trials, claims)
+    # each dataset's truth judged as the boundary was placed (C8: the sign of the mean
+    # slope), its readings as the workflow judges them
     rows = verdict_study(
-        seed, datasets, window_mm, priors, max_trials, claims, first, family(effect)
+        seed,
+        datasets,
+        window_mm,
+        priors,
+        max_trials,
+        claims,
+        first,
+        family(effect),
+        truth_claims={**(claims or {}), **placing},
     )
     return [
         {

@@ -29,6 +29,7 @@ from pathlib import Path
 __all__ = [
     "FLOAT_FORMAT",
     "SCHEMA_DIR",
+    "OutputError",
     "concatenate_csv",
     "config_defaults",
     "csv_text",
@@ -122,18 +123,9 @@ def write_text(text, path):
     path : str or os.PathLike
         Destination; parent folders are created.
     """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="\n") as stream:
+    with replaced_atomically(path) as temporary:
+        with open(temporary, "w", encoding="utf-8", newline="\n") as stream:
             stream.write(text)
-        # mkstemp creates the file readable by its owner only; give it the usual mode
-        os.chmod(tmp, 0o666 & ~_UMASK)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def write_csv(frame, path, columns=None):
@@ -355,6 +347,8 @@ def read_trials(path, extra=()):
                 *([_numbers(read, numeric_columns[3:])] if extra else []),
             ]
         )
+    if not subjects.size:  # a header without rows
+        return {}
     names, first, code = np.unique(subjects, return_index=True, return_inverse=True)
     # subjects in order of first appearance, depths increasing, rows in file order
     names = names[np.argsort(first)]
@@ -472,18 +466,24 @@ def output_to(log_path):
         try:
             yield log
         except OSError as error:
-            hint = _WRITE_HINTS.get(error.errno)
+            writing = isinstance(error, OutputError)
+            hint = (_WRITE_HINTS if writing else _OTHER_HINTS).get(error.errno)
             with contextlib.suppress(OSError):  # a full disk may refuse the log too
                 traceback.print_exc()
             if hint is None:
                 raise
             # a sentence where the user looks, not a traceback: what, where, what to do
             where = _destination(error.filename2 or error.filename or "a file")
-            sys.__stderr__.write(f"Error: could not write {where}: {error.strerror}; {hint}\n")
+            verb = "write" if writing else "open"
+            sys.__stderr__.write(f"Error: could not {verb} {where}: {error.strerror}; {hint}\n")
             raise SystemExit(1) from None
         except BaseException:
             traceback.print_exc()
             raise
+
+
+class OutputError(OSError):
+    """An output could not be written: the error of the write, naming the output."""
 
 
 def _destination(path):
@@ -505,6 +505,15 @@ _WRITE_HINTS = {
     errno.EPERM: "no permission to write there: choose a results folder you can write to "
     "(--config results=...)",
     errno.EISDIR: "a folder stands where the file belongs: remove or rename it, then run again",
+}
+#: The same for an error that is not an output's (a file read, say): no advice about
+#: the results folder, which it need not concern.
+_OTHER_HINTS = {
+    errno.ENOSPC: _WRITE_HINTS[errno.ENOSPC],
+    errno.EDQUOT: _WRITE_HINTS[errno.EDQUOT],
+    errno.EACCES: "no permission: check the permissions of the file and its folders",
+    errno.EPERM: "no permission: check the permissions of the file and its folders",
+    errno.EISDIR: "a folder stands where a file belongs: remove or rename it, then run again",
 }
 
 
@@ -569,14 +578,23 @@ def replaced_atomically(path):
         The temporary path to write to.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(
+            dir=path.parent, prefix=f".{path.name}.", suffix=".tmp"
+        )
+    except OSError as error:
+        raise OutputError(error.errno, error.strerror, str(path)) from error
     os.close(handle)
     try:
         yield temporary
         # mkstemp creates the file readable by its owner only; give it the usual mode
         os.chmod(temporary, 0o666 & ~_UMASK)
         os.replace(temporary, path)
+    except OSError as error:
+        Path(temporary).unlink(missing_ok=True)
+        # a full disk names no file (write() knows none): this output is the one
+        raise OutputError(error.errno, error.strerror, str(path)) from error
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise

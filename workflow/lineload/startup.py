@@ -489,7 +489,8 @@ def report_argument(argv):
     return None
 
 
-def say_where_the_report_is(path):
-    """After ``snakemake --report``: one line with the report's full path, if it was written."""
-    if os.path.isfile(path):
+def say_where_the_report_is(path, started_ns=0):
+    """After ``snakemake --report``: one line with the report's full path, if this run
+    wrote it (a report older than ``started_ns``, left by an earlier run, is not named)."""
+    if os.path.isfile(path) and os.stat(path).st_mtime_ns >= started_ns:
         sys.stderr.write(f"The report: {os.path.abspath(path)} (open it in a web browser)\n")

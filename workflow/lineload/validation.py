@@ -1247,7 +1247,8 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
             shown,
             problems=found,
             force_max_N=limits["force_max_N"],
-            unknown_depths=refused,
+            # a refused profile, a missing one, an id no file can have: reported already
+            unknown_depths=refused | (set(subjects["subject"]) - set(listed)),
         )
     sheet_ids = [str(s) for s in subjects["subject"]]
     for folder in ("profiles", "outlines"):

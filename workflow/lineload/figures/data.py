@@ -418,10 +418,12 @@ def figure_species_fits(averaged, fits, subjects, species, fit_window_mm, notice
     for ax in axes.flat[n:]:
         fig.delaxes(ax)
     distance_max_mm = float(averaged["distance_mm"].max()) if len(averaged) else 1.0
-    # far enough to show every curve whole: eq. 19 comes back to zero at x = L
+    # far enough to show every curve whole (eq. 19 comes back to zero at x = L), but no
+    # further than twice the readings: one absurd L must not squash every panel
     shown_L = fits.loc[fits["subject"].isin(subject_ids), "waterbed_L_mm"].to_numpy(float)
     shown_L = shown_L[np.isfinite(shown_L)]
-    x_hi = 1.03 * max(distance_max_mm, float(shown_L.max()) if shown_L.size else 0.0)
+    largest_L = float(shown_L.max()) if shown_L.size else 0.0
+    x_hi = 1.03 * max(distance_max_mm, min(largest_L, 2.0 * distance_max_mm))
     curve_mm = np.linspace(0.0, x_hi, 500)
     y_values = [np.zeros(1)]
     for ax, subject in zip(axes.flat[:n], subject_ids, strict=True):
