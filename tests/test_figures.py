@@ -485,19 +485,20 @@ def test_workflow_builds_every_figure(tmp_path, small_build):
     logs = out / "logs"
     for rule in ("figure_outlines", "figure_schematics", "figure_fits", "figure_supplements"):
         assert (logs / f"{rule}.log").is_file()
-    # a notice with shell-awkward characters reaches the figures intact (and changes them)
+    # a notice with shell-awkward characters reaches the data figures intact (and changes
+    # them); the schematics show no data and keep their own footer
     out = tmp_path / "notice"
     notice = 'Test data; it\'s "made up" & $HOME stays literal'
     process = run_snakemake(
-        "figure_schematics", raw=raw, results=out, config=[f"data_notice={notice}"]
+        "figure_outlines", raw=raw, results=out, config=[f"data_notice={notice}"]
     )
     assert process.returncode == 0, process.stderr[-3000:]
-    log = (out / "logs" / "figure_schematics.log").read_text()
+    log = (out / "logs" / "figure_outlines.log").read_text()
     assert f"footer: {notice!r}" in log
-    assert "footer: none" in (logs / "figure_schematics.log").read_text()
-    with_footer = (out / "figures" / "figure3.png").read_bytes()
-    assert with_footer != (builds[0] / "figure3.png").read_bytes()
-    assert png_width_px(out / "figures" / "figure3.png") == png_width_px(builds[0] / "figure3.png")
+    assert "footer: none" in (logs / "figure_outlines.log").read_text()
+    with_footer = (out / "figures" / "figure1.png").read_bytes()
+    assert with_footer != (builds[0] / "figure1.png").read_bytes()
+    assert png_width_px(out / "figures" / "figure1.png") == png_width_px(builds[0] / "figure1.png")
 
 
 def every_figure(notice):
