@@ -44,7 +44,7 @@ from .claims import (
     ClaimSettings,
     compute_claims,
 )
-from .coverage import TRUE_NOISE, binomial_interval
+from .coverage import TRUE_NOISE, binomial_interval, percent_interval
 from .fitting import fit_trials
 from .mechanics import mechanics_tables
 from .noise import estimate_noise, model_from_rows, noise_rows, trial_differences
@@ -352,10 +352,7 @@ _COUNT_HEADER = [
 
 
 def _percent_interval(row):
-    return (
-        f"{100 * row['wrong_rate']:.1f} % "
-        f"({100 * row['wrong_ci_low']:.1f}-{100 * row['wrong_ci_high']:.1f} %)"
-    )
+    return percent_interval(row["wrong_rate"], row["wrong_ci_low"], row["wrong_ci_high"])
 
 
 def verdict_markdown(summary, command, notice=""):
@@ -856,8 +853,7 @@ def mechanics_markdown(summary, command, notice=""):
             row["fit"],
             str(row["n"]),
             str(row["n_covered"]),
-            f"{100 * row['coverage']:.1f} % "
-            f"({100 * row['ci_low']:.1f}-{100 * row['ci_high']:.1f} %)",
+            percent_interval(row["coverage"], row["ci_low"], row["ci_high"]),
         ]
         for row in summary
     ]

@@ -38,9 +38,11 @@ __all__ = [
     "binomial_interval",
     "bootstrap_markdown",
     "bootstrap_study",
+    "calibration_command",
     "coverage_markdown",
     "coverage_rows",
     "coverage_study",
+    "percent_interval",
     "simulate_dataset",
     "summarise_coverage",
 ]
@@ -306,6 +308,21 @@ def bootstrap_study(fitted, seed, n_replicates, noise, window_mm=3.0, models=tup
     return rows
 
 
+def percent_interval(rate, low, high):
+    """A rate with its interval, in percent: ``97.1 % (95.9-98.0 %)``."""
+    return f"{100 * rate:.1f} % ({100 * low:.1f}-{100 * high:.1f} %)"
+
+
+def calibration_command(seed, **counts):
+    """The command that remakes a calibration table with these settings (for its footer).
+
+    ``calibration_command(2026, datasets=40)`` ->
+    ``snakemake --cores 2 calibration --config calibration='{seed: 2026, datasets: 40}'``.
+    """
+    settings = ", ".join(f"{key}: {value}" for key, value in {"seed": seed, **counts}.items())
+    return f"snakemake --cores 2 calibration --config calibration='{{{settings}}}'"
+
+
 def binomial_interval(successes, n, level=0.95):
     """Clopper-Pearson interval of a binomial proportion.
 
@@ -402,7 +419,7 @@ def coverage_markdown(summary, command, notice=""):
             r["parameter"],
             str(r["n_trials"]),
             str(r["n_covered"]),
-            f"{100 * r['coverage']:.1f} % ({100 * r['ci_low']:.1f}-{100 * r['ci_high']:.1f} %)",
+            percent_interval(r["coverage"], r["ci_low"], r["ci_high"]),
         ]
         for r in pooled
     ]
@@ -432,7 +449,7 @@ def bootstrap_markdown(summary, command, n_trials, notice=""):
             r["parameter"],
             str(r["n_trials"]),
             str(r["n_covered"]),
-            f"{100 * r['coverage']:.1f} % ({100 * r['ci_low']:.1f}-{100 * r['ci_high']:.1f} %)",
+            percent_interval(r["coverage"], r["ci_low"], r["ci_high"]),
         ]
         for r in pooled
     ]

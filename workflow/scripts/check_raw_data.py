@@ -48,7 +48,7 @@ def check_raw_data(sheet, files, output, log, input_checks, window_mm, min_point
     write_text(json_text(summary), output)
     # size and time of every file checked: a file later put back with an old time is
     # noticed at the next start (lineload.startup.restored_files)
-    write_text(json_text(file_metadata([sheet, *files], raw_dir)), check_record(log))
+    write_text(json_text(file_metadata(files, raw_dir)), check_record(log))  # sheet included
     trials = sum(len(d) for d in dataset["depths_mm"].values())
     print(
         f"{raw_dir}: {len(dataset['depths_mm'])} subjects, {trials} profiles, "

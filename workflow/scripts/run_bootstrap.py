@@ -5,6 +5,7 @@ from lineload.coverage import (
     TRIAL_COLUMNS,
     bootstrap_markdown,
     bootstrap_study,
+    calibration_command,
     summarise_coverage,
 )
 from lineload.io import output_to, read_json, read_rows, read_trials, write_rows, write_text
@@ -43,10 +44,7 @@ def bootstrap(inputs, outputs, seed, replicates, window_mm, notice):
     summary = summarise_coverage(rows)
     write_rows(rows, TRIAL_COLUMNS, outputs.trials)
     write_rows(summary, COVERAGE_COLUMNS, outputs.summary)
-    command = (
-        f"snakemake --cores 2 calibration --config calibration='{{seed: {seed}, "
-        f"bootstrap_replicates: {replicates}}}'"
-    )
+    command = calibration_command(seed, bootstrap_replicates=replicates)
     write_text(bootstrap_markdown(summary, command, len(fitted), notice), outputs.markdown)
     for row in summary:
         if row["species"] == "all":

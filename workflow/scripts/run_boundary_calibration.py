@@ -8,6 +8,7 @@ from lineload.calibration import (
     boundary_study,
     summarise_boundary,
 )
+from lineload.coverage import calibration_command
 from lineload.io import output_to, read_json, write_rows, write_text
 
 
@@ -21,10 +22,7 @@ def boundary_calibration(outputs, seed, datasets, window_mm, priors, max_trials,
     summary = summarise_boundary(rows)
     write_rows(rows, BOUNDARY_COLUMNS, outputs.datasets)
     write_rows(summary, BOUNDARY_SUMMARY_COLUMNS, outputs.summary)
-    command = (
-        f"snakemake --cores 2 calibration --config calibration='{{seed: {seed}, "
-        f"verdict_datasets: {datasets}}}'"
-    )
+    command = calibration_command(seed, verdict_datasets=datasets)
     write_text(boundary_markdown(summary, command), outputs.markdown)
     for row in summary:
         print(

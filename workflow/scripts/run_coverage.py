@@ -3,6 +3,7 @@
 from lineload.coverage import (
     COVERAGE_COLUMNS,
     TRIAL_COLUMNS,
+    calibration_command,
     coverage_markdown,
     coverage_study,
     summarise_coverage,
@@ -16,10 +17,7 @@ def coverage(outputs, seed, datasets):
     summary = summarise_coverage(rows)
     write_rows(rows, TRIAL_COLUMNS, outputs.trials)
     write_rows(summary, COVERAGE_COLUMNS, outputs.summary)
-    command = (
-        f"snakemake --cores 2 calibration --config calibration='{{seed: {seed}, "
-        f"datasets: {datasets}}}'"
-    )
+    command = calibration_command(seed, datasets=datasets)
     write_text(coverage_markdown(summary, command), outputs.markdown)
     for row in summary:
         if row["species"] == "all":

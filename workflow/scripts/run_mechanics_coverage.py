@@ -7,6 +7,7 @@ from lineload.calibration import (
     mechanics_study,
     summarise_mechanics,
 )
+from lineload.coverage import calibration_command
 from lineload.io import output_to, read_json, write_rows, write_text
 
 
@@ -16,10 +17,7 @@ def mechanics_coverage(outputs, seed, datasets, window_mm, priors, max_trials, f
     summary = summarise_mechanics(rows)
     write_rows(rows, MECHANICS_COLUMNS, outputs.subjects)
     write_rows(summary, MECHANICS_SUMMARY_COLUMNS, outputs.summary)
-    command = (
-        f"snakemake --cores 2 calibration --config calibration='{{seed: {seed}, "
-        f"verdict_datasets: {datasets}}}'"
-    )
+    command = calibration_command(seed, verdict_datasets=datasets)
     write_text(mechanics_markdown(summary, command), outputs.markdown)
     for row in summary:
         print(f"{row['parameter']} ({row['fit']}): {row['n_covered']}/{row['n']}")

@@ -7,6 +7,7 @@ from lineload.calibration import (
     verdict_markdown,
     verdict_study,
 )
+from lineload.coverage import calibration_command
 from lineload.io import output_to, read_json, write_rows, write_text
 
 
@@ -16,10 +17,7 @@ def verdict_calibration(outputs, seed, datasets, window_mm, priors, max_trials, 
     summary = summarise_verdicts(rows)
     write_rows(rows, DATASET_COLUMNS, outputs.datasets)
     write_rows(summary, SUMMARY_COLUMNS, outputs.summary)
-    command = (
-        f"snakemake --cores 2 calibration --config calibration='{{seed: {seed}, "
-        f"verdict_datasets: {datasets}}}'"
-    )
+    command = calibration_command(seed, verdict_datasets=datasets)
     write_text(verdict_markdown(summary, command), outputs.markdown)
     for row in summary:
         print(
