@@ -319,12 +319,14 @@ def small_build_with_notice(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def shipped_build(tmp_path_factory):
-    """The fits, claims and mechanics of the shipped data: ``(raw, results)``."""
+    """The fits, claims and mechanics of the shipped data, and their article (whose pages
+    are laid out for these data): ``(raw, results)``."""
 
     def shipped(folder):
         return REPO / "data" / "raw"  # read, never written
 
     outputs = [f"tables/{name}" for name in ("fits.csv", "claims.csv", "mechanics.csv")]
+    outputs.append("article/reproduction.pdf")
     return shared_build(tmp_path_factory, "shipped", shipped, outputs)
 
 

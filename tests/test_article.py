@@ -8,9 +8,12 @@ import pandas as pd
 import pytest
 from pypdf import PdfReader
 
+import pdflayout
 from conftest import SHARED_NOTICE
 from lineload.article import article_facts, join_words, number_words, shown, span_text
 from lineload.claims import CLAIM_COLUMNS
+from lineload.figures.registry import FIGURES
+from lineload.figures.style import MIN_FONT_PT, SCHEMATIC_MM
 from lineload.fitting import FIT_COLUMNS
 
 
@@ -165,3 +168,71 @@ def test_the_appendix_prints_each_trials_fits_up_to_its_limit():
     assert first["waterbed"] == "12.00 [11.50, 12.50]" and first["rmse_waterbed"] == "12.3"
     assert second["waterbed"] == "12.00 [11.50, open]"  # an interval that does not close
     assert third["arc"] == "–"  # a fit that gave no L
+
+
+# ---------------------------------------------------------------- the printed page
+
+
+def typeset(source, folder):
+    """A Typst document compiled in ``folder`` (with the figures it names copied there)."""
+    import typst
+
+    path = folder / "page.typ"
+    path.write_text(source)
+    typst.compile(str(path), output=str(folder / "page.pdf"))
+    return folder / "page.pdf"
+
+
+def test_the_page_measures_see_a_shrunken_figure_and_a_half_empty_page(tmp_path):
+    """The measures the article's tests rely on can come out the other way."""
+    from lineload.figures import schematics
+    from lineload.figures.style import save_figure
+
+    save_figure(
+        schematics.figure_channel_schematic(0.15), tmp_path / "f.pdf", tmp_path / "f.png", 50
+    )
+    own = pdflayout.placed_figures(typeset('#image("f.pdf")', tmp_path))
+    half = pdflayout.placed_figures(typeset('#image("f.pdf", width: 50%)', tmp_path))
+    (own,), (half,) = own, half
+    assert own.scale == pytest.approx(1.0, abs=1e-3)
+    assert min(own.text_sizes_pt) == pytest.approx(MIN_FONT_PT, abs=0.01)
+    text_width_mm = 210 - 2 * 25.0  # Typst's default A4 margins: 2.5 cm
+    assert half.scale == pytest.approx(0.5 * text_width_mm / SCHEMATIC_MM, rel=1e-3)
+    assert min(half.text_sizes_pt) == pytest.approx(MIN_FONT_PT * half.scale, rel=1e-3)
+    # a figure whose type is too small is seen as such at its own size
+    (tiny,) = pdflayout.placed_figures(_figure_with_small_type(tmp_path))
+    assert min(tiny.text_sizes_pt) == pytest.approx(5.0, abs=0.01)
+    # a full page of text, then a page with one line
+    fills = pdflayout.page_fill(typeset("#lorem(900)\n#pagebreak()\nOne line.", tmp_path))
+    assert fills[0] > 0.9 and fills[-1] < 0.1
+
+
+def _figure_with_small_type(folder):
+    from lineload.figures.style import new_figure, save_figure
+
+    fig = new_figure(100.0, 40.0, layout=None)
+    fig.text(0.5, 0.5, "five-point type", fontsize=5.0)
+    save_figure(fig, folder / "g.pdf", folder / "g.png", 50)
+    return typeset('#image("g.pdf")', folder)
+
+
+@pytest.mark.e2e
+def test_every_figure_prints_at_its_own_size_with_no_type_below_7_points(shipped_build):
+    """Journals ask for about 7 pt at least, as printed: each figure's type measured in the
+    article itself, where the page's matrix and the figure's own combine."""
+    pdf = shipped_build[1] / "article" / "reproduction.pdf"
+    figures = pdflayout.placed_figures(pdf)
+    assert len(figures) == len(FIGURES)  # every figure of the workflow is in print
+    for figure in figures:
+        where = (figure.page, figure.texts[:4])
+        assert figure.scale == pytest.approx(1.0, abs=1e-3), where
+        smallest = min(figure.text_sizes_pt)
+        assert smallest >= MIN_FONT_PT - 0.01, (where, smallest)
+
+
+@pytest.mark.e2e
+def test_every_page_but_the_last_is_at_least_four_fifths_full(shipped_build):
+    fills = pdflayout.page_fill(shipped_build[1] / "article" / "reproduction.pdf")
+    assert len(fills) > 5
+    thin = {page: round(fill, 2) for page, fill in enumerate(fills[:-1], start=1) if fill < 0.8}
+    assert thin == {}

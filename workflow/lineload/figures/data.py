@@ -406,9 +406,10 @@ def figure_species_fits(averaged, fits, subjects, species, fit_window_mm, notice
     rows = averaged[averaged["subject"].isin(subject_ids)]
     colours = depth_colours(rows["depth_mm"].astype(float))
     n = len(subject_ids)
-    # up to 4 subjects in two columns; more in three (or four), panels lower, so that
-    # a dozen subjects still fit a page
-    n_rows, n_columns = grid_shape(n, 2 if n <= 4 else 3 if n <= 12 else 4)
+    # two or three subjects in one row, four in two columns; more in three (or four),
+    # panels lower, so that a dozen subjects still fit a page (and the monkeys' and the
+    # humans' figures of the paper's seven subjects fit one page together)
+    n_rows, n_columns = grid_shape(n, n if n <= 3 else 2 if n == 4 else 3 if n <= 12 else 4)
     panel_mm = {2: 56.0, 3: 44.0}.get(n_columns, 36.0) if n > 1 else 56.0
     width_mm = SINGLE_COLUMN_MM if n == 1 else DOUBLE_COLUMN_MM
     fig = new_figure(width_mm, 22.0 + panel_mm * n_rows)

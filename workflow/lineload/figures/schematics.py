@@ -18,9 +18,9 @@ from matplotlib.lines import Line2D
 from .. import models
 from .style import (
     DATA_COLOUR,
-    DOUBLE_COLUMN_MM,
     MODEL_COLOURS,
     REST_COLOUR,
+    SCHEMATIC_MM,
     add_footer,
     new_figure,
     styled,
@@ -133,7 +133,7 @@ def figure_channel_schematic(schematic_depth_ratio, footer=""):
     floor = -(r + 0.32)
     top = 0.42
     wall = 0.07
-    fig = new_figure(DOUBLE_COLUMN_MM, 88.0)
+    fig = new_figure(SCHEMATIC_MM, 70.0)
     ax = fig.add_subplot()
     fluid = patches.Polygon(
         np.column_stack([np.r_[X, 1.0, -1.0], np.r_[-W, floor, floor]]),
@@ -217,12 +217,12 @@ def figure_channel_schematic(schematic_depth_ratio, footer=""):
         },
     )
     ax.plot([-0.06, 0.0], [-r, -r], color="0.5", linewidth=0.5)
-    ax.text(-0.05, -0.3 * r, "$W_0$", color="0.25", ha="right", va="center")
+    ax.text(-0.05, -0.3 * r, "W₀", color="0.25", ha="right", va="center")
     ax.annotate(
         "membrane at rest",
         xy=(-0.8, 0.0),
-        xytext=(-0.8, 0.12),
-        ha="center",
+        xytext=(-0.9, 0.12),
+        ha="left",  # clear of the wall
         arrowprops={"arrowstyle": "-", "color": "0.4", "linewidth": 0.6},
     )
     ax.annotate(
@@ -235,7 +235,7 @@ def figure_channel_schematic(schematic_depth_ratio, footer=""):
     ax.text(
         -1.0,
         floor - wall - 0.02,
-        f"deformed shape: eq. 19 drawn at $W_0/L$ = {r:g}; resting membrane dashed",
+        f"deformed shape: eq. 19 drawn at W₀/L = {r:g}; resting membrane dashed",
         ha="left",
         va="top",
     )
@@ -309,7 +309,7 @@ def figure_material_point(schematic_depth_ratio, footer=""):
     W_A = float(models.waterbed_deflection_mm(X_A, r, 1.0))
     U_A = float(models.waterbed_shift_mm(X_A, r, 1.0))
     x_A = X_A + k * U_A
-    fig = new_figure(DOUBLE_COLUMN_MM, 78.0)
+    fig = new_figure(SCHEMATIC_MM, 62.0)
     ax = fig.add_subplot()
     ax.plot(
         [0.0, 1.0],
@@ -368,9 +368,11 @@ def figure_material_point(schematic_depth_ratio, footer=""):
     ax.text(
         1.0,
         -r - 0.1,
-        f"drawn from eqs. 19 and 20 at $W_0/L$ = {r:g}, with U magnified {k:g}×\n"
-        f"true shift at A: U = {U_A:.4f} L\n".replace("-", "−")
-        + f"largest |U| = 8$W_0^2$/(9L) = {largest:.4f} L, at X = L/3",
+        # (the magnification is in the legend) short lines, clear of the axis at X = 0
+        f"drawn from eqs. 19 and 20 at W₀/L = {r:g}\ntrue shift at A: U = {U_A:.4f} L\n".replace(
+            "-", "−"
+        )
+        + f"largest |U| = 8W₀²/(9L) = {largest:.4f} L, at X = L/3",
         ha="right",
         va="bottom",
     )
@@ -416,7 +418,7 @@ def figure_free_body(schematic_depth_ratio, footer=""):
     r = float(schematic_depth_ratio)
     theta0 = float(models.waterbed_load_angle_rad(r, 1.0))
     radius_L = 1.0 / (6.0 * r)  # 1 / W'' of eq. 19, in units of L
-    fig = new_figure(DOUBLE_COLUMN_MM, 72.0)
+    fig = new_figure(SCHEMATIC_MM, 58.0)
     ax_a, ax_b = fig.subplots(1, 2, width_ratios=[1.0, 1.0])
     red, blue = "#b2182b", MODEL_COLOURS["waterbed"]
     # (A) at the load, N = 1 and F to scale
@@ -453,15 +455,13 @@ def figure_free_body(schematic_depth_ratio, footer=""):
         )
     )
     mid = theta0 / 2
-    ax_a.text(
-        0.62 * np.cos(mid) + 0.02, 0.62 * np.sin(mid) - 0.03, r"$\theta_0$", ha="left", va="center"
-    )
+    ax_a.text(0.62 * np.cos(mid) + 0.02, 0.62 * np.sin(mid) - 0.03, "θ₀", ha="left", va="center")
     ax_a.plot([0], [0], marker="o", markersize=3.5, color="black")
     ax_a.text(
         0.0,
         -0.2,
-        f"F = 2N sin $\\theta_0$;  $\\theta_0$ = arctan(4$W_0$/L) = {np.degrees(theta0):.1f}°\n"
-        f"at $W_0/L$ = {r:g} (vectors to scale, N = 1)",
+        f"F = 2N sin θ₀\nθ₀ = arctan(4W₀/L) = {np.degrees(theta0):.1f}° at W₀/L = {r:g}\n"
+        "(vectors to scale, N = 1)",
         ha="center",
         va="top",
     )
@@ -527,7 +527,7 @@ def figure_free_body(schematic_depth_ratio, footer=""):
     ax_b.text(
         0.0,
         centre[1] - 0.1 * radius_L,
-        f"N = pR;  R = $L^2$/(6$W_0$) = {radius_L:.2f} L for eq. 19 at $W_0/L$ = {r:g}\n"
+        f"N = pR\nR = L²/(6W₀) = {radius_L:.2f} L for eq. 19 at W₀/L = {r:g}\n"
         "(element's angular size enlarged for clarity)",
         ha="center",
         va="top",

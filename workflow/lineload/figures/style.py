@@ -47,12 +47,14 @@ __all__ = [
     "DOUBLE_COLUMN_MM",
     "FOOTER_FONT_PT",
     "LEGEND_ROW_MM",
+    "MIN_FONT_PT",
     "MM_PER_INCH",
     "MODEL_COLOURS",
     "MODEL_LINESTYLES",
     "MODEL_NAMES",
     "NOTE_FONT_PT",
     "REST_COLOUR",
+    "SCHEMATIC_MM",
     "SINGLE_COLUMN_MM",
     "SPECIES_PLURAL",
     "STYLE",
@@ -77,11 +79,17 @@ __all__ = [
 ]
 
 MM_PER_INCH = 25.4
-#: Journal column widths (mm).
+#: Journal column widths (mm).  The article's text is as wide as a double column, so
+#: every figure prints at its own size and its type at the sizes set here.
 SINGLE_COLUMN_MM = 85.0
 DOUBLE_COLUMN_MM = 175.0
+#: Width of the schematics of the model (Figures 3-5), narrower than the text (mm).
+SCHEMATIC_MM = 140.0
+#: Smallest type in any figure as printed (points), the least journals ask for.  Sub-
+#: and superscripts are written as Unicode characters (W₀, L²) so none is smaller.
+MIN_FONT_PT = 7.0
 #: Size of the data-notice footer (points).
-FOOTER_FONT_PT = 6.5
+FOOTER_FONT_PT = MIN_FONT_PT
 #: Size of a note above a figure (points).
 NOTE_FONT_PT = 7.0
 #: Height of one row of a 7-point legend (mm), for figures that grow with their legend.

@@ -292,7 +292,7 @@ def figure_arc_vs_parabola(fits, notice=""):
             0.96,
             0.04,
             f"L = {L_median:.1f} mm ({L_values.size} fit{'s' if L_values.size > 1 else ''})\n"
-            f"$W_0/L$ = {depth_mm / L_median:.3f}",
+            f"W₀/L = {depth_mm / L_median:.3f}",
             transform=top.transAxes,
             ha="right",
             va="bottom",
@@ -301,7 +301,7 @@ def figure_arc_vs_parabola(fits, notice=""):
         bottom.text(
             0.04,
             0.96,
-            f"largest / $W_0$:\narc {100 * largest:.1f}%\n"
+            f"largest / W₀:\narc {100 * largest:.1f}%\n"
             f"shifted {100 * float(np.nanmax(np.abs(shifted_diff))) / depth_mm:.1f}%",
             transform=bottom.transAxes,
             ha="left",
@@ -337,7 +337,7 @@ def figure_arc_vs_parabola(fits, notice=""):
             linestyle=MODEL_LINESTYLES["shifted"],
             label="same parabola at x = X + U (eqs 19-20)",
         ),
-        Line2D([], [], color=MODEL_COLOURS["arc"], label="exact arc (same $W_0$, L)"),
+        Line2D([], [], color=MODEL_COLOURS["arc"], label="exact arc (same W₀, L)"),
         Line2D(
             [],
             [],
@@ -355,9 +355,7 @@ def figure_arc_vs_parabola(fits, notice=""):
         ),
         Line2D([], [], color="0.6", linewidth=0.5, label="arc − parabola at each trial's L"),
     ]
-    noted_legend(
-        fig, handles, 2, "shapes drawn with $W_0$ = depth and the median fitted waterbed L"
-    )
+    noted_legend(fig, handles, 2, "shapes drawn with W₀ = depth and the median fitted waterbed L")
     add_footer(fig, notice)
     return fig
 
@@ -419,6 +417,8 @@ def figure_sensitivity(sensitivity, checks, notice=""):
     ax_L.set_ylabel("fitted L (mm)")
     ax_L.set_title("(a) membrane half-width by fit window", loc="left")
     ax_aicc.set_yscale("symlog", linthresh=2.0)
+    # plain numbers (0, 1, 10, 100): matplotlib's 10^k puts the exponent in small type
+    ax_aicc.yaxis.set_major_formatter(ticker.FuncFormatter(lambda value, _: f"{value:g}"))
     largest = float(np.nanmax(sensitivity["delta_aicc"].astype(float)))
     # differences are >= 0 by construction; a little room below keeps the zeros visible
     ax_aicc.set_ylim(-0.3, max(10.0, 2.0 * largest))
@@ -614,7 +614,8 @@ def figure_coordinates(fits, checks, noise=None, noise_mm=None, notice=""):
             gaps.extend(values[np.isfinite(values)])
     ax_gap.axhline(noise_mm, color="0.5", linestyle=":", linewidth=0.8)
     ax_gap.annotate(
-        f"digitising noise of one reading ({noise_mm:g} mm)",
+        # two significant figures: the measured noise is known to a few per cent
+        f"digitising noise of one reading ({1000 * noise_mm:.2g} µm)",
         xy=(0.02, noise_mm),
         xycoords=("axes fraction", "data"),
         xytext=(0, 2),
@@ -665,17 +666,17 @@ FORCE_STYLES = {
     "stress_free": {
         "color": "#D55E00",
         "linestyle": "--",
-        "label": r"stress-free membrane, $N = E\varepsilon$ (eq. 7)",
+        "label": "stress-free membrane, N = Eε (eq. 7)",
     },
     "tension_only": {
         "color": "0.45",
         "linestyle": ":",
-        "label": r"tension at rest alone, $N = N_0$",
+        "label": "tension at rest alone, N = N₀",
     },
     "fitted": {
         "color": "#0072B2",
         "linestyle": "-",
-        "label": r"fit with tension at rest, $N = N_0 + E\varepsilon$",
+        "label": "fit with tension at rest, N = N₀ + Eε",
     },
 }
 #: Fill of the paper's force range (absolute mode) or its largest ratio (relative mode).
