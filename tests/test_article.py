@@ -9,7 +9,7 @@ import pytest
 from pypdf import PdfReader
 
 import pdflayout
-from conftest import SHARED_NOTICE
+from conftest import REPO, SHARED_NOTICE
 from lineload.article import article_facts, join_words, number_words, shown, span_text
 from lineload.claims import CLAIM_COLUMNS
 from lineload.figures.registry import FIGURES
@@ -236,3 +236,36 @@ def test_every_page_but_the_last_is_at_least_four_fifths_full(shipped_build):
     assert len(fills) > 5
     thin = {page: round(fill, 2) for page, fill in enumerate(fills[:-1], start=1) if fill < 0.8}
     assert thin == {}
+
+
+def body_text(path):
+    """The article's own text (its serif font), without the figures' (DejaVu Sans)."""
+    runs = []
+
+    def visit(text, cm, tm, font, size):
+        if font is not None and "Libertinus" in str(font.get("/BaseFont", "")):
+            runs.append(text)
+
+    for page in PdfReader(path).pages:
+        page.extract_text(visitor_text=visit)
+    return "".join(runs)
+
+
+@pytest.mark.e2e
+def test_text_from_the_tables_gets_curly_quotes_like_the_rest(small_build_with_notice):
+    """The claims' sentences come from claims.csv, where Typst's smart quotes do not reach."""
+    text = body_text(small_build_with_notice[1] / "article" / "reproduction.pdf")
+    assert "paper’s" in text and "‘Comparison" in text  # from claims.csv, curled
+    assert "'" not in text and '"' not in text
+
+
+def test_the_article_places_the_figures_in_the_registry_order_the_report_numbers_by():
+    """The report labels a figure by its place in the registry; the article numbers
+    figures as it places them: the same order gives the same numbers in both."""
+    from lineload.figures.registry import report_label
+
+    template = (REPO / "workflow" / "article" / "reproduction.typ").read_text()
+    placed = re.findall(r'#fig\("(\w+)"', template)
+    assert placed == [figure.name for figure in FIGURES]
+    labels = [" ".join(report_label(figure).split()) for figure in FIGURES]
+    assert labels == [f"Figure {n}" for n in range(1, len(FIGURES) + 1)]

@@ -10,6 +10,7 @@ import pandas as pd
 import pytest
 
 from conftest import SHARED_NOTICE, run_snakemake
+from lineload.figures import registry
 
 pytestmark = pytest.mark.e2e
 
@@ -94,6 +95,20 @@ def test_report_reads_as_a_reviewer_needs(tmp_path, browser, build, request):
         "One depth against log distance, with the waterbed and Boussinesq fits",
     )
     assert frame.locator("img").count() == 1 and "log axis" in text
+    # the supplements numbered on from the paper's figures, as in the article, and listed
+    # in that order (the report sorts labels as text: "Figure 10" must not precede 8)
+    page.goto(report.as_uri())
+    page.get_by_text("Supplement", exact=True).first.click()
+    figures = page.get_by_text("Figures", exact=True).first
+    if figures.is_visible():
+        figures.click()
+    page.locator("tbody tr").first.wait_for()
+    listed = [
+        " ".join(row.split("\t")[0].split()) for row in page.locator("tbody tr").all_inner_texts()
+    ]
+    supplements = [f for f in registry.FIGURES if f.category == "Supplement"]
+    first = registry.FIGURES.index(supplements[0]) + 1
+    assert listed == [f"Figure {first + i}" for i in range(len(supplements))]
     # the software page names the versions
     frame, text = open_item(page, report, ["Provenance", "Pages"], "versions and source")
     assert "snakemake" in text and "typst" in text

@@ -865,7 +865,7 @@ def mechanics_markdown(summary, command, notice=""):
         "(the same seeds: fresh digitising errors and force noise) goes through the mechanics "
         "as the workflow runs it: the exact arc's L with its interval, the forces, the stated "
         "error of one force reading (a prior: there are no replicate forces). The interval "
-        "estimate +- 1.96 standard errors should hold the truth in 95 % of subjects; "
+        "estimate ± 1.96 standard errors should hold the truth in 95 % of subjects; "
         "aim 93-97 %.\n\n" + markdown_table(header, cells, "llrrr") + f"\n\nMade by `{command}`.\n"
     )
     if notice:

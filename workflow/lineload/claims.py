@@ -151,7 +151,7 @@ CLAIM_TEXT = {
     ),
     "C6": (
         "The horizontal shift U of the membrane is negligible: at X = L/3, where it is "
-        "largest (8 W0^2 / (9 L)), it is a small fraction of X.",
+        "largest (8W₀²/(9L)), it is a small fraction of X.",
         "Results, 'Comparison of theoretical and experimental results'",
         "< 8 % of X",
     ),
@@ -179,7 +179,7 @@ CLAIM_TEXT = {
     ),
     "C11": (
         "(Implicit) The forces measured on the wedge fit the proposed membrane, which carries "
-        "no tension at rest (N = E eps): through F = 2 N sin(theta0), the fitted shapes fix "
+        "no tension at rest (N = Eε): through F = 2N sin θ₀, the fitted shapes fix "
         "how fast the force must grow with depth.",
         "Methods, 'Experimental procedure' (force range); eqs 3 and 7",
         f"{paper.FORCE_RANGE_N[0]:g}-{paper.FORCE_RANGE_N[1]:g} N over depths of "
@@ -605,12 +605,12 @@ def claim_c2(fits, averaged, settings):
         f"({_pct(margin, 0)}, its bound on |U|/X; the paper gives no number for symmetry). Per "
         "trial, over the distances read on both sides (left_source and right_source both "
         "'measured'): the mean square of left - right beyond what the noise gives, D = "
-        "mean(d^2) - trace(C)/n, with C the covariance of the difference under noise alone "
+        "mean(d²) − trace(C)/n, with C the covariance of the difference under noise alone "
         "(twice one side's: reading, tracing and side offset; the noise table), and its "
         "standard error SE. The sides are nearly the same if their true RMS difference is "
-        f"below {_pct(margin, 0)} of the depth W0. Equivalent if D + z(1 - {alpha:g}) SE < "
-        f"({margin:g} W0)^2; different if D - z(1 - {alpha:g}/(2 x trials)) SE > ({margin:g} "
-        "W0)^2 (Bonferroni). Holds if every trial is equivalent; does not hold if any is "
+        f"below {_pct(margin, 0)} of the depth W₀. Equivalent if D + z(1 - {alpha:g}) SE < "
+        f"({margin:g} W₀)²; different if D - z(1 - {alpha:g}/(2 x trials)) SE > ({margin:g} "
+        "W₀)² (Bonferroni). Holds if every trial is equivalent; does not hold if any is "
         "different; cannot be checked otherwise."
     )
     values = []
@@ -936,13 +936,14 @@ def claim_c6(fits, averaged, settings):
         "deformed position) is negligible if it changes the fitted L by less than "
         f"{_pct(margin, 0)}, the paper's bound on |U|/X. The reference is the exact arc, the "
         "finite-deformation solution of the same membrane (consistent in both coordinates). "
-        "Per trial with both fits: the paired relative difference d = (L_paper - L_arc) / "
-        "L_arc, both from the same readings, with its standard error from the fits' "
+        "Per trial with both fits: the paired relative difference d = (L of the paper's "
+        "procedure − L of the arc) / L of the arc, both from the same readings, with its "
+        "standard error from the fits' "
         "first-order sensitivities to the readings (misfit included) and the measured noise "
         "(the noise table: reading and tracing errors, side offsets, and the priors for what "
         "left-right differences cannot see). "
         f"Equivalent if the {format_fixed(100 * (1 - 2 * alpha), 0)} % interval of "
-        f"d lies inside +-{_pct(margin, 0)} (two one-sided tests at significance = "
+        f"d lies inside ±{_pct(margin, 0)} (two one-sided tests at significance = "
         f"{alpha:g}); different if its {format_fixed(100 * (1 - 2 * alpha / 2), 0)} % "
         "interval, Bonferroni over the trials, lies outside. Holds if every trial is "
         "equivalent; does not hold if some trial is different; cannot be checked otherwise. "
@@ -996,8 +997,8 @@ def claim_c6(fits, averaged, settings):
     fractions = np.array([r["fraction"] for r in rows])
     shifted = np.array([r["shifted"] for r in rows])
     our = (
-        f"(L_paper - L_arc) / L_arc {_span(100 * d, 1, ' %')}, standard error "
-        f"{_span(100 * sd, 3, ' %')}; equivalent within +-{_pct(margin, 0)} in "
+        f"L of the paper's procedure differs from the arc's by {_span(100 * d, 1, ' %')}, standard "
+        f"error {_span(100 * sd, 3, ' %')}; equivalent within ±{_pct(margin, 0)} in "
         f"{int(equivalent.sum())} of {_n(d.size, 'trial')}, different in "
         f"{int(different.sum())}; largest gap between the curves {_span(gaps, 3, ' mm')} "
         f"(reading noise {format_fixed(settings.reading_noise_mm, 3)} mm); "
@@ -1081,11 +1082,11 @@ def claim_c8(fits, averaged, settings):
     """C8: the waterbed's misfit beyond the noise grows with depth, tested across subjects."""
     alpha = settings.significance
     rule = (
-        "Per trial: the waterbed's excess mean square error RMSE^2 - s^2 (mm^2), with RMSE "
-        "over the fit window and s^2 the mean noise variance of the averaged points there "
+        "Per trial: the waterbed's excess mean square error RMSE² − s² (mm²), with RMSE "
+        "over the fit window and s² the mean noise variance of the averaged points there "
         "(the reading noise squared over the number of sides averaged); not truncated at "
         "zero, so noise averages out. Per subject with two or more depths: the "
-        "least-squares slope of the excess against depth (mm^2 per mm). Across subjects: "
+        "least-squares slope of the excess against depth (mm² per mm). Across subjects: "
         "the slopes regressed on species (a fixed effect), and the mean of the species' "
         "mean slopes tested one-sided with "
         f"Student's t (significance = {alpha:g}). Holds if the slope is significantly above "
@@ -1141,27 +1142,27 @@ def claim_c8(fits, averaged, settings):
     upper = estimate + float(student_t.ppf(1.0 - alpha, df)) * se
     per_subject = ", ".join(f"{s} {format_fixed(1e6 * v, 1)}" for s, v in slopes.items())
     our = (
-        f"excess mean square error (um^2), mean per depth: {means}; slope per subject "
-        f"(um^2 per mm of depth): {per_subject}; mean slope {format_fixed(1e6 * estimate, 1)} "
-        f"+- {format_fixed(1e6 * se, 1)} (t = {format_fixed(t_value, 2)}, {df} degrees of "
+        f"excess mean square error (µm²), mean per depth: {means}; slope per subject "
+        f"(µm² per mm of depth): {per_subject}; mean slope {format_fixed(1e6 * estimate, 1)} "
+        f"± {format_fixed(1e6 * se, 1)} (t = {format_fixed(t_value, 2)}, {df} degrees of "
         f"freedom, one-sided p {_p_text(p_value)})"
     )
     if p_value < alpha:
         reason = (
             f"Across {_n(len(slopes), 'subject')} the waterbed's misfit beyond the noise grows "
-            f"with depth, by {format_fixed(1e6 * estimate, 0)} um^2 per mm on average "
+            f"with depth, by {format_fixed(1e6 * estimate, 0)} µm² per mm on average "
             f"(one-sided p {_p_text(p_value)})."
         )
         return _row("C8", our, HOLDS, reason, rule)
     if upper < 0:
         reason = (
             f"Across {_n(len(slopes), 'subject')} the misfit beyond the noise shrinks with "
-            f"depth (upper bound {format_fixed(1e6 * upper, 1)} um^2 per mm)."
+            f"depth (upper bound {format_fixed(1e6 * upper, 1)} µm² per mm)."
         )
         return _row("C8", our, FAILS, reason, rule)
     reason = (
         f"Across {_n(len(slopes), 'subject')} the mean slope "
-        f"({format_fixed(1e6 * estimate, 1)} +- {format_fixed(1e6 * se, 1)} um^2 per mm) is "
+        f"({format_fixed(1e6 * estimate, 1)} ± {format_fixed(1e6 * se, 1)} µm² per mm) is "
         "neither shown to be above zero nor below it."
     )
     return _row("C8", our, UNTESTABLE, reason, rule)
@@ -1265,7 +1266,7 @@ def claim_c10(fits, averaged, settings):
         "outer) / whole, zero for a circle; its standard error by first order. Pooled over "
         "trials (inverse-variance weights): the skin is circular to the margin if the "
         f"{format_fixed(100 * (1 - 2 * alpha), 0)} % interval of the pooled r lies inside "
-        f"+-{_pct(margin, 0)} and no trial's r lies significantly outside it (Bonferroni over "
+        f"±{_pct(margin, 0)} and no trial's r lies significantly outside it (Bonferroni over "
         f"the trials; significance = {alpha:g}); it is not if the pooled interval lies "
         "outside, or any trial's r lies significantly outside the margin. Cannot be checked "
         "otherwise: the noise hides a change as large as the margin."
@@ -1309,8 +1310,8 @@ def claim_c10(fits, averaged, settings):
     beyond = (np.abs(r) - margin) / se > z_all
     our = (
         f"relative change of curvature, inner minus outer half over the whole window: pooled "
-        f"{_pct(pooled)} +- {_pct(pooled_se)} (SE) over {len(tested)} trials; per trial "
-        f"{_span(100 * r, 1, ' %')}; significantly beyond +-{_pct(margin, 0)} in "
+        f"{_pct(pooled)} ± {_pct(pooled_se)} (SE) over {len(tested)} trials; per trial "
+        f"{_span(100 * r, 1, ' %')}; significantly beyond ±{_pct(margin, 0)} in "
         f"{int(beyond.sum())}"
     )
     if outside or beyond.any():
@@ -1330,7 +1331,7 @@ def claim_c10(fits, averaged, settings):
         )
         return _row("C10", our, HOLDS, reason, rule)
     reason = (
-        f"The noise leaves the change of curvature ({_pct(pooled)} +- {_pct(pooled_se)}) "
+        f"The noise leaves the change of curvature ({_pct(pooled)} ± {_pct(pooled_se)}) "
         f"undecided against the {_pct(margin, 0)} margin."
     )
     return _row("C10", our, UNTESTABLE, reason, rule)
@@ -1392,7 +1393,7 @@ def claim_c11(fits, averaged, settings, forces=None):
     allowed = mechanics.allowed_force_ratio()
     alpha = settings.significance
     rule = (
-        "Through F = 2 l N sin(theta0) (eq. 3) with N = E eps (eq. 7), the exact arc fitted "
+        "Through F = 2lN sin θ₀ (eq. 3) with N = Eε (eq. 7), the exact arc fitted "
         "at each depth (arc_L_mm: its load angle and Green strain, lineload.mechanics) fixes "
         "the ratio of the forces of a stress-free membrane at two depths, whatever E and the "
         "contact length l. (a) Shapes: per subject, that ratio between its largest and "
@@ -1400,7 +1401,7 @@ def claim_c11(fits, averaged, settings, forces=None):
         f"force inside the paper's {low_N:g}-{high_N:g} N allows at most {high_N:g}/{low_N:g} "
         f"= {allowed:.2f}. (b) Forces, where forces.csv has two or more depths of a subject: "
         "the stress-free membrane fitted to them (one constant) by weighted least squares, "
-        f"each force with variance force_sd_N^2 = ({settings.force_sd_N:g} N)^2 plus the "
+        f"each force with variance force_sd_N² = ({settings.force_sd_N:g} N)² plus the "
         "part from L's uncertainty, and its chi-square against the chi-square distribution "
         f"(significance = {alpha:g} divided by the number of subjects tested, Bonferroni). "
         "Does not hold if in some subject even the most favourable ends of the intervals "
@@ -1408,7 +1409,7 @@ def claim_c11(fits, averaged, settings, forces=None):
         "holds if in every subject the least favourable ends stay within it and no subject's "
         "forces reject it; cannot be checked otherwise. Beside it: the ratio of a membrane "
         "held by its tension alone (the limit of a large pre-strain) and the smallest "
-        "pre-strain N0/E that would bring the ratio within the allowed one (none if even "
+        "pre-strain N₀/E that would bring the ratio within the allowed one (none if even "
         "tension alone exceeds it)."
     )
     shapes = _shape_checks(fits, allowed)

@@ -615,7 +615,7 @@ def sensitivity_markdown(sensitivity, checks, notice=""):
         "\nPer trial: L under the paper's procedure and in measured coordinates (shifted "
         "parabola, exact arc), and the largest vertical gap between each of those fitted "
         "curves and the paper's over the fitted range; the largest horizontal shift of the "
-        "small-slope solution, 8 W0^2 / (9 L) at X = L/3, as a fraction of that X; and the "
+        "small-slope solution, 8W₀²/(9L) at X = L/3, as a fraction of that X; and the "
         "reach, the distance up to which the waterbed fitted in the main window stays within "
         "the tolerance of every averaged point.\n"
     )

@@ -44,7 +44,7 @@ REPORT_OTHER_PAGES = {
 
 
 # Every page, registered with its caption and category: tables, figures (numbered
-# "Figure 2" or "Supplement 1", so the report lists them in the paper's order), others.
+# "Figure 2" ... "Figure 12" as the article numbers them, in order), others.
 REPORT_PAGES = [
     *(
         report_item(

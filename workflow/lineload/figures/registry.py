@@ -160,11 +160,15 @@ class Figure:
 #: (Figures 6 and 7, the residual supplement).
 _PROFILES_AND_FITS = ("averaged", "fits", "subjects", "fit_window_mm", "notice")
 
+#: A space as wide as a digit (U+2007), which sorts before the digits.
+FIGURE_SPACE = "\u2007"
+
 #: The footer of the schematics: drawn from the equations, they show no data, so the data
 #: notice is not theirs (a reader would take them for measurements).
 MODEL_FOOTER = "Drawn from the model's equations; no measurements are shown."
 
-#: Every figure: the paper's in its order, then the supplements.
+#: Every figure: the paper's in its order, then the supplements in the article's order
+#: (the article numbers them on from the paper's, and the report as the article does).
 FIGURES = (
     Figure(
         "figure1",
@@ -237,6 +241,15 @@ FIGURES = (
         title="Every human at every depth, with its waterbed fit",
     ),
     Figure(
+        "supplement_coordinates",
+        "supplements",
+        "supplements",
+        "figure_coordinates",
+        ("fits", "checks", "noise", "noise_mm", "notice"),
+        category="Supplement",
+        title="What fitting in measured coordinates changes, against the reading noise",
+    ),
+    Figure(
         "supplement_residuals",
         "supplements",
         "supplements",
@@ -262,15 +275,6 @@ FIGURES = (
         ("sensitivity", "checks", "notice"),
         category="Supplement",
         title="Fitted size, model ranking, shift and reach across fit windows, trial by trial",
-    ),
-    Figure(
-        "supplement_coordinates",
-        "supplements",
-        "supplements",
-        "figure_coordinates",
-        ("fits", "checks", "noise", "noise_mm", "notice"),
-        category="Supplement",
-        title="What fitting in measured coordinates changes, against the reading noise",
     ),
     Figure(
         "supplement_mechanics",
@@ -299,7 +303,11 @@ def figure_named(name):
 
 
 def report_label(figure):
-    """How the report numbers a figure: ``Figure 2`` as in the paper, ``Supplement 1`` after.
+    """How the report numbers a figure: as the article does (``Figure 2``, ``Figure 10``).
+
+    The report sorts its labels as text, where "Figure 10" would come before "Figure 8":
+    shorter numbers are padded with figure spaces (U+2007, as wide as a digit), which sort
+    before digits, so the labels line up and come in order.
 
     Parameters
     ----------
@@ -309,10 +317,8 @@ def report_label(figure):
     -------
     str
     """
-    supplements = [f for f in FIGURES if f.category == "Supplement"]
-    if figure in supplements:
-        return f"Supplement {supplements.index(figure) + 1}"
-    return figure.name.replace("figure", "Figure ")
+    number = FIGURES.index(figure) + 1
+    return "Figure " + str(number).rjust(len(str(len(FIGURES))), FIGURE_SPACE)
 
 
 def figures_in_group(group):
