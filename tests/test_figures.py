@@ -843,11 +843,11 @@ def test_registry_lists_each_figure_once_in_its_group():
         "outlines": ["figure1"],
         "schematics": ["figure3", "figure4", "figure5"],
         "fits": ["figure2", "figure6", "figure7"],
-        "supplements": [
+        "supplements": [  # in the article's order (its Figures 8-12)
+            "supplement_coordinates",
             "supplement_residuals",
             "supplement_arc_vs_parabola",
             "supplement_sensitivity",
-            "supplement_coordinates",
             "supplement_mechanics",
         ],
     }
