@@ -1,13 +1,20 @@
 """Project plumbing: pinned dependencies, documented columns, CI runs the README's tests."""
 
+import json
 import re
+import subprocess
+import sys
 from pathlib import Path
 
+import pytest
 import yaml
 
+from lineload.citation import read_citation, zenodo_json
 from lineload.fitting import FIT_COLUMNS
 
 REPO = Path(__file__).resolve().parents[1]
+#: The test environment's own programs (check-jsonschema), beside its Python.
+BIN = Path(sys.executable).parent
 
 
 EDITABLE = "-e ."  # the project's own package, installed editable by both routes
@@ -95,3 +102,64 @@ def test_the_species_are_named_once():
         (REPO / "workflow" / "schemas" / "subjects.schema.yaml").read_text(encoding="utf-8")
     )
     assert tuple(schema["properties"]["species"]["enum"]) == paper.SPECIES
+
+
+# ---------------------------------------------------------------- citation metadata
+
+
+def test_citation_file_follows_the_citation_file_format_schema():
+    # check-jsonschema carries the CFF 1.2.0 schema itself: no network
+    command = [str(BIN / "check-jsonschema"), "--builtin-schema", "vendor.citation-file-format"]
+    done = subprocess.run([*command, str(REPO / "CITATION.cff")], capture_output=True, text=True)
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_citation_check_can_fail(tmp_path):
+    broken = tmp_path / "CITATION.cff"
+    text = (REPO / "CITATION.cff").read_text()
+    broken.write_text(text.replace("date-released: ", "date-released: not-a-date-"))
+    command = [str(BIN / "check-jsonschema"), "--builtin-schema", "vendor.citation-file-format"]
+    done = subprocess.run([*command, str(broken)], capture_output=True, text=True)
+    assert done.returncode != 0 and "date-released" in done.stdout + done.stderr
+
+
+def test_zenodo_metadata_is_the_citation_files():
+    """.zenodo.json is generated from CITATION.cff (python -m lineload.citation)."""
+    citation = read_citation(REPO / "CITATION.cff")
+    assert (REPO / ".zenodo.json").read_text() == zenodo_json(citation)
+    zenodo = json.loads((REPO / ".zenodo.json").read_text())
+    assert zenodo["version"] == citation["version"]
+    assert zenodo["publication_date"] == citation["date-released"]
+    assert [c["name"] for c in zenodo["creators"]] == [a["name"] for a in citation["authors"]]
+
+
+def test_zenodo_metadata_follows_a_changed_citation(tmp_path):
+    changed = tmp_path / "CITATION.cff"
+    text = (REPO / "CITATION.cff").read_text()
+    changed.write_text(
+        text.replace("version: ", "version: 9.").replace(
+            "  - name: The lineload contributors\n",
+            "  - family-names: Doe\n    given-names: Ada\n    orcid: https://orcid.org/0000-0002-1825-0097\n",
+        )
+    )
+    zenodo = json.loads(zenodo_json(read_citation(changed)))
+    assert zenodo["version"].startswith("9.")
+    assert zenodo["creators"] == [{"name": "Doe, Ada", "orcid": "0000-0002-1825-0097"}]
+    assert zenodo_json(read_citation(changed)) != (REPO / ".zenodo.json").read_text()
+
+
+def test_changelog_names_the_citation_files_version_and_date():
+    citation = read_citation(REPO / "CITATION.cff")
+    changelog = (REPO / "CHANGELOG.md").read_text()
+    assert "## [Unreleased]" in changelog
+    assert f"## [{citation['version']}] - {citation['date-released']}" in changelog
+
+
+def test_a_broken_citation_file_is_named(tmp_path):
+    broken = tmp_path / "CITATION.cff"
+    broken.write_text("title: [unclosed\n")
+    with pytest.raises(ValueError, match=r"CITATION\.cff: not valid YAML"):
+        read_citation(broken)
+    broken.write_text("title: x\n")
+    with pytest.raises(ValueError, match="no version"):
+        read_citation(broken)

@@ -187,7 +187,8 @@ def article_facts(
         The data notice (empty for data that carry none).
     software : dict
         ``python``, ``packages`` (name -> version) and ``git`` (``commit``, ``dirty``)
-        from the provenance record.
+        from the provenance record; optionally ``name``, ``version`` and ``released``
+        (the workflow's own, from ``CITATION.cff``).
     mechanics : pandas.DataFrame, optional
         The per-subject membrane mechanics, when the workflow made them.
     built_in : list of dict, optional
@@ -252,6 +253,12 @@ def article_facts(
             for how in ("tuned", "follows")
         },
         "software": {
+            # name, version and release date: the citation file's (absent in older callers)
+            **{
+                key: str(software[key])
+                for key in ("name", "version", "released")
+                if software.get(key)
+            },
             "python": str(software["python"]),
             "packages": {name: str(v) for name, v in software["packages"].items() if v},
             "git": {

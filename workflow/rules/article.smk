@@ -19,6 +19,8 @@ rule article:
         ),
         source=os.path.relpath(Path(workflow.basedir, "article", "reproduction.typ")),
         references=os.path.relpath(Path(workflow.basedir, "article", "references.yml")),
+        # the workflow's name, version and release date, printed in the title block
+        citation=os.path.relpath(Path(workflow.basedir).parent / "CITATION.cff"),
         checked=checked_raw_data,
         fits=rules.fits_table.output[0],
         claims=rules.claims_table.output.csv,
