@@ -27,7 +27,7 @@ __all__ = [
 ]
 
 #: Distributions whose versions are recorded (the pinned dependencies that run the build).
-PACKAGES = ("snakemake", "numpy", "scipy", "pandas", "matplotlib", "pyyaml", "typst")
+PACKAGES = ("snakemake", "numpy", "scipy", "pandas", "matplotlib", "pyyaml", "typst", "rocrate")
 
 
 def file_sha256(path):

@@ -130,3 +130,39 @@ def code(script, modules=()):
             Path(workflow.basedir, "scripts", script), modules
         )
     ]
+
+
+def crate_files(wildcards):
+    """Input function of the crate rule (report.smk), and of the bundle's through it.
+
+    Every file of the crate: its name in the crate (under results/), the rule that
+    wrote it, its kind, and where it comes from: outputs and logs are where they are;
+    the raw inputs (under the raw folder) and the source (in the checkout) are copied
+    into inputs/ and source/.  No absolute path: the spec stays the same wherever the
+    folders are."""
+    # (the loop variable is "name": a line that starts with the keyword is read as one)
+    outputs_of = {**OUTPUTS_BY_RULE, "provenance": list(rules.provenance.output)}
+    files = [
+        {"name": os.path.relpath(f, RES), "rule": name, "kind": "output"}
+        for name, outputs in outputs_of.items()
+        for f in outputs
+    ]
+    # the logs, where a rule keeps one (written before this job runs)
+    files += [
+        {"name": os.path.relpath(log, RES), "rule": name, "kind": "log"}
+        for name in CRATE_RULES
+        for log in getattr(rules, name).rule.log
+    ]
+    files += [
+        {
+            "name": f"inputs/{os.path.relpath(f, RAW)}",
+            "from": os.path.relpath(f, RAW),
+            "kind": "input",
+        }
+        for f in rules.provenance.input.raw
+    ]
+    files += [
+        {"name": f"source/{name}", "from": name, "kind": "source"}
+        for name in SOURCE_FILES
+    ]
+    return files

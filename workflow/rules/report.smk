@@ -114,6 +114,26 @@ rule report_pages:
         "../scripts/write_report_pages.py"
 
 
+#: Every output of the default build by the rule that writes it, in the order the rules
+#: run: the provenance record depends on them all, and the run crate names each file's rule.
+OUTPUTS_BY_RULE = {
+    "check_raw_data": list(rules.check_raw_data.output),
+    "prepare_profiles": expand(rules.prepare_profiles.output, batch=BATCH_IDS),
+    "prepare_outline": expand(rules.prepare_outline.output, subject=OUTLINED),
+    "noise": list(rules.noise.output),
+    "fit_models": expand(rules.fit_models.output, batch=BATCH_IDS),
+    "fits_table": list(rules.fits_table.output),
+    "fit_sensitivity": expand(rules.fit_sensitivity.output, batch=BATCH_IDS),
+    "sensitivity_tables": list(rules.sensitivity_tables.output),
+    "fit_tables": list(rules.fit_tables.output),
+    "mechanics": list(rules.mechanics.output),
+    "claims_table": list(rules.claims_table.output),
+    **{f"figure_{group}": GROUP_FILES[group] for group in registry.GROUPS},
+    "article": list(rules.article.output),
+    "report_pages": list(rules.report_pages.output),
+}
+
+
 rule provenance:
     """Hash every raw input and record config, software versions and git commit."""
     input:
@@ -128,21 +148,7 @@ rule provenance:
         ],
         # built last, so the record is rewritten whenever any output is; listing every
         # intermediate here also makes each a target of the default build
-        outputs=[
-            rules.check_raw_data.output,
-            expand(rules.prepare_profiles.output, batch=BATCH_IDS),
-            expand(rules.fit_models.output, batch=BATCH_IDS),
-            expand(rules.fit_sensitivity.output, batch=BATCH_IDS),
-            expand(rules.prepare_outline.output, subject=OUTLINED),
-            rules.fits_table.output,
-            rules.sensitivity_tables.output,
-            rules.fit_tables.output,
-            rules.mechanics.output,
-            rules.claims_table.output,
-            FIGURE_FILES,
-            rules.article.output,
-            rules.report_pages.output,
-        ],
+        outputs=[f for files in OUTPUTS_BY_RULE.values() for f in files],
         code=code("write_provenance.py"),
     output:
         report_item(
@@ -159,3 +165,86 @@ rule provenance:
         ENVIRONMENT
     script:
         "../scripts/write_provenance.py"
+
+
+# ------------------------------------------------------------------ the run as an RO-Crate
+
+from lineload.bundle import bundle_name
+from lineload.citation import read_citation, software_name
+from lineload.crate import source_files
+from lineload.provenance import git_state
+
+REPOSITORY = Path(workflow.basedir).parent
+CITATION = read_citation(REPOSITORY / "CITATION.cff")
+#: The workflow's source as the crate and the bundle carry it (a copy under source/,
+#: so the results folder is a whole run).
+SOURCE_FILES = source_files(REPOSITORY)
+#: Each rule of the default build: what it does and its source in the crate's copy.
+CRATE_RULES = {
+    name: {
+        "description": " ".join((getattr(rules, name).rule.docstring or name).split()),
+        "source": "source/"
+        + Path(
+            os.path.relpath(getattr(rules, name).rule.snakefile, REPOSITORY)
+        ).as_posix(),
+    }
+    for name in [*OUTPUTS_BY_RULE, "provenance"]
+}
+
+
+rule crate:
+    """The run as a Workflow Run RO-Crate: every file with its hash and rule, the config,
+    the software; the raw inputs and the source copied in, so results/ is a whole run.
+    """
+    input:
+        spec=spec("crate", files=crate_files, rules=CRATE_RULES),
+        provenance=rules.provenance.output[0],
+        citation=os.path.relpath(REPOSITORY / "CITATION.cff"),
+        # the raw inputs, the subject sheet first (the raw folder is its folder)
+        raw=rules.provenance.input.raw,
+        outputs=[f for files in OUTPUTS_BY_RULE.values() for f in files],
+        source=[os.path.relpath(REPOSITORY / name) for name in SOURCE_FILES],
+        code=code("write_crate.py"),
+    output:
+        metadata=result("ro-crate-metadata.json"),
+        inputs=directory(result("inputs")),
+        source=directory(result("source")),
+    log:
+        result("logs", "crate.log"),
+    benchmark:
+        result("benchmarks", "crate.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/write_crate.py"
+
+
+# ------------------------------------------------------------------ the bundle (on request)
+
+
+rule bundle:
+    """On request: the run crate (results, raw inputs, source) as one reproducible zip
+    with SHA256SUMS; every file the crate lists, and nothing else."""
+    input:
+        spec=spec("bundle", date=str(CITATION.get("date-released") or "1980-01-01")),
+        crate_spec=rules.crate.input.spec,
+        crate=rules.crate.output.metadata,
+        folders=[rules.crate.output.inputs, rules.crate.output.source],
+        provenance=rules.provenance.output[0],
+        citation=rules.crate.input.citation,
+        code=code("write_bundle.py"),
+    output:
+        result(
+            "bundle",
+            bundle_name(
+                software_name(CITATION),
+                CITATION["version"],
+                git_state(REPOSITORY)["commit"],
+            ),
+        ),
+    log:
+        result("logs", "bundle.log"),
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/write_bundle.py"

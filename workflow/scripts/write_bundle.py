@@ -1,0 +1,35 @@
+"""Rule bundle: the run crate, without the logs, as one zip with SHA256SUMS."""
+
+import os
+from pathlib import Path
+
+from lineload.bundle import write_bundle
+from lineload.citation import read_citation
+from lineload.crate import METADATA, build_crate, crate_json
+from lineload.io import output_to, read_json
+
+
+def bundle(files, rules, provenance, citation, crate_metadata, output, date):
+    """Write the bundle: every file of the run crate but the logs (they name the folders
+    of the build), with a crate that lists exactly those; say what it holds."""
+    root = Path(crate_metadata).parent
+    built, members = build_crate(
+        files, rules, read_json(provenance), read_citation(citation), root, logs=False
+    )
+    members[METADATA] = crate_json(built).encode()
+    write_bundle(members, output, date)
+    print(f"{output}: {len(members)} files and SHA256SUMS, {os.path.getsize(output)} bytes")
+
+
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        spec = read_json(snakemake.input.crate_spec)
+        bundle(
+            spec["files"],
+            spec["rules"],
+            snakemake.input.provenance,
+            snakemake.input.citation,
+            snakemake.input.crate,
+            snakemake.output[0],
+            **read_json(snakemake.input.spec),
+        )
