@@ -163,3 +163,19 @@ def test_a_broken_citation_file_is_named(tmp_path):
     broken.write_text("title: x\n")
     with pytest.raises(ValueError, match="no version"):
         read_citation(broken)
+
+
+def test_a_copy_without_the_citation_file_names_the_package(tmp_path):
+    """A workflow deployed as workflow/ and config/ alone has no CITATION.cff: the
+    package's name and version stand in, and no date, licence or author is claimed."""
+    from importlib import metadata
+
+    from lineload.citation import citation_or_default
+
+    fallback = citation_or_default([])
+    assert fallback["title"] == "lineload"
+    assert fallback["version"] == metadata.version("lineload")
+    assert "date-released" not in fallback and "license" not in fallback
+    assert not fallback["authors"]
+    assert citation_or_default(tmp_path / "CITATION.cff") == fallback  # a path not there
+    assert citation_or_default(REPO / "CITATION.cff") == read_citation(REPO / "CITATION.cff")

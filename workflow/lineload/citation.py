@@ -10,11 +10,18 @@ from __future__ import annotations
 import datetime
 import json
 import sys
+from importlib import metadata
 from pathlib import Path
 
 import yaml
 
-__all__ = ["read_citation", "software_name", "zenodo_json", "zenodo_metadata"]
+__all__ = [
+    "citation_or_default",
+    "read_citation",
+    "software_name",
+    "zenodo_json",
+    "zenodo_metadata",
+]
 
 
 def read_citation(path):
@@ -50,6 +57,40 @@ def read_citation(path):
             f"{path}: no {' or '.join(missing)} (the article and the archive read them)"
         )
     return {k: v.isoformat() if isinstance(v, datetime.date) else v for k, v in data.items()}
+
+
+def citation_or_default(paths):
+    """The citation file if there is one, else what the installed package says.
+
+    A workflow deployed without the repository's documents (only ``workflow/`` and
+    ``config/``, as a module or a copy) has no ``CITATION.cff``: then the name and
+    version are the ``lineload`` package's, and no date, licence or author is claimed.
+
+    Parameters
+    ----------
+    paths : str, os.PathLike or a list of them
+        The citation file, or a list holding it or nothing (a rule's optional input).
+
+    Returns
+    -------
+    dict
+        As :func:`read_citation` returns it.
+    """
+    if isinstance(paths, (str, Path)):
+        paths = [paths]
+    for path in paths:
+        if Path(path).is_file():
+            return read_citation(path)
+    try:
+        version = metadata.version("lineload")
+    except metadata.PackageNotFoundError:
+        version = "unknown"
+    return {
+        "title": "lineload",
+        "version": version,
+        "message": "No CITATION.cff came with this copy of the workflow.",
+        "authors": [],
+    }
 
 
 def software_name(citation):

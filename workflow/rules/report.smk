@@ -170,12 +170,17 @@ rule provenance:
 # ------------------------------------------------------------------ the run as an RO-Crate
 
 from lineload.bundle import bundle_name
-from lineload.citation import read_citation, software_name
+from lineload.citation import citation_or_default, software_name
 from lineload.crate import source_files
 from lineload.provenance import git_state
 
 REPOSITORY = Path(workflow.basedir).parent
-CITATION = read_citation(REPOSITORY / "CITATION.cff")
+#: The citation file, where the copy of the workflow has one (a deployed workflow/ and
+#: config/ alone do not: then the package's name and version stand in)
+CITATION_FILES = [
+    os.path.relpath(path) for path in [REPOSITORY / "CITATION.cff"] if path.is_file()
+]
+CITATION = citation_or_default(CITATION_FILES)
 #: The workflow's source as the crate and the bundle carry it (a copy under source/,
 #: so the results folder is a whole run).
 SOURCE_FILES = source_files(REPOSITORY)
@@ -199,7 +204,7 @@ rule crate:
     input:
         spec=spec("crate", files=crate_files, rules=CRATE_RULES),
         provenance=rules.provenance.output[0],
-        citation=os.path.relpath(REPOSITORY / "CITATION.cff"),
+        citation=CITATION_FILES,
         # the raw inputs, the subject sheet first (the raw folder is its folder)
         raw=rules.provenance.input.raw,
         outputs=[f for files in OUTPUTS_BY_RULE.values() for f in files],

@@ -13,7 +13,7 @@ from pathlib import Path
 import typst
 
 from lineload.article import article_facts
-from lineload.citation import read_citation, software_name
+from lineload.citation import citation_or_default, software_name
 from lineload.figures.choices import figure_settings
 from lineload.io import (
     json_text,
@@ -44,7 +44,7 @@ def compile_pdf(source, root):
 
 def write_article(inputs, outputs, settings, subjects, notice, repository):
     """Write facts.json, the copy of the source, and the PDF."""
-    citation = read_citation(inputs.citation)
+    citation = citation_or_default(inputs.citation)
     software = {
         "name": software_name(citation),
         "version": citation["version"],

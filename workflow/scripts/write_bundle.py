@@ -4,7 +4,7 @@ import os
 from pathlib import Path
 
 from lineload.bundle import write_bundle
-from lineload.citation import read_citation
+from lineload.citation import citation_or_default
 from lineload.crate import METADATA, build_crate, crate_json
 from lineload.io import output_to, read_json
 
@@ -14,7 +14,7 @@ def bundle(files, rules, provenance, citation, crate_metadata, output, date):
     of the build), with a crate that lists exactly those; say what it holds."""
     root = Path(crate_metadata).parent
     built, members = build_crate(
-        files, rules, read_json(provenance), read_citation(citation), root, logs=False
+        files, rules, read_json(provenance), citation_or_default(citation), root, logs=False
     )
     members[METADATA] = crate_json(built).encode()
     write_bundle(members, output, date)

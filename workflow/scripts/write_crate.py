@@ -9,7 +9,7 @@ import os
 import shutil
 from pathlib import Path
 
-from lineload.citation import read_citation
+from lineload.citation import citation_or_default
 from lineload.crate import build_crate, write_crate
 from lineload.io import output_to, read_json
 
@@ -30,7 +30,9 @@ def crate(files, rules, provenance, citation, output, raw_dir, repository):
     for folder in (output.inputs, output.source):
         Path(folder).mkdir(parents=True, exist_ok=True)
     copy_into(files, root, raw_dir, repository)
-    built, members = build_crate(files, rules, read_json(provenance), read_citation(citation), root)
+    built, members = build_crate(
+        files, rules, read_json(provenance), citation_or_default(citation), root
+    )
     write_crate(built, root)
     kinds = {}
     for item in files:
