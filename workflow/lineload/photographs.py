@@ -1,0 +1,561 @@
+"""From photographs to readings: the skin's outline found in a side view of the finger.
+
+The study read each profile by hand from two photographs of the fingertip seen along the
+wedge, one at rest and one with the wedge pressed in.  This module does that step from
+camera images, and makes such images for the reconstruction:
+
+* :func:`render_photograph` draws a side view of a finger whose surface is a given
+  outline, with what a camera adds: blur, sensor noise, uneven lighting, a textured
+  skin, glare near the wedge and 8- or 16-bit levels; the wedge is drawn in the loaded
+  view;
+* :func:`skin_outline_mm` finds the skin's upper edge in every column of an image to a
+  fraction of a pixel: the image is smoothed (a Gaussian, scikit-image), the skin's edge
+  is the deepest strong fall in brightness going down a column (background or wedge
+  above, skin below; the texture inside the skin is far weaker), and its position is
+  refined by a parabola through the three samples of the derivative around it;
+* :func:`digitise_pair` finds the wedge's tip (unless the sheet gives it) where the
+  wedge's two faces meet, seen against the background above the skin (where no wedge
+  is seen: where the two sides of the loaded outline's notch cross), registers the
+  loaded outline on the resting one far from the wedge, where the load does not reach
+  (a vertical and a horizontal shift, least squares; its residual is reported), leaves
+  unread the columns near the tip whose edge glare has weakened, and reads the
+  deflection of each side at the given distances, each reading the mean of the columns
+  within a small window; it estimates the digitising noise of one reading from the
+  outlines' roughness (and its correlation along them) and the registration's error.
+
+Coordinates: ``x`` along the image from left to right, ``z`` upward, both tissue mm;
+pixel ``(row, column)`` has its centre at ``x = x0 + (column + 0.5) / ppmm`` and
+``z = z0 - (row + 0.5) / ppmm``.  Deflection is downward positive, as in the models.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+from skimage import filters
+
+__all__ = [
+    "BACKGROUND_LEVEL",
+    "SKIN_LEVEL",
+    "WEDGE_LEVEL",
+    "Camera",
+    "DigitisedTrial",
+    "ImageError",
+    "Scene",
+    "digitise_pair",
+    "render_photograph",
+    "skin_outline_mm",
+]
+
+#: Brightness of the plain background, the skin and the wedge (fractions of full scale).
+BACKGROUND_LEVEL = 0.88
+SKIN_LEVEL = 0.22
+WEDGE_LEVEL = 0.55
+
+
+class ImageError(ValueError):
+    """An image that cannot be digitised; the message names it and says why."""
+
+
+@dataclass(frozen=True)
+class Camera:
+    """What a camera adds to the scene (see :func:`render_photograph`).
+
+    Attributes
+    ----------
+    blur_px : float
+        Standard deviation of the Gaussian blur (pixels).
+    noise_sd : float
+        Sensor noise, standard deviation (fraction of full scale).
+    lighting_gradient : float
+        Brightness changes by this fraction from the left edge to the right edge, and
+        by half of it from top to bottom.
+    texture_sd : float
+        Standard deviation of the skin's texture (fraction of full scale).
+    texture_px : float
+        Size of the texture's grain (pixels).
+    glare : float
+        Brightening of the skin at the wedge (fraction of full scale), falling off as a
+        Gaussian of ``glare_mm`` along the skin and 0.3 mm into it.
+    glare_mm : float
+        Reach of the glare along the outline (mm).
+    bits : int
+        8 or 16: the levels of the image.
+    """
+
+    blur_px: float = 1.0
+    noise_sd: float = 0.01
+    lighting_gradient: float = 0.1
+    texture_sd: float = 0.02
+    texture_px: float = 3.0
+    glare: float = 0.15
+    glare_mm: float = 0.25
+    bits: int = 8
+
+
+@dataclass(frozen=True)
+class Scene:
+    """The field of view of a photograph.
+
+    Attributes
+    ----------
+    pixels_per_mm : float
+        Scale (pixels per tissue mm).
+    x0_mm, z0_mm : float
+        Tissue coordinates of the image's top left corner.
+    width_px, height_px : int
+        Size of the image.
+    """
+
+    pixels_per_mm: float
+    x0_mm: float
+    z0_mm: float
+    width_px: int
+    height_px: int
+
+    @property
+    def column_x_mm(self):
+        """x of each column's centre (mm)."""
+        return self.x0_mm + (np.arange(self.width_px) + 0.5) / self.pixels_per_mm
+
+
+def _coverage(top_mm, scene, supersample=4):
+    """Fraction of each pixel below a surface ``z = top_mm(x)`` (anti-aliased)."""
+    ppmm = scene.pixels_per_mm
+    offsets = (np.arange(supersample) + 0.5) / supersample
+    x = scene.x0_mm + (np.arange(scene.width_px)[:, None] + offsets[None, :]) / ppmm
+    surface_rows = (scene.z0_mm - top_mm(x.ravel()).reshape(x.shape)) * ppmm  # row units
+    rows = np.arange(scene.height_px)[:, None, None]
+    # the part of pixel row r (from r to r + 1) below the surface row s
+    covered = np.clip(rows + 1.0 - surface_rows[None, :, :], 0.0, 1.0)
+    return covered.mean(axis=2)
+
+
+def render_photograph(surface_mm, scene, camera, rng, wedge_tip_mm=None, wedge_half_angle_deg=20.0):
+    """A side view of a finger whose upper surface is ``surface_mm(x)``.
+
+    Parameters
+    ----------
+    surface_mm : callable
+        Height of the skin's surface (mm, upward) as a function of x (mm, an array).
+    scene : Scene
+        Field of view and scale.
+    camera : Camera
+        Blur, noise, lighting, texture, glare and levels.
+    rng : numpy.random.Generator
+        For the noise and the texture.
+    wedge_tip_mm : tuple of float, optional
+        ``(x, z)`` of the wedge's tip: the wedge is drawn above it (the loaded view).
+    wedge_half_angle_deg : float, optional
+        Half the wedge's opening angle.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(height, width)`` of ``uint8`` or ``uint16``.
+    """
+    skin = _coverage(surface_mm, scene)
+    brightness = BACKGROUND_LEVEL * (1.0 - skin)
+    texture = ndimage.gaussian_filter(
+        rng.standard_normal((scene.height_px, scene.width_px)), camera.texture_px
+    )
+    texture *= camera.texture_sd / max(float(texture.std()), 1e-12)
+    skin_level = SKIN_LEVEL + texture
+    x = scene.column_x_mm[None, :]
+    z = scene.z0_mm - (np.arange(scene.height_px)[:, None] + 0.5) / scene.pixels_per_mm
+    if wedge_tip_mm is not None and camera.glare > 0:
+        tip_x, tip_z = wedge_tip_mm
+        depth_below = np.clip(surface_mm(scene.column_x_mm)[None, :] - z, 0.0, None)
+        skin_level = skin_level + camera.glare * np.exp(
+            -0.5 * ((x - tip_x) / camera.glare_mm) ** 2 - 0.5 * (depth_below / 0.3) ** 2
+        )
+    brightness += skin_level * skin
+    if wedge_tip_mm is not None:
+        tip_x, tip_z = wedge_tip_mm
+        slope = np.tan(np.radians(wedge_half_angle_deg))
+
+        def wedge_bottom(xs):  # the wedge's lower faces, as a surface seen from above
+            return tip_z + np.abs(xs - tip_x) / slope
+
+        above_faces = 1.0 - _coverage(wedge_bottom, scene)  # inside the wedge
+        wedge = np.clip(above_faces - skin, 0.0, 1.0) * (1.0 - skin)
+        brightness += (WEDGE_LEVEL - BACKGROUND_LEVEL) * wedge
+    light = 1.0 + camera.lighting_gradient * (
+        (x - scene.column_x_mm.mean()) / np.ptp(scene.column_x_mm)
+        + 0.5 * (np.arange(scene.height_px)[:, None] / scene.height_px - 0.5)
+    )
+    image = filters.gaussian(brightness * light, sigma=camera.blur_px, preserve_range=True)
+    image = image + camera.noise_sd * rng.standard_normal(image.shape)
+    top = 2**camera.bits - 1
+    dtype = np.uint8 if camera.bits == 8 else np.uint16
+    return np.clip(np.rint(image * top), 0, top).astype(dtype)
+
+
+def _as_float(image, name):
+    """A greyscale image as floats in [0, 1]; colour is converted, anything else refused."""
+    image = np.asarray(image)
+    if image.ndim == 3 and image.shape[2] in (3, 4):
+        weights = np.array([0.2125, 0.7154, 0.0721])  # as skimage.color.rgb2gray
+        image = (
+            image[..., :3] @ weights
+            if image.dtype.kind == "f"
+            else ((image[..., :3].astype(float) @ weights).astype(image.dtype))
+        )
+    if image.ndim != 2:
+        raise ImageError(f"{name}: expected a greyscale or colour image, got shape {image.shape}")
+    if image.dtype == np.uint8:
+        return image.astype(float) / 255.0
+    if image.dtype == np.uint16:
+        return image.astype(float) / 65535.0
+    if image.dtype.kind == "f" and np.isfinite(image).all():
+        return image.astype(float)
+    raise ImageError(f"{name}: expected 8- or 16-bit levels, got {image.dtype}")
+
+
+def skin_outline_mm(image, scene, smoothing_px=1.5, name="image"):
+    """The skin's upper edge in every column, to a fraction of a pixel.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        Greyscale (or colour) image of the finger against a brighter background.
+    scene : Scene
+        Scale and position of the image (its size must match).
+    smoothing_px : float, optional
+        Standard deviation of the Gaussian smoothing before the edge is sought.
+    name : str, optional
+        How messages name the image (its file).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``z_mm`` of the edge in each column (NaN where no edge was found), and the
+        contrast of that edge (the fall in brightness across it).
+
+    Raises
+    ------
+    ImageError
+        If the size differs from the scene's, or no column shows an edge.
+    """
+    values = _as_float(image, name)
+    if values.shape != (scene.height_px, scene.width_px):
+        raise ImageError(
+            f"{name}: expected {scene.height_px} x {scene.width_px} pixels as the sheet "
+            f"says, got {values.shape[0]} x {values.shape[1]}"
+        )
+    smooth = filters.gaussian(values, sigma=smoothing_px, preserve_range=True)
+    fall = smooth[:-1, :] - smooth[1:, :]  # > 0 where it darkens going down
+    strongest = fall.max(axis=0)
+    contrast = float(np.median(strongest))
+    if not np.isfinite(contrast) or contrast < 0.05:
+        raise ImageError(
+            f"{name}: no edge between skin and background (the strongest fall in "
+            f"brightness is {contrast:.3f} of full scale; is the finger in view, and "
+            "the background brighter than the skin?)"
+        )
+    # the deepest local maximum of the fall above half the typical contrast: a weaker
+    # edge (where glare brightens the skin at the wedge) is left unread, not guessed
+    threshold = 0.5 * contrast
+    peak = (fall[1:-1] >= fall[:-2]) & (fall[1:-1] > fall[2:]) & (fall[1:-1] > threshold)
+    rows = np.arange(1, fall.shape[0] - 1)[:, None]
+    deepest = np.where(peak, rows, -1).max(axis=0)
+    found = deepest > 0
+    columns = np.arange(values.shape[1])
+    r = np.where(found, deepest, 1)
+    below, at, above = fall[r - 1, columns], fall[r, columns], fall[r + 1, columns]
+    curvature = below - 2.0 * at + above
+    shift = np.where(
+        curvature < 0, 0.5 * (below - above) / np.where(curvature < 0, curvature, -1), 0.0
+    )
+    # fall[r] lies between pixel rows r and r + 1: the edge at row r + 1 + shift
+    # (rows counted from the top edge of the image, in pixel units)
+    edge_rows = r + 1.0 + np.clip(shift, -0.5, 0.5)
+    z_mm = scene.z0_mm - edge_rows / scene.pixels_per_mm
+    return np.where(found, z_mm, np.nan), np.where(found, at, np.nan)
+
+
+@dataclass
+class DigitisedTrial:
+    """The readings of one trial and how well they were made.
+
+    Attributes
+    ----------
+    readings : dict
+        Side (``left``, ``right``) -> ``(distance_mm, deflection_mm)`` arrays.
+    tip_x_mm : float
+        Where the wedge's tip was placed (x, mm, in the loaded image).
+    shift_mm : tuple of float
+        ``(dx, dz)``: the loaded image's shift against the resting one.
+    registration_rms_mm : float
+        RMS of the far-field difference left after registration.
+    edge_noise_mm : float
+        The outline's own roughness (one column's edge, SD).
+    reading_sd_mm : float
+        The digitising uncertainty of one reading: the edge noise of both images,
+        averaged over the columns of a reading (their errors correlated), and the
+        error of the registration.
+    """
+
+    readings: dict
+    tip_x_mm: float
+    shift_mm: tuple
+    registration_rms_mm: float
+    edge_noise_mm: float
+    reading_sd_mm: float
+
+
+def _roughness_mm(z_mm, window_px=25):
+    """The outline's own roughness: SD of one column's edge about the outline's local
+    trend (a moving quadratic), and the correlation of neighbouring columns' errors.
+
+    Returns
+    -------
+    tuple of float
+        ``(sd_mm, rho)``; NaN where the outline is too short.
+    """
+    from scipy.signal import savgol_filter
+
+    ok = np.isfinite(z_mm)
+    if ok.sum() < 3 * window_px:
+        return float("nan"), float("nan")
+    # columns without an edge filled in from their neighbours for the trend only
+    index = np.arange(z_mm.size)
+    filled = np.interp(index, index[ok], z_mm[ok])
+    residual = (filled - savgol_filter(filled, window_px | 1, 2))[ok]
+    # a quadratic over the window takes a share 3/window of the variance away
+    sd = float(np.std(residual) / np.sqrt(1.0 - 3.0 / window_px))
+    rho = float(np.corrcoef(residual[:-1], residual[1:])[0, 1])
+    return sd, min(max(rho, 0.0), 0.99)
+
+
+def _mean_sd(sd, rho, n):
+    """SD of the mean of ``n`` neighbouring columns whose errors correlate as AR(1)."""
+    n = max(int(n), 1)
+    lags = np.arange(1, n)
+    variance = sd**2 / n * (1.0 + 2.0 * np.sum((1.0 - lags / n) * rho**lags))
+    return float(np.sqrt(variance))
+
+
+def _sample(x_mm, z_mm, at_mm, half_window_mm):
+    """Mean of the outline over the columns within ``half_window_mm`` of each point
+    (NaN where a window holds no column with an edge: that reading is unreadable)."""
+    ok = np.isfinite(z_mm)
+    x, z = x_mm[ok], z_mm[ok]
+    lo = np.searchsorted(x, at_mm - half_window_mm, side="left")
+    hi = np.searchsorted(x, at_mm + half_window_mm, side="right")
+    sums = np.concatenate([[0.0], np.cumsum(z)])
+    counts = hi - lo
+    mean = np.where(counts > 0, (sums[hi] - sums[lo]) / np.maximum(counts, 1), np.nan)
+    return mean, counts
+
+
+def digitise_pair(
+    rest_image,
+    loaded_image,
+    scene,
+    distances_mm,
+    reach_mm,
+    tip_x_mm=None,
+    smoothing_px=1.5,
+    window_mm=0.02,
+    names=("rest", "loaded"),
+):
+    """Readings of both sides of the wedge from a resting and a loaded photograph.
+
+    Parameters
+    ----------
+    rest_image, loaded_image : numpy.ndarray
+        The two photographs, of the same size and scale.
+    scene : Scene
+        Their scale and field of view.
+    distances_mm : array_like
+        Distances from the wedge at which to read each side (mm, > 0).
+    reach_mm : float
+        Distance from the wedge beyond which the load does not reach: the outlines are
+        registered there.
+    tip_x_mm : float, optional
+        x of the wedge's tip in the loaded image (from the sheet); found otherwise.
+    smoothing_px : float, optional
+        Smoothing before the edge is sought (:func:`skin_outline_mm`).
+    window_mm : float, optional
+        Half-width of the columns averaged into one reading.
+    names : tuple of str, optional
+        How messages name the two images (their files).
+
+    Returns
+    -------
+    DigitisedTrial
+
+    Raises
+    ------
+    ImageError
+        If an image has no edge, the wedge's tip cannot be found, or too little skin
+        beyond ``reach_mm`` is in view to register the outlines.
+    """
+    x = scene.column_x_mm
+    z_rest, _ = skin_outline_mm(rest_image, scene, smoothing_px, names[0])
+    z_load, contrast_load = skin_outline_mm(loaded_image, scene, smoothing_px, names[1])
+    if tip_x_mm is None:
+        tip_x_mm = _wedge_apex_mm(_as_float(loaded_image, names[1]), scene, z_load, smoothing_px)
+        if tip_x_mm is None:  # no wedge seen against the background: the notch's tip
+            tip_x_mm = _wedge_tip_mm(x, z_load, names[1])
+    # glare at the wedge lowers the edge's contrast and biases it: within 1 mm of the
+    # tip, a column whose edge is weaker than 0.7 of the edge 1-3 mm out is left unread
+    # (as a hand reader starts past a glaring stretch)
+    away = np.abs(x - tip_x_mm)
+    reference = np.nanmedian(np.where((away > 1.0) & (away < 3.0), contrast_load, np.nan))
+    z_load = np.where((away < 1.0) & (contrast_load < 0.7 * reference), np.nan, z_load)
+    far = np.isfinite(z_load) & (np.abs(x - tip_x_mm) > reach_mm)
+    if far.sum() < 20 or not ((x[far] < tip_x_mm).any() and (x[far] > tip_x_mm).any()):
+        raise ImageError(
+            f"{names[1]}: too little skin in view beyond {reach_mm:g} mm of the wedge on "
+            "both sides to register the two photographs (widen the view, or lower reach_mm)"
+        )
+    # the loaded outline against the resting one shifted by (dx, dz), least squares
+    ok_rest = np.isfinite(z_rest)
+    dx = dz = 0.0
+    for _ in range(4):
+        shifted = np.interp(x[far] - dx, x[ok_rest], z_rest[ok_rest])
+        slope = np.gradient(z_rest[ok_rest], x[ok_rest])
+        slope_at = np.interp(x[far] - dx, x[ok_rest], slope)
+        design = np.column_stack([np.ones(far.sum()), -slope_at])
+        residual = z_load[far] - shifted - dz
+        step, *_ = np.linalg.lstsq(design, residual, rcond=None)
+        dz += step[0]
+        dx += step[1]
+    final = z_load[far] - np.interp(x[far] - dx, x[ok_rest], z_rest[ok_rest]) - dz
+    registration_rms = float(np.sqrt(np.mean(final**2)))
+    rest_on_loaded = np.interp(x - dx, x[ok_rest], z_rest[ok_rest]) + dz
+    deflection = np.where(np.isfinite(z_load), rest_on_loaded - z_load, np.nan)
+    distances_mm = np.asarray(distances_mm, dtype=float)
+    readings = {}
+    columns = []
+    for side, sign in (("left", -1.0), ("right", 1.0)):
+        order = np.argsort(sign * (x - tip_x_mm))
+        distance = sign * (x - tip_x_mm)
+        keep = distance > 0
+        d, w = distance[keep], deflection[keep]
+        order = np.argsort(d)
+        values, counts = _sample(d[order], w[order], distances_mm, window_mm)
+        inside = np.isfinite(values)
+        readings[side] = (distances_mm[inside], values[inside])
+        columns.extend(counts[inside])
+    # one reading: the mean over its columns of two outlines' edges (the rest's and the
+    # loaded one's, errors correlated along each), and the registration's own error
+    # (its residual over the far columns, shared by every reading)
+    rough = [_roughness_mm(z_rest), _roughness_mm(z_load)]
+    edge = float(np.sqrt(np.nanmean([sd**2 for sd, _ in rough])))
+    rho = float(np.nanmean([r for _, r in rough]))
+    n_columns = float(np.median(columns)) if columns else 1.0
+    per_reading = np.sqrt(2.0) * _mean_sd(edge, rho, n_columns)
+    registration_sd = _mean_sd(registration_rms, rho, int(far.sum())) * np.sqrt(2.0)
+    return DigitisedTrial(
+        readings=readings,
+        tip_x_mm=float(tip_x_mm),
+        shift_mm=(float(dx), float(dz)),
+        registration_rms_mm=registration_rms,
+        edge_noise_mm=float(edge),
+        reading_sd_mm=float(np.hypot(per_reading, registration_sd)),
+    )
+
+
+def _wedge_apex_mm(values, scene, z_mm, smoothing_px, half_window_mm=1.5):
+    """x of the wedge's apex, where its two faces meet, or None if no wedge is seen.
+
+    Above the highest point of the skin only the wedge stands against the background:
+    it is the darkest column of those rows.  In each row, its left face is the strongest
+    fall in brightness going right within ``half_window_mm`` left of that column, its
+    right face the strongest rise right of it (each refined by a parabola); a straight
+    line through each face's points, extended down to where they cross, gives the apex.
+    The faces do not depend on the skin's glare or texture, which blur the notch.
+    """
+    ppmm = scene.pixels_per_mm
+    if not np.isfinite(z_mm).any():
+        return None
+    skin_top = float(np.nanmax(z_mm))
+    last_row = int((scene.z0_mm - skin_top) * ppmm - 4 * smoothing_px)
+    rows = np.arange(2, last_row)
+    if rows.size < 10:
+        return None
+    smooth = filters.gaussian(values, sigma=smoothing_px, preserve_range=True)
+    centre = int(np.argmin(smooth[rows].mean(axis=0)))
+    rise = smooth[:, 1:] - smooth[:, :-1]  # between columns c and c + 1
+    reach = int(half_window_mm * ppmm)
+    points = {-1.0: ([], []), 1.0: ([], [])}
+    for row in rows:
+        for sign in (-1.0, 1.0):
+            lo, hi = (centre, centre + reach) if sign > 0 else (centre - reach, centre)
+            lo, hi = max(lo, 1), min(hi, rise.shape[1] - 1)
+            if hi - lo < 4:
+                continue
+            # the left face darkens going right, the right face brightens: both peak here
+            segment = sign * rise[row, lo:hi]
+            c = int(np.argmax(segment))
+            noise = 1.4826 * np.median(np.abs(segment - np.median(segment)))
+            if segment[c] < max(5.0 * noise, 1e-3) or not 0 < c < segment.size - 1:
+                continue
+            before, at, after = segment[c - 1], segment[c], segment[c + 1]
+            curvature = before - 2 * at + after
+            shift = 0.5 * (before - after) / curvature if curvature != 0 else 0.0
+            column = lo + c + 0.5 + float(np.clip(shift, -0.5, 0.5))  # between c and c + 1
+            points[sign][0].append(scene.z0_mm - (row + 0.5) / ppmm)
+            points[sign][1].append(scene.x0_mm + (column + 0.5) / ppmm)
+    lines = []
+    for sign in (-1.0, 1.0):
+        heights, columns = (np.asarray(v) for v in points[sign])
+        if heights.size < 10:
+            return None
+        a, b = np.polyfit(heights, columns, 1)  # x = a z + b along the face
+        if np.std(columns - (a * heights + b)) > 1.0 / ppmm or sign * a <= 0:
+            return None  # not a straight face opening upward: no wedge seen
+        lines.append((a, b))
+    (a1, b1), (a2, b2) = lines
+    apex_z = (b2 - b1) / (a1 - a2)
+    return float(a1 * apex_z + b1)
+
+
+def _wedge_tip_mm(x_mm, z_mm, name, near_mm=(0.1, 0.8)):
+    """x where the two sides of the loaded outline meet.
+
+    The tip is first placed at the sharpest dip of the outline (where it lies furthest
+    below the mean of the outline ``near_mm[1]`` either side: a finger's own curve dips
+    far less than the wedge's notch); lines fitted to each side of it, between
+    ``near_mm`` of it, are then intersected.
+    """
+    ok = np.isfinite(z_mm)
+    if ok.sum() < 10:
+        raise ImageError(f"{name}: no skin outline to find the wedge in")
+    xs, zs = x_mm[ok], z_mm[ok]
+    span = near_mm[1]
+    inner = (xs > xs[0] + span) & (xs < xs[-1] - span)
+    if not inner.any():
+        raise ImageError(f"{name}: the outline in view is too short to find the wedge in")
+    dip = 0.5 * (np.interp(xs - span, xs, zs) + np.interp(xs + span, xs, zs)) - zs
+    lowest = xs[inner][np.argmax(dip[inner])]
+    # each side near the notch as a quadratic in x (the outline bends there), fitted
+    # outside the first 0.1 mm, where the blur rounds the notch; where they cross is the tip
+    fits = []
+    for sign in (-1.0, 1.0):
+        d = sign * (x_mm - lowest)
+        pick = ok & (d > near_mm[0]) & (d < near_mm[1])
+        if pick.sum() < 6:
+            raise ImageError(
+                f"{name}: the wedge was not found (no outline on both sides of the notch "
+                f"at x = {lowest:.2f} mm; is the wedge pressed in, and in view?)"
+            )
+        fits.append(np.polyfit(x_mm[pick] - lowest, z_mm[pick], 2))
+    left, right = fits
+    slopes = (left[1], right[1])
+    if not (left[1] < 0 < right[1]):
+        raise ImageError(
+            f"{name}: the wedge was not found (the outline does not fall to a notch: "
+            f"slopes {left[1]:.3f} and {right[1]:.3f} either side of x = {lowest:.2f} mm)"
+        )
+    roots = np.roots(np.polysub(left, right))
+    roots = roots[np.isreal(roots)].real
+    roots = roots[np.abs(roots) < near_mm[0] + 0.05]
+    if roots.size == 0:  # the two sides do not cross near the notch: their lines do
+        return float(lowest + (right[2] - left[2]) / (slopes[0] - slopes[1]))
+    return float(lowest + roots[np.argmin(np.abs(roots))])
