@@ -1,11 +1,14 @@
 """From photographs to readings: known outlines rendered as camera images (blur, noise,
 uneven light, texture, glare), digitised, and compared with the truth they came from."""
 
+import json
 import time
 
 import numpy as np
+import pandas as pd
 import pytest
 
+from conftest import REPO, refused_run, run_snakemake
 from lineload.fitting import fit_waterbed
 from lineload.photographs import (
     Camera,
@@ -203,3 +206,136 @@ def test_the_rendering_is_seeded():
     two = photograph_pair(np.random.default_rng(9), Camera())[1]
     three = photograph_pair(np.random.default_rng(10), Camera())[1]
     assert np.array_equal(one, two) and not np.array_equal(one, three)
+
+
+# ---------------------------------------------------------------- photographs in the workflow
+
+
+def photograph_folder(folder):
+    """The photograph example's raw folder, written from the generator into ``folder``."""
+    from lineload.synthetic import photograph_dataset
+
+    for relative, content in photograph_dataset().items():
+        path = folder / relative
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if isinstance(content, bytes):
+            path.write_bytes(content)
+        else:
+            path.write_text(content)
+    return folder
+
+
+def test_the_shipped_photograph_example_is_the_generators():
+    """data/photographs/ is what the seeded generator writes, byte for byte."""
+    from lineload.synthetic import photograph_dataset
+
+    shipped = REPO / "data" / "photographs"
+    files = photograph_dataset()
+    assert sorted(
+        p.relative_to(shipped).as_posix() for p in shipped.rglob("*") if p.is_file()
+    ) == sorted(files)
+    for relative, content in files.items():
+        expected = content if isinstance(content, bytes) else content.encode()
+        assert (shipped / relative).read_bytes() == expected, relative
+
+
+@pytest.mark.e2e
+def test_the_photograph_example_builds_from_images_to_article(tmp_path):
+    from lineload.synthetic import (
+        PHOTOGRAPH_DEPTHS_MM,
+        PHOTOGRAPH_SUBJECTS,
+        shipped_subjects,
+        trial_parameters,
+    )
+
+    raw = photograph_folder(tmp_path / "raw")
+    results = tmp_path / "results"
+    made = run_snakemake(raw=raw, results=results, config=["digitise__reach_mm=6.5"])
+    assert made.returncode == 0, made.stderr[-3000:]
+    assert (results / "article" / "reproduction.pdf").stat().st_size > 0
+    fits = pd.read_csv(results / "tables" / "fits.csv")
+    assert sorted(fits["subject"].unique()) == sorted(PHOTOGRAPH_SUBJECTS)
+    # the digitised readings are the true profiles, to a few micrometres
+    subjects = {s.subject: s for s in shipped_subjects()}
+    for name in PHOTOGRAPH_SUBJECTS:
+        readings = pd.read_csv(results / "digitised" / f"{name}.csv")
+        for depth in PHOTOGRAPH_DEPTHS_MM:
+            trial = trial_parameters(subjects[name], depth)
+            errors = []
+            for side, extent in (("left", trial.extent_left_mm), ("right", trial.extent_right_mm)):
+                rows = readings[(readings["depth_mm"] == depth) & (readings["side"] == side)]
+                near = rows["distance_image_mm"] <= FIT_WINDOW_MM
+                truth = true_deflection_mm(
+                    rows["distance_image_mm"],
+                    depth,
+                    extent,
+                    trial.exponent,
+                    trial.near_fraction,
+                    trial.near_exponent,
+                )
+                errors.extend((rows["deflection_image_mm"] - truth)[near])
+            # over the fit window, both sides: better than half a hand reading's noise
+            assert np.sqrt(np.mean(np.square(errors))) < HAND_READING_SD_MM / 2, (name, depth)
+        quality = json.loads((results / "digitised" / f"{name}.json").read_text())
+        assert [t["depth_mm"] for t in quality["trials"]] == list(PHOTOGRAPH_DEPTHS_MM)
+    # the photographs are raw inputs: in the provenance record and in the crate
+    record = json.loads((results / "provenance.json").read_text())
+    assert "images/images.csv" in record["raw_data"]["sha256"]
+    assert (results / "inputs" / "images" / "M1_1mm_loaded.png").is_file()
+
+
+def refuse(tmp_path, change):
+    raw = photograph_folder(tmp_path / "raw")
+    change(raw)
+    return refused_run(raw, tmp_path / "results", config=["digitise__reach_mm=6.5"])
+
+
+def edit_sheet(old, new):
+    def change(raw):
+        sheet = raw / "images" / "images.csv"
+        sheet.write_text(sheet.read_text().replace(old, new, 1))
+
+    return change
+
+
+@pytest.mark.e2e
+@pytest.mark.parametrize(
+    ("change", "expected"),
+    [
+        (edit_sheet("M1_1mm_rest.png", "M1_1mm_rst.png"), "line 2, column 'file': no file"),
+        (edit_sheet(",pixels_per_mm", ",dpi"), "no scale: expected a column pixels_per_mm"),
+        (edit_sheet("M1,1,loaded", "M1,1,rest"), "a second rest photograph of M1 at 1 mm"),
+        (edit_sheet("M2,2,rest", "M9,2,rest"), "subject 'M9' is not in subjects.csv"),
+    ],
+)
+def test_a_bad_photograph_sheet_is_refused_with_one_line_naming_it(tmp_path, change, expected):
+    _, output, errors = refuse(tmp_path, change)
+    assert any(expected in line and "images/images.csv" in line for line in errors), output
+
+
+@pytest.mark.e2e
+def test_a_photograph_of_another_size_or_not_an_image_is_refused(tmp_path):
+    def shrink(raw):
+        import imageio.v3 as iio
+
+        path = raw / "images" / "M1_2mm_loaded.png"
+        iio.imwrite(path, iio.imread(path)[:-5])
+        (raw / "images" / "M2_1mm_rest.png").write_text("not a picture\n")
+
+    _, output, errors = refuse(tmp_path, shrink)
+    assert any("M1 at 2 mm is 235 x 960 pixels, the rest one 240 x 960" in e for e in errors), (
+        output
+    )
+    assert any("M2_1mm_rest.png cannot be read as an image" in e for e in errors), output
+
+
+@pytest.mark.e2e
+def test_a_subject_with_both_a_profile_file_and_photographs_is_refused(tmp_path):
+    def both(raw):
+        (raw / "profiles").mkdir()
+        (raw / "profiles" / "M1.csv").write_text(
+            "depth_mm,side,distance_image_mm,deflection_image_mm\n1,left,0.5,0.8\n"
+        )
+
+    _, output, errors = refuse(tmp_path, both)
+    assert any("has both a profile file" in e and "subjects.csv" in e for e in errors), output

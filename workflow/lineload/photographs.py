@@ -45,6 +45,8 @@ __all__ = [
     "ImageError",
     "Scene",
     "digitise_pair",
+    "profile_rows",
+    "quality_record",
     "render_photograph",
     "skin_outline_mm",
 ]
@@ -559,3 +561,49 @@ def _wedge_tip_mm(x_mm, z_mm, name, near_mm=(0.1, 0.8)):
     if roots.size == 0:  # the two sides do not cross near the notch: their lines do
         return float(lowest + (right[2] - left[2]) / (slopes[0] - slopes[1]))
     return float(lowest + roots[np.argmin(np.abs(roots))])
+
+
+def profile_rows(depth_mm, trial, magnification):
+    """The readings of one digitised trial as rows of the profile contract.
+
+    Parameters
+    ----------
+    depth_mm : float
+        The trial's indentation depth.
+    trial : DigitisedTrial
+    magnification : float
+        The subject's enlargement: readings are written in image units (tissue mm times
+        it), as a hand reader's would be, so the workflow converts them alike.
+
+    Returns
+    -------
+    list of tuple
+        ``(depth_mm, side, distance_image_mm, deflection_image_mm)``, left side first,
+        each side by distance.
+    """
+    rows = []
+    for side in ("left", "right"):
+        distance, deflection = trial.readings[side]
+        for d, w in zip(distance, deflection, strict=True):
+            rows.append((float(depth_mm), side, float(d) * magnification, float(w) * magnification))
+    return rows
+
+
+def quality_record(depth_mm, trial):
+    """What a reviewer needs to judge one digitised trial, JSON-ready (mm and um)."""
+    return {
+        "depth_mm": float(depth_mm),
+        "tip_x_mm": round(trial.tip_x_mm, 6),
+        "shift_x_mm": round(trial.shift_mm[0], 6),
+        "shift_z_mm": round(trial.shift_mm[1], 6),
+        "registration_rms_um": round(1000 * trial.registration_rms_mm, 3),
+        "edge_noise_um": round(1000 * trial.edge_noise_mm, 3),
+        "reading_sd_um": round(1000 * trial.reading_sd_mm, 3),
+        "readings": {side: len(trial.readings[side][0]) for side in ("left", "right")},
+        "first_read_mm": {
+            side: round(float(trial.readings[side][0][0]), 4)
+            if len(trial.readings[side][0])
+            else None
+            for side in ("left", "right")
+        },
+    }

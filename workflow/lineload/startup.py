@@ -37,7 +37,7 @@ __all__ = [
 ]
 
 #: Sub-folders of the raw-data folder whose files the check reads ("" is the top level).
-RAW_SUBFOLDERS = ("", "profiles", "outlines")
+RAW_SUBFOLDERS = ("", "profiles", "outlines", "images")
 
 
 def abort(message):
@@ -247,10 +247,11 @@ def list_raw_files(raw_dir):
     Returns
     -------
     dict
-        ``all``: the path of every file at the top level, in ``profiles/`` and
-        in ``outlines/`` (sorted; a stray file is there too, so that its
-        appearance reruns the check that warns about it); ``profiles`` and
+        ``all``: the path of every file at the top level, in ``profiles/``,
+        ``outlines/`` and ``images/`` (sorted; a stray file is there too, so that
+        its appearance reruns the check that warns about it); ``profiles`` and
         ``outlines``: file name -> path of the ``.csv`` files of each folder;
+        ``images``: file name -> path of every file of ``images/``;
         ``forces`` and ``notice``: the path of ``forces.csv`` and
         ``NOTICE.txt``, or None.
     """
@@ -265,7 +266,9 @@ def list_raw_files(raw_dir):
             abort(f"{folder}: the folder cannot be read ({error.strerror}); expected a folder")
         paths = {name: "/".join(p for p in (raw_dir.rstrip("/"), sub, name) if p) for name in names}
         found["all"] += paths.values()
-        if sub:
+        if sub == "images":  # the sheet and the photographs it names
+            found[sub] = paths
+        elif sub:
             found[sub] = {n: p for n, p in paths.items() if n.endswith(".csv")}
         else:
             found["forces"] = paths.get("forces.csv")

@@ -1214,3 +1214,110 @@ def build_dataset(
                 outline_table(subject, magnification), OUTLINE_FORMATS
             )
     return files
+
+
+# ---------------------------------------------------------------- photographs
+
+#: The photograph example: which fingers, at which depths, seen how.
+PHOTOGRAPH_SUBJECTS = ("M1", "M2")
+PHOTOGRAPH_DEPTHS_MM = (1.0, 2.0)
+#: Radius of the resting finger in the photographs (mm): a side view of a fingertip,
+#: wide enough that the skin beyond the deformed region is still nearly level.
+PHOTOGRAPH_RADIUS_MM = 12.0
+#: Field of view of every photograph: 60 pixels per tissue mm, 16 mm wide.
+PHOTOGRAPH_PIXELS_PER_MM = 60.0
+PHOTOGRAPH_VIEW_MM = (-8.0, 0.6, 16.0, 4.0)  # x0, z0 (top left), width, height
+#: Largest shift of the loaded shot against the resting one (mm): camera or finger moved.
+PHOTOGRAPH_SHIFT_MM = 0.03
+
+PHOTOGRAPH_NOTICE = (
+    "Synthetic photographs rendered by a seeded generator from the reconstruction's true "
+    "profiles; not photographs of fingers.\n"
+    "See data/README.md for how they are made.\n"
+)
+
+
+def photograph_scene():
+    """The :class:`lineload.photographs.Scene` of every example photograph."""
+    from .photographs import Scene
+
+    x0, z0, width, height = PHOTOGRAPH_VIEW_MM
+    ppmm = PHOTOGRAPH_PIXELS_PER_MM
+    return Scene(ppmm, x0, z0, round(width * ppmm), round(height * ppmm))
+
+
+def photograph_outlines(subject, depth_mm, shift_mm=(0.0, 0.0)):
+    """Resting and loaded outlines (callables of x, mm) of one trial, and the wedge's tip.
+
+    The resting finger is a circle of :data:`PHOTOGRAPH_RADIUS_MM` whose top is at
+    ``z = 0``; the loaded one is lowered by the trial's true deflection on each side
+    (:func:`true_deflection_mm`), and the loaded shot is moved by ``shift_mm``.
+    """
+    trial = trial_parameters(subject, depth_mm)
+    radius = PHOTOGRAPH_RADIUS_MM
+    dx, dz = shift_mm
+
+    def rest(x):
+        x = np.asarray(x, dtype=float)
+        return -(radius - np.sqrt(radius**2 - np.minimum(x**2, 0.99 * radius**2)))
+
+    def loaded(x):
+        xs = np.asarray(x, dtype=float) - dx
+        extent = np.where(xs < 0, trial.extent_left_mm, trial.extent_right_mm)
+        w = true_deflection_mm(
+            xs, depth_mm, extent, trial.exponent, trial.near_fraction, trial.near_exponent
+        )
+        return rest(xs) - w + dz
+
+    return rest, loaded, (dx, float(loaded(dx)))
+
+
+def photograph_dataset(seed=DEFAULT_SEED, camera=None):
+    """The photograph example: every file of its raw-data folder.
+
+    Two monkeys of the reconstruction (:data:`PHOTOGRAPH_SUBJECTS`) at two depths, each
+    trial a resting and a loaded side view rendered from the true profiles with what a
+    camera adds (:class:`lineload.photographs.Camera`, its defaults unless given), the
+    loaded shot moved a little against the resting one, seeded per trial.
+
+    Returns
+    -------
+    dict
+        Relative path -> content: ``NOTICE.txt``, ``subjects.csv`` and
+        ``images/images.csv`` as text, the photographs (PNG) as bytes.
+    """
+    import io
+
+    import imageio.v3 as iio
+
+    from .photographs import Camera, render_photograph
+
+    camera = camera or Camera()
+    scene = photograph_scene()
+    subjects = {s.subject: s for s in shipped_subjects()}
+    files = {
+        "NOTICE.txt": PHOTOGRAPH_NOTICE,
+        "subjects.csv": "subject,species,magnification,label\n"
+        + "".join(
+            f"{name},{subjects[name].species},1,{subjects[name].label}\n"
+            for name in PHOTOGRAPH_SUBJECTS
+        ),
+    }
+    rows = ["subject,depth_mm,state,file,pixels_per_mm"]
+    for number, name in enumerate(PHOTOGRAPH_SUBJECTS):
+        for depth_mm in PHOTOGRAPH_DEPTHS_MM:
+            rng = np.random.default_rng([seed, number, round(depth_mm * 100), 77])
+            shift = tuple(rng.uniform(-PHOTOGRAPH_SHIFT_MM, PHOTOGRAPH_SHIFT_MM, 2))
+            rest, loaded, tip = photograph_outlines(subjects[name], depth_mm, shift)
+            shots = {
+                "rest": render_photograph(rest, scene, camera, rng),
+                "loaded": render_photograph(loaded, scene, camera, rng, wedge_tip_mm=tip),
+            }
+            for state, image in shots.items():
+                file = f"{name}_{depth_mm:g}mm_{state}.png"
+                buffer = io.BytesIO()
+                iio.imwrite(buffer, image, extension=".png")
+                files[f"images/{file}"] = buffer.getvalue()
+                rows.append(f"{name},{depth_mm:g},{state},{file},{PHOTOGRAPH_PIXELS_PER_MM:g}")
+    files["images/images.csv"] = "\n".join(rows) + "\n"
+    return files

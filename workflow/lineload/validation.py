@@ -682,7 +682,13 @@ def _near_names(subject, names):
 
 
 def check_subjects(
-    subjects, path, profile_dir, profile_dir_shown=None, problems=None, id_pattern=None
+    subjects,
+    path,
+    profile_dir,
+    profile_dir_shown=None,
+    problems=None,
+    id_pattern=None,
+    photographed=(),
 ):
     """Rules on the subject sheet that span rows or files.
 
@@ -706,6 +712,9 @@ def check_subjects(
     id_pattern : re.Pattern, optional
         The schema's rule for ids: an id that breaks it is the schema's to report
         (it names no file), so no profile file is looked for.
+    photographed : collection of str, optional
+        Subjects with photographs in images/images.csv instead of a profile file (one
+        with both is refused: which would be its readings?).
 
     Raises
     ------
@@ -731,8 +740,20 @@ def check_subjects(
             (line, subject)
             for line, subject in ids[~duplicated].items()
             if (id_pattern is None or id_pattern.search(subject))
+            and subject not in photographed
             and not os.path.isfile(os.path.join(profile_dir, f"{subject}.csv"))
         ]
+        for line, subject in ids[~duplicated].items():
+            if subject in photographed and os.path.isfile(
+                os.path.join(profile_dir, f"{subject}.csv")
+            ):
+                found.error(
+                    path,
+                    line,
+                    "subject",
+                    f"subject {subject!r} has both a profile file ({shown_dir}/{subject}.csv) "
+                    "and photographs (images/images.csv); expected one or the other",
+                )
         if missing:
             line, subject = missing[0]
             message = f"no profile file for subject {subject!r}; expected {shown_dir}/{subject}.csv"
@@ -786,6 +807,195 @@ def unlisted_files(folder, folder_shown, subjects, sheet_shown, what, problems):
             stem = os.path.splitext(name)[0]
             message = f"no subject {stem!r} in {sheet_shown} reads this {what} file; it is ignored"
         problems.warning(f"{folder_shown}/{name}", None, None, message)
+
+
+# ---------------------------------------------------------------- photographs (optional)
+
+#: The states of a photograph pair, as images.csv names them.
+IMAGE_STATES = ("rest", "loaded")
+
+
+def photograph_files(raw_dir):
+    """Subject -> the photographs images/images.csv names for it (paths, in sheet order;
+    empty without the file), read as plain text before any check: what each subject's
+    digitising job reads.  The raw-data check reports anything wrong with the sheet."""
+    path = os.path.join(raw_dir, "images", "images.csv")
+    if not os.path.isfile(path):  # (not even tried: a dataset without photographs)
+        return {}
+    try:
+        with open(path, newline="", encoding="utf-8") as handle:
+            rows = list(csv.reader(handle))
+    except (OSError, UnicodeDecodeError):
+        return {}
+    if not rows or not {"subject", "file"} <= {c.strip() for c in rows[0]}:
+        return {}
+    header = [c.strip() for c in rows[0]]
+    subject, name = header.index("subject"), header.index("file")
+    files = {}
+    for row in rows[1:]:
+        if len(row) > max(subject, name) and row[subject].strip():
+            files.setdefault(row[subject].strip(), []).append(
+                os.path.join(raw_dir, "images", row[name].strip())
+            )
+    return files
+
+
+def photographed_subjects(raw_dir):
+    """The subjects images/images.csv names: they have photographs, not a profile file."""
+    return set(photograph_files(raw_dir))
+
+
+def image_scale_px_per_mm(images):
+    """Pixels per tissue mm of each row of images.csv: its ``pixels_per_mm``, or its
+    scale bar's ``scale_bar_px / scale_bar_mm``; None if the table has neither."""
+    if "pixels_per_mm" in images:
+        return images["pixels_per_mm"].astype(float)
+    if {"scale_bar_px", "scale_bar_mm"} <= set(images.columns):
+        return images["scale_bar_px"].astype(float) / images["scale_bar_mm"].astype(float)
+    return None
+
+
+def image_properties(path):
+    """Shape and data type of an image file, read from its header (None if unreadable)."""
+    import imageio.v3 as iio  # here only: most datasets have no photographs
+
+    try:
+        properties = iio.improps(path)
+    except Exception:  # any reader's failure: not an image this reader knows
+        return None
+    return tuple(properties.shape), np.dtype(properties.dtype)
+
+
+def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None):
+    """Check ``images/images.csv`` and the photographs it names.
+
+    Every (subject, depth) needs one ``rest`` and one ``loaded`` photograph of the same
+    size; each file must exist in ``images/`` and be a greyscale or colour image of 8 or
+    16 bits; the sheet needs a scale; a subject must be listed in the subject sheet.
+
+    Parameters
+    ----------
+    raw_dir : str
+        The raw-data folder.
+    schema : dict
+        Row schema of images.csv.
+    subject_ids : iterable of str
+        The ids of the subject sheet.
+    raw_dir_shown : str, optional
+        How to name the folder in messages.
+    problems : Problems, optional
+        Collector; without one, problems are raised.
+
+    Returns
+    -------
+    dict
+        Subject -> sorted depths (mm) of its photograph pairs; empty without images.csv.
+    """
+    shown = (raw_dir_shown or raw_dir).rstrip("/")
+    sheet = os.path.join(raw_dir, "images", "images.csv")
+    sheet_shown = f"{shown}/images/images.csv"
+    if not os.path.isfile(sheet):
+        return {}
+    with collecting(problems) as found:
+        before = found.count()
+        images = read_table(sheet, schema, sheet_shown, found)
+        if images is None or found.count() > before:
+            return {}
+        scale = image_scale_px_per_mm(images)
+        if scale is None:
+            found.error(
+                sheet_shown,
+                None,
+                None,
+                "no scale: expected a column pixels_per_mm, or the columns scale_bar_px and "
+                "scale_bar_mm (a scale bar's length in pixels and in tissue mm)",
+            )
+            return {}
+        listed = set(map(str, subject_ids))
+        depths, sizes = {}, {}
+        for line, row in images.iterrows():
+            subject, state, name = str(row["subject"]), str(row["state"]), str(row["file"])
+            if subject not in listed:
+                found.error(
+                    sheet_shown,
+                    line,
+                    "subject",
+                    f"subject {subject!r} is not in subjects.csv; expected a listed subject",
+                )
+                continue
+            key = (subject, float(row["depth_mm"]))
+            if state in sizes.setdefault(key, {}):
+                found.error(
+                    sheet_shown,
+                    line,
+                    "state",
+                    f"a second {state} photograph of {subject} at {key[1]:g} mm; expected "
+                    "one rest and one loaded photograph per depth",
+                )
+                continue
+            path = os.path.join(raw_dir, "images", name)
+            if not os.path.isfile(path):
+                found.error(
+                    sheet_shown,
+                    line,
+                    "file",
+                    f"no file {shown}/images/{name}; expected the photograph",
+                )
+                continue
+            properties = image_properties(path)
+            if properties is None:
+                found.error(
+                    sheet_shown,
+                    line,
+                    "file",
+                    f"{shown}/images/{name} cannot be read as an image; expected a PNG or TIFF",
+                )
+                continue
+            shape, dtype = properties
+            grey = len(shape) == 2 or (len(shape) == 3 and shape[2] in (3, 4))
+            if not grey or dtype not in (np.dtype(np.uint8), np.dtype(np.uint16)):
+                found.error(
+                    sheet_shown,
+                    line,
+                    "file",
+                    f"{shown}/images/{name} is {'x'.join(map(str, shape))} of {dtype}; "
+                    "expected a greyscale or colour image of 8 or 16 bits",
+                )
+                continue
+            if "tip_x_px" in images and not float(row["tip_x_px"]) < shape[1]:
+                found.error(
+                    sheet_shown,
+                    line,
+                    "tip_x_px",
+                    f"the tip at pixel column {float(row['tip_x_px']):g} is outside the image, "
+                    f"which is {shape[1]} pixels wide",
+                )
+            sizes[key][state] = (line, shape[:2])
+        for (subject, depth), states in sizes.items():
+            missing = [s for s in IMAGE_STATES if s not in states]
+            if missing:
+                line = next(iter(states.values()))[0]
+                found.error(
+                    sheet_shown,
+                    line,
+                    "state",
+                    f"no {missing[0]} photograph of {subject} at {depth:g} mm; expected one rest "
+                    "and one loaded photograph per depth",
+                )
+                continue
+            (_, rest_shape), (line, loaded_shape) = states["rest"], states["loaded"]
+            if rest_shape != loaded_shape:
+                found.error(
+                    sheet_shown,
+                    line,
+                    "file",
+                    f"the loaded photograph of {subject} at {depth:g} mm is "
+                    f"{loaded_shape[0]} x {loaded_shape[1]} pixels, the rest one "
+                    f"{rest_shape[0]} x {rest_shape[1]}; expected the same size (one camera)",
+                )
+                continue
+            depths.setdefault(subject, []).append(depth)
+        return {subject: sorted(d) for subject, d in depths.items()}
 
 
 # ---------------------------------------------------------------- plausibility of units
@@ -1172,7 +1382,15 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
         found.raise_if_any()
     profile_dir, profile_dir_shown = here("profiles")
     id_pattern = re.compile(schemas["subjects"]["properties"]["subject"]["pattern"])
-    check_subjects(subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern)
+    photographed = photographed_subjects(raw_dir)
+    image_depths = {}
+    if photographed:
+        image_depths = check_images(
+            raw_dir, schemas.get("images") or _images_schema(), subjects["subject"], shown, found
+        )
+    check_subjects(
+        subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern, photographed
+    )
     magnifications = dict(zip(subjects["subject"], subjects["magnification"], strict=True))
     listed = [
         s
@@ -1236,6 +1454,7 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
                         outline, path_shown, magnification, limits["reach_max_mm"], None, found
                     )
                 outlines[subject] = sorted(float(d) for d in set(outline[0]["depth_mm"]) if d == d)
+    depths_mm.update(image_depths)  # photographed subjects: the depths of their pairs
     _check_contact_lengths(subjects, sheet_shown, limits["reach_max_mm"], found)
     forces_schema = schemas.get("forces") or _forces_schema()
     with found.collect():  # (a check that raises is folded in the same way)
@@ -1248,7 +1467,7 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
             problems=found,
             force_max_N=limits["force_max_N"],
             # a refused profile, a missing one, an id no file can have: reported already
-            unknown_depths=refused | (set(subjects["subject"]) - set(listed)),
+            unknown_depths=refused | (set(subjects["subject"]) - set(listed) - set(image_depths)),
         )
     sheet_ids = [str(s) for s in subjects["subject"]]
     for folder in ("profiles", "outlines"):
@@ -1404,3 +1623,10 @@ def _forces_schema():
     from .io import load_schema
 
     return load_schema("forces")
+
+
+def _images_schema():
+    """The row schema of ``images/images.csv`` (for callers that pass none)."""
+    from .io import load_schema
+
+    return load_schema("images")

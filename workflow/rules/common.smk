@@ -7,7 +7,7 @@ from pathlib import Path
 from snakemake.exceptions import IncompleteCheckpointException, WorkflowError
 from snakemake.utils import min_version, validate
 
-from lineload import codedeps, settings, startup
+from lineload import codedeps, settings, startup, validation
 from lineload.interrupt import stop_on_sigterm
 from lineload.io import load_schema, write_json_if_changed
 from lineload.validation import InputError
@@ -45,11 +45,24 @@ except InputError as error:
     startup.abort_inputs(error)
 CONTACT_LENGTH_MM = {s: about.pop("contact_length_mm") for s, about in SUBJECTS.items()}
 SUBJECT_IDS = list(SUBJECTS)
+# Subject -> its photographs, for subjects read from images/images.csv (the check
+# reports anything wrong with that sheet), and their readings, digitised into results/.
+# (a photograph that is not there is left for the check to report, in its words)
+PHOTOGRAPHS = {
+    s: [f for f in files if os.path.isfile(f)]
+    for s, files in validation.photograph_files(RAW).items()
+    if s in SUBJECTS
+}
 # Subject -> its profile file; a subject without one is the raw-data check's to report.
-PROFILES = {
+RAW_PROFILES = {
     s: RAW_FILES["profiles"][f"{s}.csv"]
     for s in SUBJECT_IDS
-    if f"{s}.csv" in RAW_FILES["profiles"]
+    if f"{s}.csv" in RAW_FILES["profiles"] and s not in PHOTOGRAPHS
+}
+PROFILES = {
+    s: RAW_PROFILES[s] if s in RAW_PROFILES else str(Path(RES, "digitised", f"{s}.csv"))
+    for s in SUBJECT_IDS
+    if s in RAW_PROFILES or s in PHOTOGRAPHS
 }
 OUTLINED = [s for s in SUBJECT_IDS if f"{s}.csv" in RAW_FILES["outlines"]]
 FORCES = [RAW_FILES["forces"]] if RAW_FILES["forces"] else []  # optional

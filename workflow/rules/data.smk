@@ -45,6 +45,34 @@ if workflow.is_main_process:
         )
 
 
+rule digitise:
+    """Read a photographed subject's profiles from its rest and loaded photographs."""
+    input:
+        checked=checked_raw_data,
+        spec=spec(
+            "digitise",
+            subject=lambda wildcards: wildcards.subject,
+            magnification=lambda wildcards: SUBJECTS[wildcards.subject][
+                "magnification"
+            ],
+            settings=config["digitise"],
+        ),
+        sheet=f"{RAW}/images/images.csv",
+        photographs=lambda wildcards: PHOTOGRAPHS[wildcards.subject],
+        code=code("digitise.py"),
+    output:
+        profile=result("digitised", "{subject}.csv"),
+        quality=result("digitised", "{subject}.json"),
+    log:
+        result("logs", "digitise", "{subject}.log"),
+    benchmark:
+        result("benchmarks", "digitise", "{subject}.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/digitise.py"
+
+
 rule prepare_profiles:
     """Convert a batch of subjects' readings to tissue mm and average the two sides."""
     input:

@@ -118,6 +118,7 @@ rule report_pages:
 #: run: the provenance record depends on them all, and the run crate names each file's rule.
 OUTPUTS_BY_RULE = {
     "check_raw_data": list(rules.check_raw_data.output),
+    "digitise": expand(rules.digitise.output, subject=list(PHOTOGRAPHS)),
     "prepare_profiles": expand(rules.prepare_profiles.output, batch=BATCH_IDS),
     "prepare_outline": expand(rules.prepare_outline.output, subject=OUTLINED),
     "noise": list(rules.noise.output),
@@ -142,7 +143,10 @@ rule provenance:
         raw=[
             f"{RAW}/subjects.csv",
             *FORCES,
-            *PROFILES.values(),
+            *RAW_PROFILES.values(),
+            # the photographs' sheet and every photograph it names
+            *([RAW_FILES["images"]["images.csv"]] if PHOTOGRAPHS else []),
+            *(f for files in PHOTOGRAPHS.values() for f in files),
             *(RAW_FILES["outlines"][f"{s}.csv"] for s in OUTLINED),
             *([RAW_FILES["notice"]] if RAW_FILES["notice"] else []),
         ],

@@ -15,7 +15,7 @@ from lineload.startup import check_record, file_metadata, portable_path
 from lineload.validation import InputError, check_dataset, report_lines
 
 #: The tables of the data contract, each with its row schema.
-TABLES = ("subjects", "profiles", "outlines", "forces")
+TABLES = ("subjects", "profiles", "outlines", "forces", "images")
 
 
 def check_raw_data(sheet, files, output, log, input_checks, window_mm, min_points):

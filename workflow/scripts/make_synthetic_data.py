@@ -11,6 +11,11 @@ for benchmarks::
 
     python workflow/scripts/make_synthetic_data.py --out /tmp/big --monkeys 500 --humans 500
 
+``--photographs`` writes the photograph example instead (two monkeys at two depths,
+each trial a resting and a loaded side view rendered from the true profiles)::
+
+    python workflow/scripts/make_synthetic_data.py --photographs --out data/photographs
+
 ``--print-parameters`` prints the true parameters (per subject, then per
 trial, then the membranes behind the forces) as Markdown tables instead of
 writing files.  The generator itself is ``lineload.synthetic``.
@@ -23,7 +28,7 @@ import sys
 from pathlib import Path
 
 import lineload.synthetic as synthetic
-from lineload.io import json_text, write_text
+from lineload.io import json_text, replaced_atomically, write_text
 
 #: Sub-folders whose CSV files the generator owns.
 GENERATED_FOLDERS = ("profiles", "outlines")
@@ -72,6 +77,11 @@ def parse_args(argv=None):
         "does not write (otherwise they stop the run)",
     )
     parser.add_argument(
+        "--photographs",
+        action="store_true",
+        help="write the photograph example (subjects.csv, images/) instead",
+    )
+    parser.add_argument(
         "--print-parameters",
         action="store_true",
         help="print the true parameters (per subject and per trial, and the membranes "
@@ -111,6 +121,16 @@ def main(argv=None):
         if any(s.contact_length_mm is not None for s in subjects):
             sys.stdout.write("\n" + synthetic.membrane_markdown(subjects) + "\n")
             sys.stdout.write(synthetic.force_markdown(subjects, args.seed))
+        return 0
+    if args.photographs:
+        files = synthetic.photograph_dataset(seed=args.seed)
+        for relative, content in files.items():
+            if isinstance(content, bytes):
+                with replaced_atomically(args.out / relative) as temporary:
+                    Path(temporary).write_bytes(content)
+            else:
+                write_text(content, args.out / relative)
+        print(f"wrote {len(files)} files to {args.out}")
         return 0
     files = synthetic.build_dataset(
         seed=args.seed,

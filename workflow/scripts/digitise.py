@@ -1,0 +1,95 @@
+"""Rule digitise: a photographed subject's readings from its rest and loaded photographs.
+
+Each depth's pair is read with lineload.photographs.digitise_pair; the readings are
+written in the profile contract's form (image units: tissue mm times the subject's
+magnification) and checked as a raw profile file is, and a record of how well each
+trial was digitised is written beside them.  A photograph that cannot be read stops the
+job with one line naming it.
+"""
+
+import os
+import sys
+
+import imageio.v3 as iio
+
+from lineload.io import json_text, load_schema, output_to, read_json, write_text
+from lineload.photographs import (
+    ImageError,
+    Scene,
+    digitise_pair,
+    profile_rows,
+    quality_record,
+)
+from lineload.synthetic import reading_distances_mm
+from lineload.validation import (
+    InputError,
+    check_thin_trials,
+    image_scale_px_per_mm,
+    read_columns,
+    read_table,
+)
+
+
+def digitise(sheet, subject, magnification, settings, output):
+    """Digitise every pair of ``subject``; write its profile and the quality record."""
+    images = read_table(sheet, load_schema("images"))  # checked already: no problem left
+    scale = image_scale_px_per_mm(images)
+    folder = os.path.dirname(sheet)
+    rows, quality = [], []
+    grid = reading_distances_mm(settings["reach_mm"], settings["first_mm"])
+    mine = images[images["subject"] == subject]
+    for depth_mm in sorted(set(mine["depth_mm"].astype(float))):
+        pair = mine[mine["depth_mm"].astype(float) == depth_mm]
+        rest, loaded = (pair[pair["state"] == state].iloc[0] for state in ("rest", "loaded"))
+        names = [os.path.join(folder, str(r["file"])) for r in (rest, loaded)]
+        pictures = [iio.imread(name) for name in names]
+        ppmm = float(scale.loc[loaded.name])
+        scene = Scene(ppmm, 0.0, 0.0, pictures[1].shape[1], pictures[1].shape[0])
+        tip_x_mm = (float(loaded["tip_x_px"]) + 0.5) / ppmm if "tip_x_px" in pair else None
+        trial = digitise_pair(
+            *pictures,
+            scene,
+            grid,
+            reach_mm=settings["reach_mm"],
+            tip_x_mm=tip_x_mm,
+            smoothing_px=settings["smoothing_px"],
+            window_mm=settings["window_mm"],
+            names=names,
+        )
+        rows += profile_rows(depth_mm, trial, magnification)
+        quality.append({"rest": names[0], "loaded": names[1], **quality_record(depth_mm, trial)})
+        print(
+            f"{subject} {depth_mm:g} mm: {sum(trial_counts(trial))} readings, tip at "
+            f"{trial.tip_x_mm:.4f} mm, registration residual "
+            f"{1000 * trial.registration_rms_mm:.1f} um, "
+            f"reading SD {1000 * trial.reading_sd_mm:.1f} um"
+        )
+    text = "depth_mm,side,distance_image_mm,deflection_image_mm\n" + "".join(
+        f"{d:g},{side},{x:.5f},{w:.5f}\n" for d, side, x, w in rows
+    )
+    write_text(text, output.profile)
+    # the readings pass the checks a raw profile file does
+    profile = read_columns(output.profile, load_schema("profiles"))
+    check_thin_trials(profile, output.profile, magnification, settings["reach_mm"], 1)
+    write_text(json_text({"subject": subject, "trials": quality}), output.quality)
+
+
+def trial_counts(trial):
+    return [len(trial.readings[side][0]) for side in ("left", "right")]
+
+
+if __name__ == "__main__":
+    with output_to(snakemake.log[0]):
+        spec = read_json(snakemake.input.spec)
+        try:
+            digitise(
+                snakemake.input.sheet,
+                spec["subject"],
+                float(spec["magnification"]),
+                spec["settings"],
+                snakemake.output,
+            )
+        except (ImageError, InputError) as error:
+            print(error)
+            sys.__stderr__.write(f"Error: {error}\n")
+            sys.exit(1)
