@@ -25,6 +25,7 @@ __all__ = [
     "group_depths_text",
     "join_words",
     "number_words",
+    "photograph_facts",
     "shown",
     "span_text",
 ]
@@ -79,6 +80,62 @@ def group_depths_text(members, depths_mm):
 
 def _plural(species, count):
     return species if count == 1 else f"{species}s"
+
+
+#: How many photographed subjects' quality figures the article prints (the report has all).
+PHOTOGRAPH_FIGURES = 4
+
+
+def photograph_facts(records, subjects, figures):
+    """What the article says of the subjects read from photographs (None if there are none).
+
+    Parameters
+    ----------
+    records : list of dict
+        The digitise jobs' quality records (``digitised/<subject>.json``), sheet order.
+    subjects : dict
+        Subject id -> ``{"label", ...}`` (the subject sheet).
+    figures : list of str
+        Each record's quality figure, as the article names it (relative to the results).
+
+    Returns
+    -------
+    dict or None
+        ``subjects`` (named), ``all`` (every subject photographed), ``n_trials``, the
+        ranges of the reading uncertainty and registration residual (um) and of the first
+        distance read (mm), the figures to print, and one row per trial.
+    """
+    if not records:
+        return None
+    trials = [(r["subject"], t) for r in records for t in r["trials"]]
+    first = [d for _, t in trials for d in t["first_read_mm"].values() if d is not None]
+    rows = [
+        {
+            "subject": subject,
+            "depth": f"{t['depth_mm']:g}",
+            "tip": f"{t['tip_x_mm']:.3f}",
+            "shift": f"{1000 * t['shift_x_mm']:.1f}, {1000 * t['shift_z_mm']:.1f}",
+            "registration": f"{t['registration_rms_um']:.1f}",
+            "reading_sd": f"{t['reading_sd_um']:.1f}",
+            "first": ", ".join("-" if d is None else f"{d:g}" for d in t["first_read_mm"].values()),
+            "readings": f"{sum(t['readings'].values())}",
+        }
+        for subject, t in trials
+    ]
+    return {
+        "subjects": join_words(r["subject"] for r in records),
+        "all": {r["subject"] for r in records} == set(subjects),
+        "n_trials": len(trials),
+        "reading_sd": span_text([t["reading_sd_um"] for _, t in trials], 1, " µm"),
+        "registration": span_text([t["registration_rms_um"] for _, t in trials], 1, " µm"),
+        "first_read": span_text(first, 2, " mm"),
+        "figures": [
+            {"file": f, "subject": r["subject"], "label": subjects[r["subject"]]["label"]}
+            for f, r in list(zip(figures, records, strict=True))[:PHOTOGRAPH_FIGURES]
+        ],
+        "n_figures": len(records),
+        "rows": rows,
+    }
 
 
 def _data_facts(subjects, depths_mm, notice):

@@ -298,6 +298,9 @@ class DigitisedTrial:
         The digitising uncertainty of one reading: the edge noise of both images,
         averaged over the columns of a reading (their errors correlated), and the
         error of the registration.
+    outlines : dict, optional
+        ``x_mm`` of each column, the loaded outline (``loaded_mm``, NaN where unread)
+        and the resting one moved onto it (``rest_mm``): what the quality figure draws.
     """
 
     readings: dict
@@ -306,6 +309,7 @@ class DigitisedTrial:
     registration_rms_mm: float
     edge_noise_mm: float
     reading_sd_mm: float
+    outlines: dict = None
 
 
 def _roughness_mm(z_mm, window_px=25):
@@ -460,6 +464,7 @@ def digitise_pair(
         registration_rms_mm=registration_rms,
         edge_noise_mm=float(edge),
         reading_sd_mm=float(np.hypot(per_reading, registration_sd)),
+        outlines={"x_mm": x, "loaded_mm": z_load, "rest_mm": rest_on_loaded},
     )
 
 

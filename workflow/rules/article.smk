@@ -11,6 +11,7 @@ rule article:
                 "claims": config["claims"],
                 "noise": config["noise"],
                 "sensitivity": config["sensitivity"],
+                "digitise": config["digitise"],
                 # as configured; the job chooses those left unset, as the figure jobs do
                 "figures": {key: config["figures"][key] for key in CHOICE_KEYS},
             },
@@ -41,6 +42,9 @@ rule article:
             Path(workflow.basedir).parent / "data" / "built_in_verdicts.json"
         ),
         figures=[f for f in FIGURE_FILES if f.endswith(".pdf")],
+        # the photographed subjects' quality records and figures (none without photographs)
+        digitised=expand(rules.digitise.output.quality, subject=list(PHOTOGRAPHS)),
+        digitised_figures=expand(rules.digitise.output.pdf, subject=list(PHOTOGRAPHS)),
         code=code("write_article.py"),
     output:
         pdf=report_item(

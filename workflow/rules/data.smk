@@ -52,10 +52,12 @@ rule digitise:
         spec=spec(
             "digitise",
             subject=lambda wildcards: wildcards.subject,
+            label=lambda wildcards: SUBJECTS[wildcards.subject]["label"],
             magnification=lambda wildcards: SUBJECTS[wildcards.subject][
                 "magnification"
             ],
             settings=config["digitise"],
+            notice=NOTICE,
         ),
         sheet=f"{RAW}/images/images.csv",
         photographs=lambda wildcards: PHOTOGRAPHS[wildcards.subject],
@@ -63,6 +65,14 @@ rule digitise:
     output:
         profile=result("digitised", "{subject}.csv"),
         quality=result("digitised", "{subject}.json"),
+        pdf=result("digitised", "{subject}.pdf"),
+        png=report_item(
+            result("digitised", "{subject}.png"),
+            caption="../report/digitised.rst",
+            category="Data",
+            subcategory="Photographs digitised",
+            labels={"subject": "{subject}"},
+        ),
     log:
         result("logs", "digitise", "{subject}.log"),
     benchmark:

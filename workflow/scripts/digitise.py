@@ -12,6 +12,8 @@ import sys
 
 import imageio.v3 as iio
 
+from lineload.figures.data import figure_digitised
+from lineload.figures.style import save_figure
 from lineload.io import json_text, load_schema, output_to, read_json, write_text
 from lineload.photographs import (
     ImageError,
@@ -30,12 +32,13 @@ from lineload.validation import (
 )
 
 
-def digitise(sheet, subject, magnification, settings, output):
-    """Digitise every pair of ``subject``; write its profile and the quality record."""
+def digitise(sheet, subject, label, magnification, settings, notice, output):
+    """Digitise every pair of ``subject``; write its profile, the quality record and the
+    quality figure."""
     images = read_table(sheet, load_schema("images"))  # checked already: no problem left
     scale = image_scale_px_per_mm(images)
     folder = os.path.dirname(sheet)
-    rows, quality = [], []
+    rows, quality, drawn = [], [], []
     grid = reading_distances_mm(settings["reach_mm"], settings["first_mm"])
     mine = images[images["subject"] == subject]
     for depth_mm in sorted(set(mine["depth_mm"].astype(float))):
@@ -57,6 +60,16 @@ def digitise(sheet, subject, magnification, settings, output):
             names=names,
         )
         rows += profile_rows(depth_mm, trial, magnification)
+        drawn.append(
+            {
+                "depth_mm": depth_mm,
+                "image": pictures[1],
+                "extent_mm": (0.0, scene.width_px / ppmm, 0.0, -scene.height_px / ppmm),
+                "outlines": trial.outlines,
+                "readings": trial.readings,
+                "tip_x_mm": trial.tip_x_mm,
+            }
+        )
         quality.append({"rest": names[0], "loaded": names[1], **quality_record(depth_mm, trial)})
         print(
             f"{subject} {depth_mm:g} mm: {sum(trial_counts(trial))} readings, tip at "
@@ -72,6 +85,7 @@ def digitise(sheet, subject, magnification, settings, output):
     profile = read_columns(output.profile, load_schema("profiles"))
     check_thin_trials(profile, output.profile, magnification, settings["reach_mm"], 1)
     write_text(json_text({"subject": subject, "trials": quality}), output.quality)
+    save_figure(figure_digitised(label, drawn, notice), output.pdf, output.png, dpi=200)
 
 
 def trial_counts(trial):
@@ -85,8 +99,10 @@ if __name__ == "__main__":
             digitise(
                 snakemake.input.sheet,
                 spec["subject"],
+                spec["label"],
                 float(spec["magnification"]),
                 spec["settings"],
+                spec["notice"],
                 snakemake.output,
             )
         except (ImageError, InputError) as error:

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import typst
 
-from lineload.article import article_facts
+from lineload.article import article_facts, photograph_facts
 from lineload.citation import citation_or_default, software_name
 from lineload.figures.choices import figure_settings
 from lineload.io import (
@@ -82,6 +82,13 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
         },
         # the generator's own list of what it built in: for its reconstruction only
         read_json(inputs.built_in) if notice == DATA_NOTICE.splitlines()[0] else None,
+    )
+    # the subjects read from photographs: how well, and their quality figures
+    results = Path(outputs.facts).resolve().parents[1]
+    facts["photographs"] = photograph_facts(
+        [read_json(path) for path in inputs.digitised],
+        subjects,
+        [Path(path).resolve().relative_to(results).as_posix() for path in inputs.digitised_figures],
     )
     write_text(json_text(facts), outputs.facts)
     with replaced_atomically(outputs.source) as temporary:

@@ -48,6 +48,7 @@ from .style import (
 )
 
 __all__ = [
+    "figure_digitised",
     "figure_examples",
     "figure_outlines",
     "figure_species_fits",
@@ -494,5 +495,118 @@ def figure_species_fits(averaged, fits, subjects, species, fit_window_mm, notice
     if legend_rows > 2:  # a taller figure for a legend that wrapped, not lower panels
         fig.set_figheight(fig.get_figheight() + (legend_rows - 2) * LEGEND_ROW_MM / MM_PER_INCH)
     fig.legend(handles=handles, loc="outside upper center", ncols=n_columns)
+    add_footer(fig, notice)
+    return fig
+
+
+@styled
+def figure_digitised(subject, trials, notice=""):
+    """Quality of a photographed subject's digitising: one row per depth.
+
+    Left, the loaded photograph near the wedge with the outline the workflow found
+    (gid ``outline-loaded``), the resting outline moved onto it (``outline-rest``), the
+    wedge's tip it placed (``tip``) and the distances it read (``grid``); right, the
+    readings of both sides (``readings:left``, ``readings:right``) and their difference.
+
+    Parameters
+    ----------
+    subject : str
+        The subject's label.
+    trials : list of dict
+        Per depth: ``depth_mm``, ``image`` (the loaded photograph, 2-D), ``extent_mm``
+        (``x0, x1, z0, z1`` of the image in tissue mm), ``outlines`` and ``readings``
+        and ``tip_x_mm`` of :class:`lineload.photographs.DigitisedTrial`.
+    notice : str, optional
+        Footer text; empty for none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    n = len(trials)
+    fig = new_figure(DOUBLE_COLUMN_MM, 16.0 + 50.0 * n)
+    axes = fig.subplots(n, 2, squeeze=False, width_ratios=[1.3, 1.0])
+    for row, trial in zip(axes, trials, strict=True):
+        ax_image, ax_read = row
+        x0, x1, z0, z1 = trial["extent_mm"]
+        tip = trial["tip_x_mm"]
+        ax_image.imshow(
+            trial["image"],
+            cmap="gray",
+            extent=(x0, x1, z1, z0),
+            origin="upper",
+            interpolation="nearest",
+            vmin=0,
+            vmax=np.iinfo(trial["image"].dtype).max,
+        )
+        outlines = trial["outlines"]
+        ax_image.plot(
+            outlines["x_mm"],
+            outlines["rest_mm"],
+            color="#56B4E9",
+            linewidth=0.8,
+            linestyle="--",
+            label="resting outline, registered",
+            gid="outline-rest",
+        )
+        ax_image.plot(
+            outlines["x_mm"],
+            outlines["loaded_mm"],
+            color="#E69F00",
+            linewidth=0.8,
+            label="loaded outline found",
+            gid="outline-loaded",
+        )
+        ax_image.axvline(
+            tip, color="#D55E00", linewidth=0.8, linestyle=":", label="wedge tip placed", gid="tip"
+        )
+        for side, sign in (("left", -1.0), ("right", 1.0)):
+            distance = trial["readings"][side][0]
+            ax_image.plot(
+                tip + sign * distance,
+                np.full(distance.size, z0 - 0.02 * (z0 - z1)),
+                marker="|",
+                color="#009E73",
+                linestyle="none",
+                markersize=4,
+                gid="grid",
+                label="distances read" if side == "left" else None,
+            )
+        span = 3.0
+        ax_image.set_xlim(tip - span, tip + span)
+        ax_image.set_title(f"{subject}, {trial['depth_mm']:g} mm: loaded photograph", loc="left")
+        ax_image.set_xlabel("x (mm)")
+        ax_image.set_ylabel("z (mm)")
+        left_d, left_w = trial["readings"]["left"]
+        right_d, right_w = trial["readings"]["right"]
+        ax_read.plot(
+            left_d,
+            left_w,
+            marker="o",
+            markersize=2.5,
+            linewidth=0.8,
+            color=MODEL_COLOURS["waterbed"],
+            label="left",
+            gid="readings:left",
+        )
+        ax_read.plot(
+            right_d,
+            right_w,
+            marker="s",
+            markersize=2.5,
+            linewidth=0.8,
+            color=MODEL_COLOURS["boussinesq"],
+            label="right",
+            gid="readings:right",
+        )
+        ax_read.invert_yaxis()
+        ax_read.set_title("readings of both sides", loc="left")
+        ax_read.set_xlabel(DISTANCE_LABEL)
+        ax_read.set_ylabel("deflection (mm)")
+    handles = [
+        *axes[0, 0].get_legend_handles_labels()[0],
+        *axes[0, 1].get_legend_handles_labels()[0],
+    ]
+    fig.legend(handles=handles, loc="outside upper center", ncols=3)
     add_footer(fig, notice)
     return fig
