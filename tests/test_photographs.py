@@ -339,3 +339,22 @@ def test_a_subject_with_both_a_profile_file_and_photographs_is_refused(tmp_path)
 
     _, output, errors = refuse(tmp_path, both)
     assert any("has both a profile file" in e and "subjects.csv" in e for e in errors), output
+
+
+@pytest.mark.e2e
+def test_a_photograph_without_an_edge_is_refused_before_any_job_runs(tmp_path):
+    """The check reads every pair as its job would: nothing is built from a folder
+    where one photograph shows no finger."""
+
+    def blank(raw):
+        import imageio.v3 as iio
+
+        path = raw / "images" / "M2_1mm_loaded.png"
+        iio.imwrite(path, np.full_like(iio.imread(path), 200))
+
+    _, output, errors = refuse(tmp_path, blank)
+    assert any(
+        "images/images.csv, line 7, column 'file'" in e
+        and "M2_1mm_loaded.png: no edge between skin and background" in e
+        for e in errors
+    ), output

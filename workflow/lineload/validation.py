@@ -866,7 +866,7 @@ def image_properties(path):
     return tuple(properties.shape), np.dtype(properties.dtype)
 
 
-def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None):
+def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None, digitise=None):
     """Check ``images/images.csv`` and the photographs it names.
 
     Every (subject, depth) needs one ``rest`` and one ``loaded`` photograph of the same
@@ -885,6 +885,11 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
         How to name the folder in messages.
     problems : Problems, optional
         Collector; without one, problems are raised.
+    digitise : dict, optional
+        The config's ``digitise`` settings: each pair is then read as its job will read
+        it, so that a photograph without an edge, without a wedge or without skin
+        beyond ``reach_mm`` is refused here, before any job runs (reading a pair takes
+        a few hundredths of a second).
 
     Returns
     -------
@@ -970,7 +975,7 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
                     f"the tip at pixel column {float(row['tip_x_px']):g} is outside the image, "
                     f"which is {shape[1]} pixels wide",
                 )
-            sizes[key][state] = (line, shape[:2])
+            sizes[key][state] = (line, shape[:2], path, float(scale.loc[line]), row)
         for (subject, depth), states in sizes.items():
             missing = [s for s in IMAGE_STATES if s not in states]
             if missing:
@@ -983,7 +988,8 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
                     "and one loaded photograph per depth",
                 )
                 continue
-            (_, rest_shape), (line, loaded_shape) = states["rest"], states["loaded"]
+            (_, rest_shape, rest_path, _, _) = states["rest"]
+            (line, loaded_shape, loaded_path, ppmm, loaded_row) = states["loaded"]
             if rest_shape != loaded_shape:
                 found.error(
                     sheet_shown,
@@ -994,8 +1000,41 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
                     f"{rest_shape[0]} x {rest_shape[1]}; expected the same size (one camera)",
                 )
                 continue
+            if digitise is not None:
+                problem = _digitising_problem(
+                    rest_path, loaded_path, ppmm, loaded_row, digitise, shown, raw_dir
+                )
+                if problem:
+                    found.error(sheet_shown, line, "file", problem)
+                    continue
             depths.setdefault(subject, []).append(depth)
         return {subject: sorted(d) for subject, d in depths.items()}
+
+
+def _digitising_problem(rest_path, loaded_path, ppmm, loaded_row, settings, shown, raw_dir):
+    """Why a pair cannot be read (the digitiser's one line), or None."""
+    import imageio.v3 as iio
+
+    from .photographs import ImageError, Scene, digitise_pair
+
+    pictures = [iio.imread(path) for path in (rest_path, loaded_path)]
+    scene = Scene(ppmm, 0.0, 0.0, pictures[1].shape[1], pictures[1].shape[0])
+    tip = loaded_row.get("tip_x_px")
+    names = [path.replace(raw_dir.rstrip("/"), shown, 1) for path in (rest_path, loaded_path)]
+    try:
+        digitise_pair(
+            *pictures,
+            scene,
+            [settings["first_mm"]],
+            reach_mm=settings["reach_mm"],
+            tip_x_mm=None if tip is None else (float(tip) + 0.5) / ppmm,
+            smoothing_px=settings["smoothing_px"],
+            window_mm=settings["window_mm"],
+            names=names,
+        )
+    except ImageError as error:
+        return str(error)
+    return None
 
 
 # ---------------------------------------------------------------- plausibility of units
@@ -1332,7 +1371,9 @@ def _check_contact_lengths(subjects, path, reach_max_mm, problems):
 # ---------------------------------------------------------------- a whole raw folder
 
 
-def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, window=None):
+def check_dataset(
+    raw_dir, schemas, raw_dir_shown=None, plausibility=None, window=None, digitise=None
+):
     """Validate a whole raw-data folder before anything is computed.
 
     Every file is checked, and every problem found is reported together.
@@ -1354,6 +1395,9 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
         ``(fit_window_mm, min_points_in_window)`` of the config: a trial with
         fewer distinct distances within the window is refused
         (:func:`check_thin_trials`); not checked if None.
+    digitise : dict, optional
+        The config's ``digitise`` settings: each photograph pair is read once here
+        (:func:`check_images`); not if None.
 
     Returns
     -------
@@ -1386,7 +1430,12 @@ def check_dataset(raw_dir, schemas, raw_dir_shown=None, plausibility=None, windo
     image_depths = {}
     if photographed:
         image_depths = check_images(
-            raw_dir, schemas.get("images") or _images_schema(), subjects["subject"], shown, found
+            raw_dir,
+            schemas.get("images") or _images_schema(),
+            subjects["subject"],
+            shown,
+            found,
+            digitise,
         )
     check_subjects(
         subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern, photographed

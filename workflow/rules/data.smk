@@ -11,6 +11,8 @@ checkpoint check_raw_data:
             input_checks=config["input_checks"],
             window_mm=config["fit_window_mm"],
             min_points=config["min_points_in_window"],
+            # photographs are read once by the check: one that cannot be is refused here
+            digitise=config["digitise"],
         ),
         sheet=f"{RAW}/subjects.csv",
         # every file of the folder, a stray one too (the check warns about it)

@@ -18,7 +18,7 @@ from lineload.validation import InputError, check_dataset, report_lines
 TABLES = ("subjects", "profiles", "outlines", "forces", "images")
 
 
-def check_raw_data(sheet, files, output, log, input_checks, window_mm, min_points):
+def check_raw_data(sheet, files, output, log, input_checks, window_mm, min_points, digitise):
     """Check the folder of ``sheet``; write the summary (or every problem into ``log``).
     Returns the lines for the user: at most MAX_REPORTED errors and where the rest are."""
     raw_dir = os.path.dirname(sheet)  # as configured: the messages name it so
@@ -29,6 +29,7 @@ def check_raw_data(sheet, files, output, log, input_checks, window_mm, min_point
             schemas,
             plausibility=input_checks,
             window=(window_mm, min_points),
+            digitise=digitise,
         )
     except InputError as error:
         for line in report_lines(error, limit=len(error.problems)):
