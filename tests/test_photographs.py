@@ -358,3 +358,23 @@ def test_a_photograph_without_an_edge_is_refused_before_any_job_runs(tmp_path):
         and "M2_1mm_loaded.png: no edge between skin and background" in e
         for e in errors
     ), output
+
+
+@pytest.mark.e2e
+def test_one_dataset_mixes_readings_and_photographs(tmp_path):
+    """A lab's folder may hold subjects of both kinds: M3 as hand readings beside the
+    photographed M1 and M2."""
+    raw = photograph_folder(tmp_path / "raw")
+    (raw / "profiles").mkdir()
+    shipped = REPO / "data" / "raw"
+    (raw / "profiles" / "M3.csv").write_bytes((shipped / "profiles" / "M3.csv").read_bytes())
+    with open(raw / "subjects.csv", "a") as sheet:
+        sheet.write("M3,monkey,20,Monkey 3\n")
+    made = run_snakemake(
+        "fits", raw=raw, results=tmp_path / "results", config=["digitise__reach_mm=6.5"]
+    )
+    assert made.returncode == 0, made.stderr[-3000:]
+    fits = pd.read_csv(tmp_path / "results" / "tables" / "fits.csv")
+    assert sorted(fits["subject"].unique()) == ["M1", "M2", "M3"]
+    assert len(fits[fits["subject"] == "M3"]) == 4  # its four depths, from its readings
+    assert not (tmp_path / "results" / "digitised" / "M3.csv").exists()
