@@ -278,6 +278,9 @@ def test_the_photograph_example_builds_from_images_to_article(tmp_path):
             assert np.sqrt(np.mean(np.square(errors))) < HAND_READING_SD_MM / 2, (name, depth)
         quality = json.loads((results / "digitised" / f"{name}.json").read_text())
         assert [t["depth_mm"] for t in quality["trials"]] == list(PHOTOGRAPH_DEPTHS_MM)
+        # the job's own comparison with images/truth.csv agrees: within half a reading
+        assert all(t["error_rms_um"] < 1000 * HAND_READING_SD_MM / 2 for t in quality["trials"])
+        assert (results / "digitised" / f"{name}.png").is_file()
     # the photographs are raw inputs: in the provenance record and in the crate
     record = json.loads((results / "provenance.json").read_text())
     assert "images/images.csv" in record["raw_data"]["sha256"]

@@ -119,6 +119,7 @@ def photograph_facts(records, subjects, figures):
             "reading_sd": f"{t['reading_sd_um']:.1f}",
             "first": ", ".join("-" if d is None else f"{d:g}" for d in t["first_read_mm"].values()),
             "readings": f"{sum(t['readings'].values())}",
+            "error": "-" if t.get("error_rms_um") is None else f"{t['error_rms_um']:.1f}",
         }
         for subject, t in trials
     ]
@@ -129,6 +130,10 @@ def photograph_facts(records, subjects, figures):
         "reading_sd": span_text([t["reading_sd_um"] for _, t in trials], 1, " µm"),
         "registration": span_text([t["registration_rms_um"] for _, t in trials], 1, " µm"),
         "first_read": span_text(first, 2, " mm"),
+        "with_truth": any(t.get("error_rms_um") is not None for _, t in trials),
+        "error": span_text(
+            [t["error_rms_um"] for _, t in trials if t.get("error_rms_um") is not None], 1, " µm"
+        ),
         "figures": [
             {"file": f, "subject": r["subject"], "label": subjects[r["subject"]]["label"]}
             for f, r in list(zip(figures, records, strict=True))[:PHOTOGRAPH_FIGURES]

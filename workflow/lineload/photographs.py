@@ -49,6 +49,7 @@ __all__ = [
     "quality_record",
     "render_photograph",
     "skin_outline_mm",
+    "truth_error_um",
 ]
 
 #: Brightness of the plain background, the skin and the wedge (fractions of full scale).
@@ -594,9 +595,38 @@ def profile_rows(depth_mm, trial, magnification):
     return rows
 
 
-def quality_record(depth_mm, trial):
-    """What a reviewer needs to judge one digitised trial, JSON-ready (mm and um)."""
+def truth_error_um(trial, truth, window_mm):
+    """RMS difference (um) between the readings and the truth over the fit window, both
+    sides together; None without a truth.
+
+    Parameters
+    ----------
+    trial : DigitisedTrial
+    truth : dict
+        Side -> ``(distance_mm, deflection_mm)`` of the true profile (interpolated at
+        the readings' distances).
+    window_mm : float
+        The fit window: readings at or within it count.
+    """
+    errors = []
+    for side, (distance, deflection) in trial.readings.items():
+        if side not in truth:
+            continue
+        inside = distance <= window_mm
+        true = np.interp(distance[inside], *truth[side])
+        errors.extend(deflection[inside] - true)
+    if not errors:
+        return None
+    return float(1000 * np.sqrt(np.mean(np.square(errors))))
+
+
+def quality_record(depth_mm, trial, truth=None, window_mm=3.0):
+    """What a reviewer needs to judge one digitised trial, JSON-ready (mm and um); with
+    a truth (side -> distances and deflections), the readings' RMS error against it over
+    the fit window (``error_rms_um``, else None)."""
+    error = truth_error_um(trial, truth, window_mm) if truth else None
     return {
+        "error_rms_um": None if error is None else round(error, 3),
         "depth_mm": float(depth_mm),
         "tip_x_mm": round(trial.tip_x_mm, 6),
         "shift_x_mm": round(trial.shift_mm[0], 6),

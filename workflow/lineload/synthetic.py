@@ -1283,8 +1283,9 @@ def photograph_dataset(seed=DEFAULT_SEED, camera=None):
     Returns
     -------
     dict
-        Relative path -> content: ``NOTICE.txt``, ``subjects.csv`` and
-        ``images/images.csv`` as text, the photographs (PNG) as bytes.
+        Relative path -> content: ``NOTICE.txt``, ``subjects.csv``,
+        ``images/images.csv`` and ``images/truth.csv`` (the true deflection the
+        photographs were rendered from) as text, the photographs (PNG) as bytes.
     """
     import io
 
@@ -1320,4 +1321,24 @@ def photograph_dataset(seed=DEFAULT_SEED, camera=None):
                 files[f"images/{file}"] = buffer.getvalue()
                 rows.append(f"{name},{depth_mm:g},{state},{file},{PHOTOGRAPH_PIXELS_PER_MM:g}")
     files["images/images.csv"] = "\n".join(rows) + "\n"
+    # the truth the photographs were rendered from, at the distances a reader reads
+    truth = ["subject,depth_mm,side,distance_mm,deflection_mm"]
+    for name in PHOTOGRAPH_SUBJECTS:
+        for depth_mm in PHOTOGRAPH_DEPTHS_MM:
+            trial = trial_parameters(subjects[name], depth_mm)
+            for side, extent in (("left", trial.extent_left_mm), ("right", trial.extent_right_mm)):
+                distance = reading_distances_mm(extent, 0.05)
+                w = true_deflection_mm(
+                    distance,
+                    depth_mm,
+                    extent,
+                    trial.exponent,
+                    trial.near_fraction,
+                    trial.near_exponent,
+                )
+                truth += [
+                    f"{name},{depth_mm:g},{side},{d:.4f},{v:.6f}"
+                    for d, v in zip(distance, w, strict=True)
+                ]
+    files["images/truth.csv"] = "\n".join(truth) + "\n"
     return files

@@ -906,6 +906,21 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
         images = read_table(sheet, schema, sheet_shown, found)
         if images is None or found.count() > before:
             return {}
+        truth_path = os.path.join(raw_dir, "images", "truth.csv")
+        if os.path.isfile(truth_path):  # optional: the truth, where it is known
+            from .io import load_schema
+
+            truth = read_table(truth_path, load_schema("truth"), f"{shown}/images/truth.csv", found)
+            if truth is not None:
+                for line, name in truth["subject"].items():
+                    if str(name) not in set(map(str, subject_ids)):
+                        found.error(
+                            f"{shown}/images/truth.csv",
+                            line,
+                            "subject",
+                            f"subject {name!r} is not in subjects.csv; expected a listed subject",
+                        )
+                        break
         scale = image_scale_px_per_mm(images)
         if scale is None:
             found.error(

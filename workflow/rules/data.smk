@@ -59,10 +59,17 @@ rule digitise:
                 "magnification"
             ],
             settings=config["digitise"],
+            window_mm=config["fit_window_mm"],
             notice=NOTICE,
         ),
         sheet=f"{RAW}/images/images.csv",
         photographs=lambda wildcards: PHOTOGRAPHS[wildcards.subject],
+        # the truth, where the folder gives it (images/truth.csv): for the quality record
+        truth=(
+            [RAW_FILES["images"]["truth.csv"]]
+            if "truth.csv" in RAW_FILES["images"]
+            else []
+        ),
         code=code("digitise.py"),
     output:
         profile=result("digitised", "{subject}.csv"),

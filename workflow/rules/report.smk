@@ -146,6 +146,11 @@ rule provenance:
             *RAW_PROFILES.values(),
             # the photographs' sheet and every photograph it names
             *([RAW_FILES["images"]["images.csv"]] if PHOTOGRAPHS else []),
+            *(
+                [RAW_FILES["images"]["truth.csv"]]
+                if PHOTOGRAPHS and "truth.csv" in RAW_FILES["images"]
+                else []
+            ),
             *(f for files in PHOTOGRAPHS.values() for f in files),
             *(RAW_FILES["outlines"][f"{s}.csv"] for s in OUTLINED),
             *([RAW_FILES["notice"]] if RAW_FILES["notice"] else []),

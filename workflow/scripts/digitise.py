@@ -32,13 +32,32 @@ from lineload.validation import (
 )
 
 
-def digitise(sheet, subject, label, magnification, settings, notice, output):
+def truth_of(folder, subject):
+    """The true readings of ``subject`` where images/truth.csv gives them:
+    {(depth_mm, side): (distance_mm, deflection_mm)}; empty without the file."""
+    path = os.path.join(folder, "truth.csv")
+    if not os.path.isfile(path):
+        return {}
+    truth = read_table(path, load_schema("truth"))
+    mine = truth[truth["subject"] == subject]
+    curves = {}
+    for (depth_mm, side), rows in mine.groupby(["depth_mm", "side"]):
+        rows = rows.sort_values("distance_mm")
+        curves[(float(depth_mm), side)] = (
+            rows["distance_mm"].to_numpy(float),
+            rows["deflection_mm"].to_numpy(float),
+        )
+    return curves
+
+
+def digitise(sheet, subject, label, magnification, settings, window_mm, notice, output):
     """Digitise every pair of ``subject``; write its profile, the quality record and the
     quality figure."""
     images = read_table(sheet, load_schema("images"))  # checked already: no problem left
     scale = image_scale_px_per_mm(images)
     folder = os.path.dirname(sheet)
     rows, quality, drawn = [], [], []
+    truth = truth_of(folder, subject)
     grid = reading_distances_mm(settings["reach_mm"], settings["first_mm"])
     mine = images[images["subject"] == subject]
     for depth_mm in sorted(set(mine["depth_mm"].astype(float))):
@@ -60,6 +79,10 @@ def digitise(sheet, subject, label, magnification, settings, notice, output):
             names=names,
         )
         rows += profile_rows(depth_mm, trial, magnification)
+        known = {
+            side: truth[(depth_mm, side)] for side in ("left", "right") if (depth_mm, side) in truth
+        }
+        record = quality_record(depth_mm, trial, known, window_mm)
         drawn.append(
             {
                 "depth_mm": depth_mm,
@@ -68,9 +91,10 @@ def digitise(sheet, subject, label, magnification, settings, notice, output):
                 "outlines": trial.outlines,
                 "readings": trial.readings,
                 "tip_x_mm": trial.tip_x_mm,
+                "truth": known,
             }
         )
-        quality.append({"rest": names[0], "loaded": names[1], **quality_record(depth_mm, trial)})
+        quality.append({"rest": names[0], "loaded": names[1], **record})
         print(
             f"{subject} {depth_mm:g} mm: {sum(trial_counts(trial))} readings, tip at "
             f"{trial.tip_x_mm:.4f} mm, registration residual "
@@ -102,6 +126,7 @@ if __name__ == "__main__":
                 spec["label"],
                 float(spec["magnification"]),
                 spec["settings"],
+                float(spec["window_mm"]),
                 spec["notice"],
                 snakemake.output,
             )

@@ -506,7 +506,8 @@ def figure_digitised(subject, trials, notice=""):
     Left, the loaded photograph near the wedge with the outline the workflow found
     (gid ``outline-loaded``), the resting outline moved onto it (``outline-rest``), the
     wedge's tip it placed (``tip``) and the distances it read (``grid``); right, the
-    readings of both sides (``readings:left``, ``readings:right``) and their difference.
+    readings of both sides (``readings:left``, ``readings:right``) and, where it is
+    known, the truth (``truth:left``, ``truth:right``).
 
     Parameters
     ----------
@@ -515,7 +516,8 @@ def figure_digitised(subject, trials, notice=""):
     trials : list of dict
         Per depth: ``depth_mm``, ``image`` (the loaded photograph, 2-D), ``extent_mm``
         (``x0, x1, z0, z1`` of the image in tissue mm), ``outlines`` and ``readings``
-        and ``tip_x_mm`` of :class:`lineload.photographs.DigitisedTrial`.
+        and ``tip_x_mm`` of :class:`lineload.photographs.DigitisedTrial`; optionally
+        ``truth``, side -> ``(distance_mm, deflection_mm)``.
     notice : str, optional
         Footer text; empty for none.
 
@@ -599,6 +601,16 @@ def figure_digitised(subject, trials, notice=""):
             label="right",
             gid="readings:right",
         )
+        for side, (distance, deflection) in (trial.get("truth") or {}).items():
+            ax_read.plot(
+                distance,
+                deflection,
+                color="black",
+                linewidth=0.6,
+                linestyle=":",
+                label="truth" if side == "left" else None,
+                gid=f"truth:{side}",
+            )
         ax_read.invert_yaxis()
         ax_read.set_title("readings of both sides", loc="left")
         ax_read.set_xlabel(DISTANCE_LABEL)
