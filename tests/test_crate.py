@@ -308,6 +308,8 @@ def test_the_builds_crate_validates_offline_and_holds_every_file(small_build, of
     # outputs, logs, the raw inputs' copies and the source; no job timings, no specs
     assert {"article/reproduction.pdf", "tables/claims.csv", "provenance.json"} <= names
     assert {"logs/article.log", "inputs/subjects.csv", MAIN_WORKFLOW} <= names
+    # the logs of the rules that run per batch or subject too
+    assert {"logs/fit_models/MK.log", "logs/prepare_outline/MK.log"} <= names
     assert "source/workflow/rules/report.smk" in names and "source/CITATION.cff" in names
     assert not any(n.startswith(("benchmarks/", "specs/")) for n in names)
     # the article was written by the article rule, the claims by claims_table

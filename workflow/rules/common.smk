@@ -5,6 +5,7 @@ import sys
 from pathlib import Path
 
 from snakemake.exceptions import IncompleteCheckpointException, WorkflowError
+from snakemake.io import strip_wildcard_constraints
 from snakemake.utils import min_version, validate
 
 from lineload import codedeps, settings, startup, validation
@@ -160,12 +161,22 @@ def crate_files(wildcards):
         for name, outputs in outputs_of.items()
         for f in outputs
     ]
-    # the logs, where a rule keeps one (written before this job runs)
-    files += [
-        {"name": os.path.relpath(log, RES), "rule": name, "kind": "log"}
-        for name in CRATE_RULES
-        for log in getattr(rules, name).rule.log
-    ]
+    # the logs, where a job keeps one (written before this job runs): one per batch or
+    # subject for the jobs that run per batch or subject
+    subjects_of = {"prepare_outline": OUTLINED, "digitise": list(PHOTOGRAPHS)}
+    for name in CRATE_RULES:
+        for log in getattr(rules, name).rule.log:
+            pattern = strip_wildcard_constraints(str(log))
+            values = {}
+            if "{batch}" in pattern:
+                values["batch"] = BATCH_IDS
+            if "{subject}" in pattern:
+                values["subject"] = subjects_of.get(name, [])
+            paths = expand(pattern, **values) if values else [pattern]
+            files += [
+                {"name": os.path.relpath(path, RES), "rule": name, "kind": "log"}
+                for path in paths
+            ]
     files += [
         {
             "name": f"inputs/{os.path.relpath(f, RAW)}",
