@@ -242,13 +242,31 @@ def skin_outline_mm(image, scene, smoothing_px=1.5, name="image"):
     ImageError
         If the size differs from the scene's, or no column shows an edge.
     """
+    return _outline_mm(_smoothed(image, scene, smoothing_px, name), scene, name)
+
+
+def _smoothed(image, scene, smoothing_px, name):
+    """The image as floats, checked against the scene's size, Gaussian-smoothed."""
     values = _as_float(image, name)
     if values.shape != (scene.height_px, scene.width_px):
         raise ImageError(
             f"{name}: expected {scene.height_px} x {scene.width_px} pixels as the sheet "
             f"says, got {values.shape[0]} x {values.shape[1]}"
         )
-    smooth = filters.gaussian(values, sigma=smoothing_px, preserve_range=True)
+    return filters.gaussian(values, sigma=smoothing_px, preserve_range=True)
+
+
+def _peak_offset(before, at, after):
+    """Where a parabola through three samples around a maximum peaks, in samples from the
+    middle one (within half a sample; 0 where they do not bend down)."""
+    curvature = before - 2.0 * at + after
+    bent = curvature < 0
+    shift = np.where(bent, 0.5 * (before - after) / np.where(bent, curvature, -1.0), 0.0)
+    return np.clip(shift, -0.5, 0.5)
+
+
+def _outline_mm(smooth, scene, name):
+    """:func:`skin_outline_mm` of an image already smoothed (:func:`_smoothed`)."""
     fall = smooth[:-1, :] - smooth[1:, :]  # > 0 where it darkens going down
     strongest = fall.max(axis=0)
     contrast = float(np.median(strongest))
@@ -265,16 +283,12 @@ def skin_outline_mm(image, scene, smoothing_px=1.5, name="image"):
     rows = np.arange(1, fall.shape[0] - 1)[:, None]
     deepest = np.where(peak, rows, -1).max(axis=0)
     found = deepest > 0
-    columns = np.arange(values.shape[1])
+    columns = np.arange(smooth.shape[1])
     r = np.where(found, deepest, 1)
-    below, at, above = fall[r - 1, columns], fall[r, columns], fall[r + 1, columns]
-    curvature = below - 2.0 * at + above
-    shift = np.where(
-        curvature < 0, 0.5 * (below - above) / np.where(curvature < 0, curvature, -1), 0.0
-    )
-    # fall[r] lies between pixel rows r and r + 1: the edge at row r + 1 + shift
+    at = fall[r, columns]
+    # fall[r] lies between pixel rows r and r + 1: the edge at row r + 1 + offset
     # (rows counted from the top edge of the image, in pixel units)
-    edge_rows = r + 1.0 + np.clip(shift, -0.5, 0.5)
+    edge_rows = r + 1.0 + _peak_offset(fall[r - 1, columns], at, fall[r + 1, columns])
     z_mm = scene.z0_mm - edge_rows / scene.pixels_per_mm
     return np.where(found, z_mm, np.nan), np.where(found, at, np.nan)
 
@@ -403,9 +417,10 @@ def digitise_pair(
     """
     x = scene.column_x_mm
     z_rest, _ = skin_outline_mm(rest_image, scene, smoothing_px, names[0])
-    z_load, contrast_load = skin_outline_mm(loaded_image, scene, smoothing_px, names[1])
+    smooth_load = _smoothed(loaded_image, scene, smoothing_px, names[1])
+    z_load, contrast_load = _outline_mm(smooth_load, scene, names[1])
     if tip_x_mm is None:
-        tip_x_mm = _wedge_apex_mm(_as_float(loaded_image, names[1]), scene, z_load, smoothing_px)
+        tip_x_mm = _wedge_apex_mm(smooth_load, scene, z_load, smoothing_px)
         if tip_x_mm is None:  # no wedge seen against the background: the notch's tip
             tip_x_mm = _wedge_tip_mm(x, z_load, names[1])
     # glare at the wedge lowers the edge's contrast and biases it: within 1 mm of the
@@ -414,7 +429,7 @@ def digitise_pair(
     away = np.abs(x - tip_x_mm)
     reference = np.nanmedian(np.where((away > 1.0) & (away < 3.0), contrast_load, np.nan))
     z_load = np.where((away < 1.0) & (contrast_load < 0.7 * reference), np.nan, z_load)
-    far = np.isfinite(z_load) & (np.abs(x - tip_x_mm) > reach_mm)
+    far = np.isfinite(z_load) & (away > reach_mm)
     if far.sum() < 20 or not ((x[far] < tip_x_mm).any() and (x[far] > tip_x_mm).any()):
         raise ImageError(
             f"{names[1]}: too little skin in view beyond {reach_mm:g} mm of the wedge on "
@@ -422,10 +437,10 @@ def digitise_pair(
         )
     # the loaded outline against the resting one shifted by (dx, dz), least squares
     ok_rest = np.isfinite(z_rest)
+    slope = np.gradient(z_rest[ok_rest], x[ok_rest])
     dx = dz = 0.0
     for _ in range(4):
         shifted = np.interp(x[far] - dx, x[ok_rest], z_rest[ok_rest])
-        slope = np.gradient(z_rest[ok_rest], x[ok_rest])
         slope_at = np.interp(x[far] - dx, x[ok_rest], slope)
         design = np.column_stack([np.ones(far.sum()), -slope_at])
         residual = z_load[far] - shifted - dz
@@ -440,7 +455,6 @@ def digitise_pair(
     readings = {}
     columns = []
     for side, sign in (("left", -1.0), ("right", 1.0)):
-        order = np.argsort(sign * (x - tip_x_mm))
         distance = sign * (x - tip_x_mm)
         keep = distance > 0
         d, w = distance[keep], deflection[keep]
@@ -469,7 +483,7 @@ def digitise_pair(
     )
 
 
-def _wedge_apex_mm(values, scene, z_mm, smoothing_px, half_window_mm=1.5):
+def _wedge_apex_mm(smooth, scene, z_mm, smoothing_px, half_window_mm=1.5):
     """x of the wedge's apex, where its two faces meet, or None if no wedge is seen.
 
     Above the highest point of the skin only the wedge stands against the background:
@@ -478,6 +492,7 @@ def _wedge_apex_mm(values, scene, z_mm, smoothing_px, half_window_mm=1.5):
     right face the strongest rise right of it (each refined by a parabola); a straight
     line through each face's points, extended down to where they cross, gives the apex.
     The faces do not depend on the skin's glare or texture, which blur the notch.
+    ``smooth`` is the loaded image as its outline was sought in (:func:`_smoothed`).
     """
     ppmm = scene.pixels_per_mm
     if not np.isfinite(z_mm).any():
@@ -487,7 +502,6 @@ def _wedge_apex_mm(values, scene, z_mm, smoothing_px, half_window_mm=1.5):
     rows = np.arange(2, last_row)
     if rows.size < 10:
         return None
-    smooth = filters.gaussian(values, sigma=smoothing_px, preserve_range=True)
     centre = int(np.argmin(smooth[rows].mean(axis=0)))
     rise = smooth[:, 1:] - smooth[:, :-1]  # between columns c and c + 1
     reach = int(half_window_mm * ppmm)
@@ -504,10 +518,8 @@ def _wedge_apex_mm(values, scene, z_mm, smoothing_px, half_window_mm=1.5):
             noise = 1.4826 * np.median(np.abs(segment - np.median(segment)))
             if segment[c] < max(5.0 * noise, 1e-3) or not 0 < c < segment.size - 1:
                 continue
-            before, at, after = segment[c - 1], segment[c], segment[c + 1]
-            curvature = before - 2 * at + after
-            shift = 0.5 * (before - after) / curvature if curvature != 0 else 0.0
-            column = lo + c + 0.5 + float(np.clip(shift, -0.5, 0.5))  # between c and c + 1
+            offset = float(_peak_offset(segment[c - 1], segment[c], segment[c + 1]))
+            column = lo + c + 0.5 + offset  # between c and c + 1
             points[sign][0].append(scene.z0_mm - (row + 0.5) / ppmm)
             points[sign][1].append(scene.x0_mm + (column + 0.5) / ppmm)
     lines = []
