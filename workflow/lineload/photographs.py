@@ -45,6 +45,7 @@ __all__ = [
     "ImageError",
     "Scene",
     "digitise_pair",
+    "digitise_photographs",
     "profile_rows",
     "quality_record",
     "render_photograph",
@@ -480,6 +481,50 @@ def digitise_pair(
         edge_noise_mm=float(edge),
         reading_sd_mm=float(np.hypot(per_reading, registration_sd)),
         outlines={"x_mm": x, "loaded_mm": z_load, "rest_mm": rest_on_loaded},
+    )
+
+
+def digitise_photographs(
+    rest_image, loaded_image, pixels_per_mm, distances_mm, settings, tip_x_px=None, names=()
+):
+    """A pair read as the workflow reads it, from the sheet's values and the config's.
+
+    Coordinates are the images' own (x from their left edge, z down from their top, in
+    tissue mm at the sheet's scale); the tip, when the sheet gives its pixel column,
+    is at that column's centre.
+
+    Parameters
+    ----------
+    rest_image, loaded_image : numpy.ndarray
+        The two photographs.
+    pixels_per_mm : float
+        Their scale (images.csv).
+    distances_mm : array_like
+        Where to read each side.
+    settings : dict
+        The config's ``digitise`` settings (``reach_mm``, ``smoothing_px``,
+        ``window_mm``).
+    tip_x_px : float, optional
+        The sheet's ``tip_x_px``; found in the image when None.
+    names : tuple of str, optional
+        How messages name the two images.
+
+    Returns
+    -------
+    DigitisedTrial
+    """
+    height, width = np.shape(loaded_image)[:2]
+    scene = Scene(pixels_per_mm, 0.0, 0.0, width, height)
+    return digitise_pair(
+        rest_image,
+        loaded_image,
+        scene,
+        distances_mm,
+        reach_mm=settings["reach_mm"],
+        tip_x_mm=None if tip_x_px is None else (float(tip_x_px) + 0.5) / pixels_per_mm,
+        smoothing_px=settings["smoothing_px"],
+        window_mm=settings["window_mm"],
+        names=tuple(names) or ("rest", "loaded"),
     )
 
 

@@ -1030,22 +1030,17 @@ def _digitising_problem(rest_path, loaded_path, ppmm, loaded_row, settings, show
     """Why a pair cannot be read (the digitiser's one line), or None."""
     import imageio.v3 as iio
 
-    from .photographs import ImageError, Scene, digitise_pair
+    from .photographs import ImageError, digitise_photographs
 
-    pictures = [iio.imread(path) for path in (rest_path, loaded_path)]
-    scene = Scene(ppmm, 0.0, 0.0, pictures[1].shape[1], pictures[1].shape[0])
-    tip = loaded_row.get("tip_x_px")
-    names = [path.replace(raw_dir.rstrip("/"), shown, 1) for path in (rest_path, loaded_path)]
+    paths = (rest_path, loaded_path)
     try:
-        digitise_pair(
-            *pictures,
-            scene,
+        digitise_photographs(
+            *(iio.imread(path) for path in paths),
+            ppmm,
             [settings["first_mm"]],
-            reach_mm=settings["reach_mm"],
-            tip_x_mm=None if tip is None else (float(tip) + 0.5) / ppmm,
-            smoothing_px=settings["smoothing_px"],
-            window_mm=settings["window_mm"],
-            names=names,
+            settings,
+            tip_x_px=loaded_row.get("tip_x_px"),
+            names=[path.replace(raw_dir.rstrip("/"), shown, 1) for path in paths],
         )
     except ImageError as error:
         return str(error)

@@ -17,8 +17,7 @@ from lineload.figures.style import save_figure
 from lineload.io import json_text, load_schema, output_to, read_json, write_text
 from lineload.photographs import (
     ImageError,
-    Scene,
-    digitise_pair,
+    digitise_photographs,
     profile_rows,
     quality_record,
 )
@@ -66,18 +65,10 @@ def digitise(sheet, subject, label, magnification, settings, window_mm, notice, 
         names = [os.path.join(folder, str(r["file"])) for r in (rest, loaded)]
         pictures = [iio.imread(name) for name in names]
         ppmm = float(scale.loc[loaded.name])
-        scene = Scene(ppmm, 0.0, 0.0, pictures[1].shape[1], pictures[1].shape[0])
-        tip_x_mm = (float(loaded["tip_x_px"]) + 0.5) / ppmm if "tip_x_px" in pair else None
-        trial = digitise_pair(
-            *pictures,
-            scene,
-            grid,
-            reach_mm=settings["reach_mm"],
-            tip_x_mm=tip_x_mm,
-            smoothing_px=settings["smoothing_px"],
-            window_mm=settings["window_mm"],
-            names=names,
+        trial = digitise_photographs(
+            *pictures, ppmm, grid, settings, tip_x_px=loaded.get("tip_x_px"), names=names
         )
+        height, width = pictures[1].shape[:2]
         rows += profile_rows(depth_mm, trial, magnification)
         known = {
             side: truth[(depth_mm, side)] for side in ("left", "right") if (depth_mm, side) in truth
@@ -87,7 +78,7 @@ def digitise(sheet, subject, label, magnification, settings, window_mm, notice, 
             {
                 "depth_mm": depth_mm,
                 "image": pictures[1],
-                "extent_mm": (0.0, scene.width_px / ppmm, 0.0, -scene.height_px / ppmm),
+                "extent_mm": (0.0, width / ppmm, 0.0, -height / ppmm),
                 "outlines": trial.outlines,
                 "readings": trial.readings,
                 "tip_x_mm": trial.tip_x_mm,
