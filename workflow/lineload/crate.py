@@ -24,10 +24,10 @@ import json
 import os
 from pathlib import Path, PurePosixPath
 
-from rocrate.model.contextentity import ContextEntity
-from rocrate.rocrate import ROCrate
-
 from .provenance import file_sha256
+
+# rocrate (0.14 s to import) is imported where a crate is built, not here: Snakemake's
+# start-up imports this module for source_files on every run
 
 __all__ = [
     "CRATE_PROFILES",
@@ -167,6 +167,8 @@ def _value_text(value):
 
 
 def _entity(crate, identifier, properties):
+    from rocrate.model.contextentity import ContextEntity
+
     return crate.add(ContextEntity(crate, identifier, properties=properties))
 
 
@@ -213,6 +215,8 @@ def run_crate(
     -------
     rocrate.rocrate.ROCrate
     """
+    from rocrate.rocrate import ROCrate
+
     crate = ROCrate()
     root = crate.root_dataset
     root["name"] = str(citation["title"])
