@@ -162,17 +162,15 @@ def crate_files(wildcards):
         for f in outputs
     ]
     # the logs, where a job keeps one (written before this job runs): one per batch or
-    # subject for the jobs that run per batch or subject
-    subjects_of = {"prepare_outline": OUTLINED, "digitise": list(PHOTOGRAPHS)}
+    # subject for the jobs that run per batch or subject (JOB_WILDCARDS, report.smk)
     for name in CRATE_RULES:
         for log in getattr(rules, name).rule.log:
             pattern = strip_wildcard_constraints(str(log))
-            values = {}
-            if "{batch}" in pattern:
-                values["batch"] = BATCH_IDS
-            if "{subject}" in pattern:
-                values["subject"] = subjects_of.get(name, [])
-            paths = expand(pattern, **values) if values else [pattern]
+            paths = (
+                expand(pattern, **JOB_WILDCARDS[name])
+                if name in JOB_WILDCARDS
+                else [pattern]
+            )
             files += [
                 {"name": os.path.relpath(path, RES), "rule": name, "kind": "log"}
                 for path in paths

@@ -114,17 +114,32 @@ rule report_pages:
         "../scripts/write_report_pages.py"
 
 
+#: The jobs of the rules that run once per batch or subject: their wildcards' values
+#: (their outputs and their logs are expanded with these).
+JOB_WILDCARDS = {
+    "digitise": {"subject": list(PHOTOGRAPHS)},
+    "prepare_profiles": {"batch": BATCH_IDS},
+    "prepare_outline": {"subject": OUTLINED},
+    "fit_models": {"batch": BATCH_IDS},
+    "fit_sensitivity": {"batch": BATCH_IDS},
+}
 #: Every output of the default build by the rule that writes it, in the order the rules
 #: run: the provenance record depends on them all, and the run crate names each file's rule.
 OUTPUTS_BY_RULE = {
     "check_raw_data": list(rules.check_raw_data.output),
-    "digitise": expand(rules.digitise.output, subject=list(PHOTOGRAPHS)),
-    "prepare_profiles": expand(rules.prepare_profiles.output, batch=BATCH_IDS),
-    "prepare_outline": expand(rules.prepare_outline.output, subject=OUTLINED),
+    "digitise": expand(rules.digitise.output, **JOB_WILDCARDS["digitise"]),
+    "prepare_profiles": expand(
+        rules.prepare_profiles.output, **JOB_WILDCARDS["prepare_profiles"]
+    ),
+    "prepare_outline": expand(
+        rules.prepare_outline.output, **JOB_WILDCARDS["prepare_outline"]
+    ),
     "noise": list(rules.noise.output),
-    "fit_models": expand(rules.fit_models.output, batch=BATCH_IDS),
+    "fit_models": expand(rules.fit_models.output, **JOB_WILDCARDS["fit_models"]),
     "fits_table": list(rules.fits_table.output),
-    "fit_sensitivity": expand(rules.fit_sensitivity.output, batch=BATCH_IDS),
+    "fit_sensitivity": expand(
+        rules.fit_sensitivity.output, **JOB_WILDCARDS["fit_sensitivity"]
+    ),
     "sensitivity_tables": list(rules.sensitivity_tables.output),
     "fit_tables": list(rules.fit_tables.output),
     "mechanics": list(rules.mechanics.output),
