@@ -21,11 +21,7 @@ rule article:
         source=os.path.relpath(Path(workflow.basedir, "article", "reproduction.typ")),
         references=os.path.relpath(Path(workflow.basedir, "article", "references.yml")),
         # the workflow's name, version and release date, printed in the title block
-        citation=[
-            os.path.relpath(path)
-            for path in [Path(workflow.basedir).parent / "CITATION.cff"]
-            if path.is_file()
-        ],
+        citation=CITATION_FILES,
         checked=checked_raw_data,
         fits=rules.fits_table.output[0],
         claims=rules.claims_table.output.csv,

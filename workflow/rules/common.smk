@@ -39,6 +39,13 @@ RES = config["results"]
 if problem := startup.folder_problem(RAW, RES):
     startup.abort(problem)
 
+# The checkout the workflow runs from, and its citation file where this copy has one (a
+# deployed workflow/ and config/ alone do not: then the package's name and version stand in)
+REPOSITORY = Path(workflow.basedir).parent
+CITATION_FILES = [
+    os.path.relpath(path) for path in [REPOSITORY / "CITATION.cff"] if path.is_file()
+]
+
 RAW_FILES = startup.list_raw_files(RAW)
 try:  # Subject id -> species, magnification, label, contact length; sheet order.
     SUBJECTS = startup.read_subject_sheet(RAW, load_schema("subjects"))

@@ -198,12 +198,6 @@ from lineload.citation import citation_or_default, software_name
 from lineload.crate import source_files
 from lineload.provenance import git_state
 
-REPOSITORY = Path(workflow.basedir).parent
-#: The citation file, where the copy of the workflow has one (a deployed workflow/ and
-#: config/ alone do not: then the package's name and version stand in)
-CITATION_FILES = [
-    os.path.relpath(path) for path in [REPOSITORY / "CITATION.cff"] if path.is_file()
-]
 CITATION = citation_or_default(CITATION_FILES)
 #: The workflow's source as the crate and the bundle carry it (a copy under source/,
 #: so the results folder is a whole run).
