@@ -24,6 +24,7 @@ import json
 import os
 from pathlib import Path, PurePosixPath
 
+from .io import write_text
 from .provenance import file_sha256
 
 # rocrate (0.14 s to import) is imported where a crate is built, not here: Snakemake's
@@ -510,6 +511,4 @@ def crate_json(crate):
 
 def write_crate(crate, folder):
     """Write ``ro-crate-metadata.json`` into ``folder`` (the crate's root)."""
-    from .io import write_text
-
     write_text(crate_json(crate), Path(folder) / METADATA)
