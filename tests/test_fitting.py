@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from lineload import fitting, models
+from lineload import fitting, models, synthetic
 
 # the reading grid of the study within the 3 mm fit window (tissue mm)
 DISTANCE_MM = np.round(np.r_[np.arange(0.05, 0.5001, 0.05), np.arange(0.75, 3.0001, 0.25)], 6)
@@ -211,6 +211,44 @@ def test_confidence_interval_covers_the_truth_about_95_percent(fit, model):
         covered += params["L_ci_low_mm"] <= L_mm <= params["L_ci_high_mm"]
     # binomial(120, 0.95): 3 standard deviations either side is 0.89 to 1.0
     assert 0.89 <= covered / trials <= 0.995
+
+
+def _boussinesq_z_scores(wedge_sd_mm, assumed_sd_mm, trials=400):
+    """z = (true A - interval centre) / (half-width / 1.96) of Boussinesq profiles read
+    with independent noise and a wedge misplaced by ``wedge_sd_mm`` (mean of two sides),
+    fitted with the wedge's standard deviation taken as ``assumed_sd_mm``."""
+    from lineload.noise import NoiseModel
+
+    rng = np.random.default_rng(1989)
+    x = synthetic.reading_distances_mm(3.0)
+    A_mm, x0_mm, noise_mm = 0.4, 6.0, 0.006
+    noise = NoiseModel(reading_sd_mm=noise_mm, wedge_position_sd_mm=assumed_sd_mm)
+    means = []
+    for _ in range(trials):
+        delta = rng.normal(0.0, wedge_sd_mm)
+        sides = [
+            models.boussinesq_deflection_mm(np.clip(x + s * delta, 1e-3, None), A_mm, x0_mm)
+            + rng.normal(0.0, noise_mm, x.size)
+            for s in (1.0, -1.0)
+        ]
+        means.append(0.5 * (sides[0] + sides[1]))
+    fits = fitting.fit_windowed([x] * trials, means, 1.0, 3.0, ("boussinesq",), noise=noise)
+    params = fits["boussinesq"].params
+    low, high = params["A_ci_low_mm"], params["A_ci_high_mm"]
+    return (A_mm - 0.5 * (low + high)) / (0.5 * (high - low)) * np.sqrt(fitting.CHI2_1DOF_95)
+
+
+def test_boussinesq_interval_allows_for_the_wedge_position():
+    # the left-right mean of a log-singular profile read with the wedge misplaced by d
+    # keeps A d^2 / (2 x^2): the least-squares A is biased up.  With the wedge's SD
+    # known the interval is centred on the truth (mean z within 4 SE of 0, SE
+    # 1/sqrt(400)) and as wide as the scatter (SD of z within 10 % of 1)
+    z = _boussinesq_z_scores(0.01, 0.01)
+    assert abs(np.mean(z)) < 4 / np.sqrt(z.size)
+    assert abs(np.std(z) - 1.0) < 0.1
+    # the same readings with the wedge ignored: the bias is plain
+    ignored = _boussinesq_z_scores(0.01, 0.0)
+    assert np.mean(ignored) < -4 / np.sqrt(ignored.size)
 
 
 def test_confidence_interval_ends_are_likelihood_ratio_crossings():

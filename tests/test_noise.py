@@ -157,7 +157,12 @@ def test_average_covariance_matches_the_spread_of_simulated_averages():
 
 def test_noise_table_reads_back_and_refuses_a_bad_value():
     estimate = estimate_noise(simulated_differences(TRUTH, 30, seed=5))
-    priors = {"shared_offset_sd_mm": 0.005, "shared_tilt_sd": 0.0005, "depth_sd_mm": 0.01}
+    priors = {
+        "shared_offset_sd_mm": 0.005,
+        "shared_tilt_sd": 0.0005,
+        "depth_sd_mm": 0.01,
+        "wedge_position_sd_mm": 0.01,
+    }
     rows = noise_rows(estimate, priors)
     model = model_from_rows(rows)
     assert model.reading_sd_mm == estimate.model.reading_sd_mm
@@ -166,6 +171,7 @@ def test_noise_table_reads_back_and_refuses_a_bad_value():
     assert sources["depth_sd_mm"].startswith("prior") and sources["reading_sd_mm"].startswith(
         "measured"
     )
+    assert sources["wedge_position_sd_mm"].startswith("prior")
     bad = [dict(r) for r in rows]
     bad[0]["value"] = "-1"
     with pytest.raises(ValueError, match="reading_sd_mm"):

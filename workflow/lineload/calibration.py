@@ -184,7 +184,7 @@ def reconstruction_claims(
         Fit window (config ``fit_window_mm``).
     priors : dict
         The noise priors (config ``noise``: ``shared_offset_sd_mm``,
-        ``shared_tilt_sd``, ``depth_sd_mm``).
+        ``shared_tilt_sd``, ``depth_sd_mm``, ``wedge_position_sd_mm``).
     max_trials : int
         Config ``noise: max_trials``.
     claims : dict, optional

@@ -223,6 +223,7 @@ def _covered(trials, model, window_mm, noise, scenario_name):
         shared_offset_sd_mm=noise.shared_offset_sd_mm,
         shared_tilt_sd=noise.shared_tilt_sd,
         depth_sd_mm=noise.depth_sd_mm,
+        wedge_position_sd_mm=noise.wedge_position_sd_mm,
     )
     fits = fit_windowed(
         [t["distance_mm"] for t in trials],
