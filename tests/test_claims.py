@@ -165,7 +165,7 @@ def test_rules_state_the_configured_thresholds():
         significance=0.01,
     )
     rules = compute_claims(fits, averaged, settings).set_index("claim")["rule"]
-    assert "0.060 mm" in rules["C1"] and "0.060 mm" in rules["C4"]
+    assert "0.060 mm" in rules["C1"] and "significance = 0.01" in rules["C4"]
     assert "8 % of the depth" in rules["C2"]
     assert "0.75 mm" in rules["C9"]
     assert "significance = 0.01" in rules["C8"] and "98 % interval" in rules["C6"]
@@ -302,6 +302,34 @@ def test_c4_flips_when_the_data_follow_the_predicted_bulge():
     assert verdict("C4", fits, profile("HU", depth_mm, curve)) == FAILS
     near = GRID_MM < L_mm / 3
     assert verdict("C4", fits, profile("HU", depth_mm, curve[near], GRID_MM[near])) == UNTESTABLE
+
+
+def test_c4_error_rates_on_noisy_readings():
+    # readings with independent noise of the settings' SD: where they follow the
+    # predicted bulge, 'holds' (wrong) in at most alpha of draws; where the skin stays
+    # flat, 'does not hold' (wrong) in at most alpha, and a bulge of this size, several
+    # times the noise, is refuted nearly always
+    L_mm, depth_mm = 12.0, 1.5
+    fits = table([fit_row("HU", "human", depth_mm, waterbed_L_mm=L_mm)])
+    curve = models.waterbed_deflection_mm(GRID_MM, depth_mm, L_mm)
+    rng = np.random.default_rng(44)
+    sd_mm, draws = SETTINGS.reading_noise_mm / np.sqrt(2), 400
+    on_bulge = [
+        verdict("C4", fits, profile("HU", depth_mm, curve + rng.normal(0, sd_mm, curve.size)))
+        for _ in range(draws)
+    ]
+    flat = [
+        verdict(
+            "C4",
+            fits,
+            profile("HU", depth_mm, np.clip(curve, 0, None) + rng.normal(0, sd_mm, curve.size)),
+        )
+        for _ in range(draws)
+    ]
+    # binomial(400, 0.05): 0.05 + 3 standard deviations is 0.083
+    assert on_bulge.count(HOLDS) / draws <= 0.083
+    assert flat.count(FAILS) / draws <= 0.083
+    assert flat.count(HOLDS) / draws >= 0.9
 
 
 def L_fit(subject, depth_mm, L_mm, half_width_mm, model="waterbed", **values):

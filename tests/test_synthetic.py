@@ -462,3 +462,23 @@ def test_the_committed_list_of_built_in_verdicts_is_the_generators():
     text = README.read_text()
     for verdict in committed:
         assert f"**{verdict['claim']}**" in text, verdict["claim"]
+
+
+def test_circle_fraction_blends_in_the_circle_through_depth_and_edge():
+    # c = 1: every point on the circle of radius (e^2 + W0^2) / (2 W0) centred above the
+    # edge, so w(0) = W0 and w(e) = 0 with zero slope; c = 0: the power-law profile
+    x = np.linspace(0.0, 6.0, 61)
+    depth_mm, extent_mm = 1.5, 5.0
+    circle = synthetic.true_deflection_mm(x, depth_mm, extent_mm, 2.4, 0.3, 10.0, 1.0)
+    radius_mm = (extent_mm**2 + depth_mm**2) / (2 * depth_mm)
+    inside = x <= extent_mm
+    assert np.allclose(
+        (x[inside] - extent_mm) ** 2 + (circle[inside] - radius_mm) ** 2, radius_mm**2
+    )
+    assert circle[0] == pytest.approx(depth_mm) and np.all(circle[~inside] == 0.0)
+    power = synthetic.true_deflection_mm(x, depth_mm, extent_mm, 2.4, 0.3, 10.0)
+    assert np.array_equal(
+        synthetic.true_deflection_mm(x, depth_mm, extent_mm, 2.4, 0.3, 10.0, 0.0), power
+    )
+    half = synthetic.true_deflection_mm(x, depth_mm, extent_mm, 2.4, 0.3, 10.0, 0.5)
+    assert np.allclose(half, 0.5 * (power + circle))

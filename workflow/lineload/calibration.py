@@ -454,6 +454,34 @@ def _wider_h3(t):
     return _extents_scaled(t, lambda s: s.subject == "H3")
 
 
+def _all_narrower(t):
+    """C6: every finger's deformed region ``t`` times as wide (deeper for its width)."""
+    return _extents_scaled(t, lambda s: True)
+
+
+#: Weight of the near-field term towards which the C3 world moves every profile: most
+#: of the drop right at the wedge, as the logarithm of the Boussinesq form has it.
+NEAR_WEIGHT_SHARP = 0.9
+
+
+def _sharper_near_wedge(t):
+    """C3: every profile's near-field weight ``t`` of the way to :data:`NEAR_WEIGHT_SHARP`."""
+    return _changed(
+        synthetic.shipped_subjects(),
+        lambda s: {
+            "near_fraction_shallow": s.near_fraction_shallow
+            + t * (NEAR_WEIGHT_SHARP - s.near_fraction_shallow),
+            "near_fraction_deep": s.near_fraction_deep
+            + t * (NEAR_WEIGHT_SHARP - s.near_fraction_deep),
+        },
+    )
+
+
+def _toward_circles(t):
+    """C10: every profile ``t`` of the way to the circle through its depth and edge."""
+    return _changed(synthetic.shipped_subjects(), lambda s: {"circle_fraction": t})
+
+
 def _toward_waterbed(t):
     """C8, C9: every profile ``t`` of the way (in its shape parameters) to the waterbed's.
 
@@ -481,11 +509,11 @@ def _toward_waterbed(t):
 #: spread, which remains without digitising errors: its boundary is where that mean
 #: slope is zero, the error-free verdict at significance 0.5 (holds exactly when the
 #: estimate is above zero), not where the seven subjects' t-test stops rejecting.
-#: Claims without a world: C3 and C4 (no shape of the generator's family makes the
-#: Boussinesq form fit better near the wedge, or the skin bulge), C6 (the paper's L
-#: stays within 8 % of the arc's for every shape the generator makes), C7 (an
-#: identity), C10 (the generator draws no circles: see the README) and C11 (the
-#: forces' ratios lie far from the paper's range).
+#: C10's world starts where the claim fails (the shipped shapes) and moves towards
+#: circles, where it holds; its effect runs from 1 (circles) down.  Claims without a
+#: world: C4 (no shape of the generator's family bulges above the resting surface),
+#: C7 (an identity) and C11 (the forces come from a membrane under tension at rest,
+#: which the force part of the rule rejects as stress-free whatever the shapes).
 BOUNDARY_WORLDS = {
     "humans-narrower": (
         "C1",
@@ -501,11 +529,25 @@ BOUNDARY_WORLDS = {
         (-0.03, -0.4),
         {},
     ),
+    "boussinesq-nearer": (
+        "C3",
+        "every profile's near-wedge term t of the way to 90 % of the depth",
+        _sharper_near_wedge,
+        (0.0, 0.5),
+        {},
+    ),
     "h3-wider": (
         "C5",
         "the third human's deformed region widened by the factor t",
         _wider_h3,
         (1.0, 1.6),
+        {},
+    ),
+    "deeper-for-width": (
+        "C6",
+        "every finger's deformed region narrowed by the factor t",
+        _all_narrower,
+        (1.0, 0.4),
         {},
     ),
     "misfit-not-growing": (
@@ -520,6 +562,13 @@ BOUNDARY_WORLDS = {
         "every profile's shape parameters t of the way to the waterbed's eq. 19",
         _toward_waterbed,
         (0.0, 1.0),
+        {},
+    ),
+    "nearly-circles": (
+        "C10",
+        "every profile t of the way to the circle through its depth meeting its edge flat",
+        _toward_circles,
+        (1.0, 0.0),
         {},
     ),
 }
@@ -684,11 +733,11 @@ def boundary_markdown(summary, command, notice=""):
         "(a row of its own, not counted: there a test has no power, and 'does not hold' "
         "is a miss, not an error of the kind measured here).\n\n"
         + markdown_table(header, cells, "lllrrrrr")
-        + "\n\nNo world is built for C3, C4, C6, C10 and C11: the generator's family of "
-        "shapes (a power of the distance to the edge plus a near-field term) cannot make "
-        "the Boussinesq form fit better near the wedge, the skin bulge, the paper's L "
-        "differ from the arc's by 8 %, or a side circular; C11's force ratios lie far from "
-        "the paper's range. C7 is an identity.\n\n"
+        + "\n\nNo world is built for C4 and C11: the generator's family of shapes (a power "
+        "of the distance to the edge, a near-field term and a circle) cannot make the skin "
+        "bulge above its resting surface, and its forces come from a membrane under "
+        "tension at rest, which C11's force test rejects as stress-free whatever the "
+        "shapes. C7 is an identity.\n\n"
         f"Made by `{command}`.\n"
     )
     if notice:

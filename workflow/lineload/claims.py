@@ -754,17 +754,24 @@ def claim_c3(fits, averaged, settings):
 
 
 def claim_c4(fits, averaged, settings):
-    """C4: the predicted bulge beyond L/3 is not in the data."""
-    threshold_mm = 2.0 * settings.reading_noise_mm
+    """C4: the predicted bulge beyond L/3 is not in the data, a test per trial."""
+    alpha = settings.significance
+    z_one = float(norm.ppf(1.0 - alpha))
     rule = (
         "Per trial: the averaged points with L/3 < distance < L at which the fitted waterbed "
-        f"curve is below -2 x the reading noise = -{format_fixed(threshold_mm, 3)} mm (a bulge the "
-        "readings could resolve). The data show the bulge if their mean over those points is "
-        f"below -{format_fixed(threshold_mm, 3)} mm. Holds if no such trial shows it; cannot "
-        "be checked if no trial has such points."
+        "curve is below the resting surface (its predicted bulge). Statistic: the mean of "
+        "the readings there, m, against the curve's mean there, f (< 0), with the standard "
+        "error of m from the covariance of the averaged points under the measured noise "
+        "(correlated errors included). The bulge is resolvable in a trial if f lies more "
+        f"than {format_fixed(2 * z_one, 2)} standard errors below zero (flat readings then "
+        f"refute it with probability {format_fixed(1 - alpha, 2)}), refuted if m exceeds f "
+        f"by more than {format_fixed(z_one, 2)} standard errors (one-sided, significance = "
+        f"{alpha:g}), and seen if m lies below zero by more than the one-sided Bonferroni "
+        "quantile over the trials. Holds if no trial shows the bulge and every trial where "
+        "it is resolvable refutes it; does not hold if some trial shows it; cannot be "
+        "checked otherwise."
     )
-    model_means, data_means, lowest, showing = [], [], [], []
-    n_trials = 0
+    rows, n_trials = [], 0
     for fit, points in _trials(fits, averaged):
         if points.empty or not _finite_L(fit):
             continue
@@ -772,42 +779,75 @@ def claim_c4(fits, averaged, settings):
         L_mm, depth_mm = float(fit["waterbed_L_mm"]), float(fit["depth_mm"])
         x = points["distance_mm"].to_numpy(float)
         w = points["deflection_mm"].to_numpy(float)
+        sides = points["n_sides"].to_numpy(float)
         model = waterbed_deflection_mm(x, depth_mm, L_mm)
-        bulge = (x > L_mm / 3.0) & (x < L_mm) & np.isfinite(w) & (model < -threshold_mm)
+        bulge = (x > L_mm / 3.0) & (x < L_mm) & np.isfinite(w) & (model < 0.0)
         if not bulge.any():
             continue
-        model_means.append(float(model[bulge].mean()))
-        data_means.append(float(w[bulge].mean()))
-        lowest.append(float(w[bulge].min()))
-        if data_means[-1] < -threshold_mm:
-            showing.append(_label(fit))
-    if not model_means:
+        finite = np.isfinite(w)
+        covariance = _averaged_covariance_mm2(
+            x[finite], sides[finite], w[finite], depth_mm, settings
+        )[np.ix_(bulge[finite], bulge[finite])]
+        k = int(bulge.sum())
+        se = math.sqrt(max(float(covariance.sum()), 0.0)) / k
+        rows.append(
+            {
+                "label": _label(fit),
+                "m": float(w[bulge].mean()),
+                "f": float(model[bulge].mean()),
+                "se": se,
+                "lowest": float(w[bulge].min()),
+            }
+        )
+    if not rows:
         return _row(
             "C4",
-            f"none of {n_trials} trials has readings where the fitted curve dips below "
-            f"-{format_fixed(threshold_mm, 3)} mm",
+            f"none of {n_trials} trials has readings where the fitted curve dips below the "
+            "resting surface",
             UNTESTABLE,
-            "No reading lies where the fitted curve predicts a bulge the readings could resolve.",
+            "No reading lies where the fitted curve predicts a bulge.",
             rule,
         )
+    m = np.array([r["m"] for r in rows])
+    f = np.array([r["f"] for r in rows])
+    se = np.array([r["se"] for r in rows])
+    z_all = float(norm.ppf(1.0 - alpha / len(rows)))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        seen = np.where(se > 0, m / se < -z_all, m < 0)
+        # the least bulge that flat readings refute with power 1 - alpha
+        resolvable = np.where(se > 0, f / se < -2.0 * z_one, f < 0)
+        refuted = np.where(se > 0, (m - f) / se > z_one, m > f)
+    labels = [r["label"] for r in rows]
     our = (
-        f"{len(model_means)} of {n_trials} trials have readings in the predicted bulge; mean "
-        f"of the fitted curve there {_span(model_means, 3)}, mean of the data "
-        f"{_span(data_means, 3)} (lowest single point {_mm(min(lowest), 3)}); "
-        f"bulge seen in {len(showing)}"
+        f"{len(rows)} of {n_trials} trials have readings in the predicted bulge; mean of the "
+        f"fitted curve there {_span(f, 3)}, mean of the data {_span(m, 3)} (standard error "
+        f"{_span(se, 3)}; lowest single point {_mm(min(r['lowest'] for r in rows), 3)}); "
+        f"resolvable in {int(resolvable.sum())}, refuted in "
+        f"{int((resolvable & refuted).sum())}, bulge seen in {int(seen.sum())}"
     )
-    if showing:
+    if seen.any():
+        showing = [lab for lab, s_ in zip(labels, seen, strict=True) if s_]
         our += f" ({_list(showing)})"
         reason = (
-            "The readings rise above the resting surface where the curve predicts a bulge, "
-            f"in {_n(len(showing), 'trial')}."
+            "The readings sink below the resting surface, beyond the noise, where the curve "
+            f"predicts a bulge, in {_list(showing)}."
         )
         return _row("C4", our, FAILS, reason, rule)
+    if resolvable.any() and refuted[resolvable].all():
+        reason = (
+            f"Where the fitted curves dip to {_span(f[resolvable], 3)} on average, the "
+            f"readings average {_span(m[resolvable], 3)}, above the predicted bulge beyond "
+            f"the noise in {_every(int(resolvable.sum()), 'trial')} where it is resolvable: "
+            "no bulge."
+        )
+        return _row("C4", our, HOLDS, reason, rule)
+    open_ = [lab for lab, r_, q in zip(labels, resolvable, refuted, strict=True) if r_ and not q]
     reason = (
-        f"Where the fitted curves dip to {_span(model_means, 3)} on average, the readings "
-        f"average {_span(data_means, 3)}: no bulge."
-    )
-    return _row("C4", our, HOLDS, reason, rule)
+        f"In {_list(open_)} the readings do not rise above the predicted bulge beyond the noise"
+        if open_
+        else "The predicted bulge is smaller than the noise can resolve in every trial"
+    ) + "; no trial shows it either."
+    return _row("C4", our, UNTESTABLE, reason, rule)
 
 
 def _scaled_interval(fit, model, z):

@@ -21,6 +21,11 @@ slope: there is no bulge.  Per subject, ``e`` and ``p`` vary linearly with depth
 between their values at 0.5 and 2 mm, and ``beta`` grows linearly from 0 at
 0.5 mm; each side's edge is ``e (1 + a)`` (left) or ``e (1 - a)`` (right).
 
+The calibration's boundary worlds (:mod:`lineload.calibration`) also blend in,
+with weight ``c``, the circle that meets the resting surface at the edge with
+zero slope and passes through the depth at the wedge (``circle_fraction``;
+zero for the shipped fingers): ``w = (1 - c) w_above + c w_circle``.
+
 Forces
 ------
 The shipped fingers also get a steady reaction force on the wedge at every
@@ -208,6 +213,9 @@ class SubjectParameters:
         Power ``q`` of the near-field term (the shipped fingers: :data:`NEAR_EXPONENT`).
         With ``p = 2``, ``q = 1`` and ``beta = 2/3`` at every depth the profile is
         the waterbed's eq. 19 with ``L = 3 e`` up to its zero at ``L / 3``.
+    circle_fraction : float
+        Weight ``c`` of a circular profile blended in (0: the shipped fingers; 1:
+        each side a circle, see :func:`true_deflection_mm`).
     """
 
     subject: str
@@ -227,6 +235,7 @@ class SubjectParameters:
     prestrain: float | None = None
     near_fraction_shallow: float = 0.0
     near_exponent: float = NEAR_EXPONENT
+    circle_fraction: float = 0.0
 
     @property
     def pretension_N_per_mm(self):
@@ -252,6 +261,8 @@ class TrialParameters:
         Weight ``beta`` of the near-field term.
     near_exponent : float
         Power ``q`` of the near-field term.
+    circle_fraction : float
+        Weight ``c`` of the circular profile.
     """
 
     depth_mm: float
@@ -260,6 +271,7 @@ class TrialParameters:
     exponent: float
     near_fraction: float
     near_exponent: float
+    circle_fraction: float = 0.0
 
     def extent_mm(self, side):
         """Edge of the deformed region on ``side`` (``left`` or ``right``), mm."""
@@ -439,16 +451,27 @@ def trial_parameters(subject, depth_mm):
             4,
         ),
         near_exponent=subject.near_exponent,
+        circle_fraction=subject.circle_fraction,
     )
 
 
 def true_deflection_mm(
-    distance_mm, depth_mm, extent_mm, exponent, near_fraction=0.0, near_exponent=NEAR_EXPONENT
+    distance_mm,
+    depth_mm,
+    extent_mm,
+    exponent,
+    near_fraction=0.0,
+    near_exponent=NEAR_EXPONENT,
+    circle_fraction=0.0,
 ):
     """True (noise-free) downward deflection of one side of the wedge.
 
     ``w = depth ((1 - beta) s**p + beta s**q)`` with ``s = 1 - x / e`` for
-    ``x < e`` and ``w = 0`` beyond the edge.
+    ``x < e`` and ``w = 0`` beyond the edge; with ``circle_fraction`` ``c > 0``,
+    ``(1 - c) w + c (R - sqrt(R**2 - (e - x)**2))``, the circle of radius ``R =
+    (e**2 + depth**2) / (2 depth)`` through the depth at the wedge that meets the
+    resting surface at ``e`` with zero slope (its small-slope form is ``depth
+    s**2``).
 
     Parameters
     ----------
@@ -464,6 +487,8 @@ def true_deflection_mm(
         Weight ``beta`` of the near-field term, in [0, 1).
     near_exponent : float, optional
         Power ``q`` of the near-field term.
+    circle_fraction : float, optional
+        Weight ``c`` of the circle, in [0, 1].
 
     Returns
     -------
@@ -472,7 +497,13 @@ def true_deflection_mm(
     """
     distance_mm = np.asarray(distance_mm, dtype=float)
     s = np.clip(1.0 - np.abs(distance_mm) / extent_mm, 0.0, 1.0)
-    return depth_mm * ((1.0 - near_fraction) * s**exponent + near_fraction * s**near_exponent)
+    w = depth_mm * ((1.0 - near_fraction) * s**exponent + near_fraction * s**near_exponent)
+    if circle_fraction == 0.0:
+        return w
+    radius_mm = (extent_mm**2 + depth_mm**2) / (2.0 * depth_mm)
+    to_edge_mm = s * extent_mm
+    circle = radius_mm - np.sqrt(radius_mm**2 - to_edge_mm**2)
+    return (1.0 - circle_fraction) * w + circle_fraction * circle
 
 
 def _trial_deflection_mm(distance_mm, trial, side):
@@ -483,6 +514,7 @@ def _trial_deflection_mm(distance_mm, trial, side):
         trial.exponent,
         trial.near_fraction,
         trial.near_exponent,
+        trial.circle_fraction,
     )
 
 
