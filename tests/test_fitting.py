@@ -266,3 +266,25 @@ def test_confidence_interval_stops_at_the_wall():
     fit = fitting.fit_waterbed(DISTANCE_MM, y + noisy(np.zeros_like(y), 0), 1.0)
     assert fit.params["L_mm"] == pytest.approx(DISTANCE_MM.max())
     assert fit.params["L_ci_low_mm"] == pytest.approx(DISTANCE_MM.max())
+
+
+def test_each_trial_can_have_its_own_noise_model():
+    # two copies of one profile, one with a large shared offset and one with a small:
+    # each interval is what that trial fitted alone under its own model gives
+    from lineload.noise import NoiseModel
+
+    x = DISTANCE_MM
+    y = noisy(models.waterbed_deflection_mm(x, 1.0, 12.0), 3)
+    wide = NoiseModel(reading_sd_mm=0.005, shared_offset_sd_mm=0.02)
+    narrow = NoiseModel(reading_sd_mm=0.005, shared_offset_sd_mm=0.001)
+    both = fitting.fit_windowed([x, x], [y, y], 1.0, 3.0, ("waterbed",), noise=[wide, narrow])
+    width = both["waterbed"].params["L_ci_high_mm"] - both["waterbed"].params["L_ci_low_mm"]
+    assert width[0] > 1.5 * width[1]
+    for model, i in ((wide, 0), (narrow, 1)):
+        alone = fitting.fit_windowed([x], [y], 1.0, 3.0, ("waterbed",), noise=model)
+        for end in ("L_ci_low_mm", "L_ci_high_mm"):
+            assert alone["waterbed"].params[end][0] == pytest.approx(
+                both["waterbed"].params[end][i], rel=1e-9
+            )
+    with pytest.raises(ValueError, match="one per trial"):
+        fitting.fit_windowed([x, x], [y, y], 1.0, 3.0, ("waterbed",), noise=[wide])

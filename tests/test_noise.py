@@ -16,7 +16,9 @@ from lineload.noise import (
     estimate_noise,
     model_from_rows,
     noise_rows,
+    registration_rows,
     trial_differences,
+    trial_models,
 )
 
 REPO = Path(__file__).resolve().parents[1]
@@ -155,15 +157,18 @@ def test_average_covariance_matches_the_spread_of_simulated_averages():
     assert np.any(np.abs(empirical - missing) > 5 * spread)
 
 
+#: The config's priors (their schema defaults).
+PRIORS = {
+    "shared_offset_sd_mm": 0.005,
+    "shared_tilt_sd": 0.0005,
+    "depth_sd_mm": 0.01,
+    "wedge_position_sd_mm": 0.01,
+}
+
+
 def test_noise_table_reads_back_and_refuses_a_bad_value():
     estimate = estimate_noise(simulated_differences(TRUTH, 30, seed=5))
-    priors = {
-        "shared_offset_sd_mm": 0.005,
-        "shared_tilt_sd": 0.0005,
-        "depth_sd_mm": 0.01,
-        "wedge_position_sd_mm": 0.01,
-    }
-    rows = noise_rows(estimate, priors)
+    rows = noise_rows(estimate, PRIORS)
     model = model_from_rows(rows)
     assert model.reading_sd_mm == estimate.model.reading_sd_mm
     assert model.depth_sd_mm == 0.01
@@ -206,3 +211,26 @@ def test_a_slice_of_the_committed_coverage_study_reproduces():
         assert new["true"] == pytest.approx(float(old["true"]), rel=1e-9)  # 10 digits written
         for end in ("low", "high"):
             assert new[end] == pytest.approx(float(old[end]), rel=1e-3)
+
+
+def test_a_digitised_trials_registration_replaces_the_shared_offset_prior():
+    estimate = estimate_noise(simulated_differences(TRUTH, 30, seed=5))
+    rows = noise_rows(estimate, PRIORS) + registration_rows(
+        [("P1", 1.0, 0.0015, "P1.json")], estimate.n_trials, estimate.n_differences
+    )
+    dataset = model_from_rows(rows)  # the trial's row does not touch the dataset's model
+    assert dataset.shared_offset_sd_mm == 0.005
+    models = trial_models(rows, [("P1", 1.0), ("P1", 2.0), ("M1", 1.0)])
+    assert models[0].shared_offset_sd_mm == 0.0015
+    assert models[0].reading_sd_mm == dataset.reading_sd_mm
+    assert models[1] == dataset and models[2] == dataset
+    assert rows[-1]["scope"] == "P1 at 1 mm" and "registration" in rows[-1]["source"]
+    # the covariance of that trial's mean is smaller by the offsets' difference alone
+    x = GRID_MM[:10]
+    gap = dataset.average_covariance_mm2(x, np.full(10, 2), x, 1.0) - models[
+        0
+    ].average_covariance_mm2(x, np.full(10, 2), x, 1.0)
+    assert np.allclose(gap, 0.005**2 - 0.0015**2)
+    bad = [*rows[:-1], {**rows[-1], "value": "-1"}]
+    with pytest.raises(ValueError, match="P1 at 1 mm"):
+        trial_models(bad, [("P1", 1.0)])

@@ -281,6 +281,12 @@ def test_the_photograph_example_builds_from_images_to_article(tmp_path):
         # the job's own comparison with images/truth.csv agrees: within half a reading
         assert all(t["error_rms_um"] < 1000 * HAND_READING_SD_MM / 2 for t in quality["trials"])
         assert (results / "digitised" / f"{name}.png").is_file()
+        # each trial's registration error is its shared offset in the noise table
+        noise = pd.read_csv(results / "tables" / "noise.csv")
+        for trial in quality["trials"]:
+            own = noise[noise["scope"] == f"{name} at {trial['depth_mm']:g} mm"]
+            assert list(own["parameter"]) == ["shared_offset_sd_mm"]
+            assert own["value"].iloc[0] == pytest.approx(trial["registration_sd_um"] / 1000)
     # the photographs are raw inputs: in the provenance record and in the crate
     record = json.loads((results / "provenance.json").read_text())
     assert "images/images.csv" in record["raw_data"]["sha256"]

@@ -73,6 +73,7 @@ __all__ = [
     "claims_markdown",
     "compute_claims",
     "deformed_extent_mm",
+    "trial_key",
     "verdict_counts",
     "waterbed_zero_crossing_mm",
 ]
@@ -225,6 +226,10 @@ class ClaimSettings:
         The dataset's digitising noise (the noise table: measured parts and
         priors); the covariance of each trial's averaged points comes from it.
         None: independent readings of ``noise_mm`` and nothing else.
+    trial_noise : dict or None
+        ``(subject, depth_mm)`` -> the NoiseModel of a trial with rows of its own
+        in the noise table (a digitised trial's registration error); the others
+        take ``noise_model``.
     """
 
     noise_mm: float | None = _DEFAULTS["noise_mm"]
@@ -233,6 +238,7 @@ class ClaimSettings:
     force_sd_N: float = _DEFAULTS["force_sd_N"]
     zero_crossing_rtol: float = 1e-6
     noise_model: NoiseModel | None = None
+    trial_noise: dict | None = None
 
     @property
     def reading_noise_mm(self):
@@ -294,7 +300,8 @@ def _row(claim, our_value, verdict, reason, rule):
     }
 
 
-def _trial_key(subject, depth_mm):
+def trial_key(subject, depth_mm):
+    """The key of a trial in per-trial lookups (:attr:`ClaimSettings.trial_noise`)."""
     return (str(subject), round(float(depth_mm), 9))
 
 
@@ -302,7 +309,7 @@ def _profiles_by_trial(averaged):
     """Averaged points of each (subject, depth), sorted by distance."""
     out = {}
     for (subject, depth_mm), group in averaged.groupby(["subject", "depth_mm"], sort=False):
-        out[_trial_key(subject, depth_mm)] = group.sort_values("distance_mm", kind="stable")
+        out[trial_key(subject, depth_mm)] = group.sort_values("distance_mm", kind="stable")
     return out
 
 
@@ -314,7 +321,7 @@ def _trials(fits, averaged):
     profiles = _profiles_by_trial(averaged)
     empty = averaged.iloc[0:0]
     for _, fit in fits.iterrows():
-        yield fit, profiles.get(_trial_key(fit["subject"], fit["depth_mm"]), empty)
+        yield fit, profiles.get(trial_key(fit["subject"], fit["depth_mm"]), empty)
 
 
 def _window_points(fit, points):
@@ -700,7 +707,7 @@ def claim_c3(fits, averaged, settings):
         f_w = waterbed_deflection_mm(x, depth_mm, float(fit["waterbed_L_mm"]))
         f_b = boussinesq_deflection_mm(x, A_mm, x0_mm)
         gap = f_w - f_b
-        covariance = _averaged_covariance_mm2(x, sides, y, depth_mm, settings)
+        covariance = _averaged_covariance_mm2(x, sides, y, fit, settings)
         sd = 2.0 * math.sqrt(max(float(gap @ covariance @ gap), 0.0))
         tests.append((_label(fit), float(gap @ (2 * y - f_w - f_b)), sd))
     if not tests:
@@ -785,9 +792,9 @@ def claim_c4(fits, averaged, settings):
         if not bulge.any():
             continue
         finite = np.isfinite(w)
-        covariance = _averaged_covariance_mm2(
-            x[finite], sides[finite], w[finite], depth_mm, settings
-        )[np.ix_(bulge[finite], bulge[finite])]
+        covariance = _averaged_covariance_mm2(x[finite], sides[finite], w[finite], fit, settings)[
+            np.ix_(bulge[finite], bulge[finite])
+        ]
         k = int(bulge.sum())
         se = math.sqrt(max(float(covariance.sum()), 0.0)) / k
         rows.append(
@@ -954,15 +961,20 @@ def _L_sensitivity(curve, x_mm, depth_mm, L_mm, y_mm=None):
     return g / (float(np.dot(g, g)) - curvature)
 
 
-def _averaged_covariance_mm2(x_mm, sides, y_mm, depth_mm, settings):
-    """Covariance of a trial's averaged points under the dataset's noise.
+def _averaged_covariance_mm2(x_mm, sides, y_mm, fit, settings):
+    """Covariance of a trial's averaged points under its noise.
 
     With a noise model, :meth:`lineload.noise.NoiseModel.average_covariance_mm2`
-    (every measured part and every prior); otherwise independent readings of
+    (every measured part and every prior; the trial's own model where
+    ``settings.trial_noise`` has one); otherwise independent readings of
     ``noise_mm`` over the number of sides averaged.
     """
+    depth_mm = float(fit["depth_mm"])
     if settings.noise_model is not None and settings.noise_mm is None:
-        return settings.noise_model.average_covariance_mm2(x_mm, sides, y_mm, depth_mm)
+        model = (settings.trial_noise or {}).get(
+            trial_key(fit["subject"], depth_mm), settings.noise_model
+        )
+        return model.average_covariance_mm2(x_mm, sides, y_mm, depth_mm)
     return np.diag(_noise_sd_mm(settings.reading_noise_mm, sides) ** 2)
 
 
@@ -1003,7 +1015,7 @@ def claim_c6(fits, averaged, settings):
         # d = L_paper / L_arc - 1 moves with the readings as J . noise
         J = _L_sensitivity(waterbed_deflection_mm, x, depth_mm, L_paper, y) / L_arc
         J = J - _L_sensitivity(arc_deflection_mm, x, depth_mm, L_arc, y) * L_paper / L_arc**2
-        covariance = _averaged_covariance_mm2(x, sides, y, depth_mm, settings)
+        covariance = _averaged_covariance_mm2(x, sides, y, fit, settings)
         sd = math.sqrt(max(float(J @ covariance @ J), 0.0))
         shift_mm = float(waterbed_shift_mm(L_paper / 3.0, depth_mm, L_paper))
         rows.append(
@@ -1321,7 +1333,7 @@ def claim_c10(fits, averaged, settings):
         inner = x <= x.max() / 2.0
         if inner.sum() < 5 or (~inner).sum() < 5:
             continue
-        covariance = _averaged_covariance_mm2(x, sides, w, float(fit["depth_mm"]), settings)
+        covariance = _averaged_covariance_mm2(x, sides, w, fit, settings)
         whole, se_whole = chord_curvature(x, w, covariance)
         k_in, se_in = chord_curvature(x[inner], w[inner], covariance[np.ix_(inner, inner)])
         k_out, se_out = chord_curvature(x[~inner], w[~inner], covariance[np.ix_(~inner, ~inner)])

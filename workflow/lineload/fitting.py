@@ -1285,14 +1285,15 @@ def window_points(distance_mm, deflection_mm, window_mm):
 
 
 def _window_covariances(distance_mm, deflection_mm, depth_mm, window_mm, noise, n_sides):
-    """Each trial's covariance (:meth:`NoiseModel.average_covariance_mm2`) on its window."""
+    """Each trial's covariance (:meth:`NoiseModel.average_covariance_mm2`) on its window,
+    under its own noise model (``noise``: one per trial)."""
     covariances = []
-    for x, y, depth, window, sides in zip(
-        distance_mm, deflection_mm, depth_mm, window_mm, n_sides, strict=True
+    for x, y, depth, window, sides, model in zip(
+        distance_mm, deflection_mm, depth_mm, window_mm, n_sides, noise, strict=True
     ):
         x, y, sides = (np.asarray(v, dtype=float) for v in (x, y, sides))
         keep = in_fit_window(x, window) & np.isfinite(y)
-        covariances.append(noise.average_covariance_mm2(x[keep], sides[keep], y[keep], depth))
+        covariances.append(model.average_covariance_mm2(x[keep], sides[keep], y[keep], depth))
     return covariances
 
 
@@ -1317,10 +1318,11 @@ def fit_windowed(
         Points with ``0 < distance <= window_mm`` and a finite deflection are fitted.
     models : iterable of str, optional
         Keys of :data:`MODELS`.
-    noise : lineload.noise.NoiseModel, optional
-        The digitising noise: the intervals honour each trial's covariance
-        (the fits themselves stay least squares; see the module's notes).  Without it, least
-        squares with intervals from the residuals (independent errors).
+    noise : lineload.noise.NoiseModel or sequence of NoiseModel, optional
+        The digitising noise, one model for every trial or one per trial: the
+        intervals honour each trial's covariance (the fits themselves stay least
+        squares; see the module's notes).  Without it, least squares with
+        intervals from the residuals (independent errors).
     n_sides : sequence of array_like, optional
         With ``noise``: how many sides were read at each point of each trial
         (2 everywhere if not given).
@@ -1335,7 +1337,12 @@ def fit_windowed(
     depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), counts.shape)
     covariance_mm2, wedge_sd_mm = None, 0.0
     if noise is not None:
-        wedge_sd_mm = noise.wedge_position_sd_mm
+        if not isinstance(noise, (list, tuple)):
+            noise = [noise] * counts.size
+        if len(noise) != counts.size:
+            raise ValueError("noise must be one model or one per trial")
+        # a dataset's prior: the same in every trial's model
+        wedge_sd_mm = max((n.wedge_position_sd_mm for n in noise), default=0.0)
         if n_sides is None:
             n_sides = [np.full(np.shape(x), 2.0) for x in distance_mm]
         window = np.broadcast_to(np.asarray(window_mm, dtype=float), counts.shape)
@@ -1361,8 +1368,9 @@ def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_si
         Indentation depth of each trial (mm), W0 of the waterbed fits.
     window_mm : float or array_like
         Points with ``0 < distance <= window_mm`` are fitted.
-    noise : lineload.noise.NoiseModel, optional
-        The digitising noise (the intervals honour it; see :func:`fit_windowed`).
+    noise : lineload.noise.NoiseModel or sequence of NoiseModel, optional
+        The digitising noise, for all trials or per trial (the intervals honour it;
+        see :func:`fit_windowed`).
     n_sides : sequence of array_like, optional
         Sides read at each point of each trial (with ``noise``).
 

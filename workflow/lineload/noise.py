@@ -72,7 +72,9 @@ __all__ = [
     "noise_rows",
     "noise_trials",
     "reading_noise_mm",
+    "registration_rows",
     "trial_differences",
+    "trial_models",
 ]
 
 #: Parameters measured from the left-right differences, in the order of the fit.
@@ -604,13 +606,91 @@ def noise_rows(estimate, priors, overrides=None):
     return rows
 
 
-def model_from_rows(rows):
-    """The :class:`NoiseModel` of a noise table's rows (as :func:`noise_rows` writes them).
+#: Scope of the rows that hold for a whole dataset; a trial's own rows name it.
+DATASET_SCOPE = "dataset"
+
+
+def registration_rows(records, n_trials, n_differences):
+    """Rows of the noise table for digitised trials: each registration's own error.
+
+    A photographed trial's readings are the loaded outline minus the resting one,
+    registered on the skin far from the wedge; the registration's error is an
+    offset shared by every reading of the trial, which the left-right differences
+    cannot see and the config's prior ``shared_offset_sd_mm`` stands for.  Where
+    the digitiser measured it, it replaces the prior for that trial.
+
+    Parameters
+    ----------
+    records : iterable of tuple
+        ``(subject, depth_mm, registration_sd_mm, source)`` per digitised trial.
+    n_trials, n_differences : int
+        As in the dataset's rows.
+
+    Returns
+    -------
+    list of dict
+        Columns :data:`NOISE_COLUMNS`, scope ``"<subject> at <depth> mm"``.
+    """
+    return [
+        {
+            "scope": f"{subject} at {float(depth_mm):g} mm",
+            "parameter": "shared_offset_sd_mm",
+            "value": float(sd_mm),
+            "se": math.nan,
+            "source": f"measured: registration of the photographs ({source})",
+            "n_trials": n_trials,
+            "n_differences": n_differences,
+        }
+        for subject, depth_mm, sd_mm, source in records
+    ]
+
+
+def trial_models(rows, keys):
+    """The noise model of each trial: the dataset's, with a trial's own rows applied.
 
     Parameters
     ----------
     rows : iterable of mapping
-        Rows with ``parameter`` and ``value``.
+        A noise table (``scope``, ``parameter``, ``value``).
+    keys : iterable of tuple
+        ``(subject, depth_mm)`` of each trial.
+
+    Returns
+    -------
+    list of NoiseModel
+        In the order of ``keys``; trials without rows of their own share the
+        dataset's model.
+    """
+    rows = list(rows)
+    dataset = model_from_rows(rows)
+    own = {}
+    for row in rows:
+        scope = row.get("scope", DATASET_SCOPE)
+        if scope == DATASET_SCOPE:
+            continue
+        value = float(row["value"])
+        if not (math.isfinite(value) and value >= 0) or row["parameter"] not in PRIORS:
+            raise ValueError(
+                f"noise parameter {row['parameter']} of {scope}: expected a prior's name and "
+                f"a number >= 0, got {row['value']!r}"
+            )
+        own.setdefault(scope, {})[row["parameter"]] = value
+    return [
+        dataset.with_priors(**own[scope])
+        if (scope := f"{subject} at {float(depth_mm):g} mm") in own
+        else dataset
+        for subject, depth_mm in keys
+    ]
+
+
+def model_from_rows(rows):
+    """The :class:`NoiseModel` of a noise table's dataset rows (as :func:`noise_rows`
+    writes them; rows of a trial's own scope are left to :func:`trial_models`).
+
+    Parameters
+    ----------
+    rows : iterable of mapping
+        Rows with ``parameter`` and ``value`` (and ``scope``, ``"dataset"`` if absent).
 
     Returns
     -------
@@ -623,6 +703,8 @@ def model_from_rows(rows):
     """
     values = {}
     for row in rows:
+        if row.get("scope", DATASET_SCOPE) != DATASET_SCOPE:
+            continue
         value = float(row["value"])
         if not (math.isfinite(value) and value >= 0):
             raise ValueError(

@@ -314,6 +314,11 @@ class DigitisedTrial:
         The digitising uncertainty of one reading: the edge noise of both images,
         averaged over the columns of a reading (their errors correlated), and the
         error of the registration.
+    registration_sd_mm : float
+        The registration's own error, an offset shared by every reading of the
+        trial, both sides alike (the part of ``reading_sd_mm`` that left-right
+        differences cannot see; the fits take it in place of the config's prior
+        ``noise: shared_offset_sd_mm``).
     outlines : dict, optional
         ``x_mm`` of each column, the loaded outline (``loaded_mm``, NaN where unread)
         and the resting one moved onto it (``rest_mm``): what the quality figure draws.
@@ -325,6 +330,7 @@ class DigitisedTrial:
     registration_rms_mm: float
     edge_noise_mm: float
     reading_sd_mm: float
+    registration_sd_mm: float = 0.0
     outlines: dict = None
 
 
@@ -480,6 +486,7 @@ def digitise_pair(
         registration_rms_mm=registration_rms,
         edge_noise_mm=float(edge),
         reading_sd_mm=float(np.hypot(per_reading, registration_sd)),
+        registration_sd_mm=float(registration_sd),
         outlines={"x_mm": x, "loaded_mm": z_load, "rest_mm": rest_on_loaded},
     )
 
@@ -691,6 +698,7 @@ def quality_record(depth_mm, trial, truth=None, window_mm=3.0):
         "registration_rms_um": round(1000 * trial.registration_rms_mm, 3),
         "edge_noise_um": round(1000 * trial.edge_noise_mm, 3),
         "reading_sd_um": round(1000 * trial.reading_sd_mm, 3),
+        "registration_sd_um": round(1000 * trial.registration_sd_mm, 3),
         "readings": {side: len(trial.readings[side][0]) for side in ("left", "right")},
         "first_read_mm": {
             side: round(float(trial.readings[side][0][0]), 4)

@@ -12,6 +12,8 @@ rule noise:
             window_mm=config["fit_window_mm"],
         ),
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
+        # each photographed subject's digitising record: its trials' registration errors
+        quality=expand(rules.digitise.output.quality, subject=list(PHOTOGRAPHS)),
         code=code("estimate_noise.py"),
     output:
         report_item(

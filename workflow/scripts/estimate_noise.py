@@ -1,11 +1,33 @@
 """Rule noise: the digitising noise of the dataset, from the left-right differences."""
 
+import os
+
 from lineload.io import output_to, read_json, read_trials, write_rows
-from lineload.noise import NOISE_COLUMNS, estimate_noise, noise_rows, noise_trials
+from lineload.noise import (
+    NOISE_COLUMNS,
+    estimate_noise,
+    noise_rows,
+    noise_trials,
+    registration_rows,
+)
 
 
-def noise_table(averaged, output, priors, max_trials, window_mm):
-    """Measure the noise from the trials' left-right differences; write the noise table."""
+def registrations(quality):
+    """``(subject, depth_mm, registration_sd_mm, file)`` of every digitised trial."""
+    records = []
+    for path in quality:
+        record = read_json(path)
+        for trial in record["trials"]:
+            sd_um = trial["registration_sd_um"]
+            records.append(
+                (record["subject"], trial["depth_mm"], sd_um / 1000.0, os.path.basename(path))
+            )
+    return records
+
+
+def noise_table(averaged, output, priors, max_trials, window_mm, quality=()):
+    """Measure the noise from the trials' left-right differences; write the noise table,
+    with each digitised trial's registration error (``quality``: the digitise records)."""
     profiles = [
         (x, left, right)
         for path in averaged
@@ -15,8 +37,12 @@ def noise_table(averaged, output, priors, max_trials, window_mm):
     trials = noise_trials(profiles, window_mm, max_trials)
     estimate = estimate_noise(trials, max_trials=max_trials)
     rows = noise_rows(estimate, priors)
+    rows += registration_rows(registrations(quality), estimate.n_trials, estimate.n_differences)
     for row in rows:
-        print(f"{row['parameter']} = {row['value']:.4g} (SE {row['se']:.2g}; {row['source']})")
+        print(
+            f"{row['scope']}: {row['parameter']} = {row['value']:.4g} "
+            f"(SE {row['se']:.2g}; {row['source']})"
+        )
     print(f"{estimate.n_trials} trials, {estimate.n_differences} left-right differences")
     write_rows(rows, NOISE_COLUMNS, output)
 
@@ -24,5 +50,8 @@ def noise_table(averaged, output, priors, max_trials, window_mm):
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
         noise_table(
-            snakemake.input.averaged, snakemake.output[0], **read_json(snakemake.input.spec)
+            snakemake.input.averaged,
+            snakemake.output[0],
+            **read_json(snakemake.input.spec),
+            quality=snakemake.input.quality,
         )

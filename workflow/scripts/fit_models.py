@@ -2,25 +2,26 @@
 
 from lineload.fitting import FIT_COLUMNS, fit_trials
 from lineload.io import output_to, read_json, read_rows, read_trials, write_rows
-from lineload.noise import model_from_rows
+from lineload.noise import trial_models
 
 
 def fit_models(averaged, noise, output, subjects, window_mm):
-    """Fit every trial of the batch's subjects with the dataset's noise; one row per trial."""
-    noise_model = model_from_rows(read_rows(noise))
+    """Fit every trial of the batch's subjects with its noise (the dataset's, with a
+    digitised trial's registration error); one row per trial."""
     trials = read_trials(averaged, extra=("n_sides",))  # numpy only: one job per batch
     keys = [
         (subject, about["species"], depth_mm, *columns)
         for subject, about in subjects.items()
         for depth_mm, columns in trials.get(subject, {}).items()
     ]
+    noise_models = trial_models(read_rows(noise), [(k[0], k[2]) for k in keys])
     # every trial of the batch in one call: the fits run for all of them together
     fitted = fit_trials(
         [k[3] for k in keys],
         [k[4] for k in keys],
         [k[2] for k in keys],
         window_mm,
-        noise=noise_model,
+        noise=noise_models,
         n_sides=[k[5] for k in keys],
     )
     rows = []

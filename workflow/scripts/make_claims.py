@@ -11,9 +11,10 @@ from lineload.claims import (
     InternalError,
     claims_markdown,
     compute_claims,
+    trial_key,
 )
 from lineload.io import output_to, read_json, read_results_csv, read_rows, write_csv, write_text
-from lineload.noise import model_from_rows
+from lineload.noise import model_from_rows, trial_models
 from lineload.validation import read_forces
 
 
@@ -25,10 +26,14 @@ def make_claims(inputs, outputs, settings, notice):
     fits = read_results_csv(fits_path)
     averaged = pd.concat([read_results_csv(path) for path in averaged_paths], ignore_index=True)
     forces = read_forces(forces_paths[0]) if forces_paths else None
-    noise_model = model_from_rows(read_rows(noise_path))
-    claims = compute_claims(
-        fits, averaged, ClaimSettings(**settings, noise_model=noise_model), forces=forces
+    rows = read_rows(noise_path)
+    keys = list(zip(fits["subject"], fits["depth_mm"], strict=True))
+    settings = ClaimSettings(
+        **settings,
+        noise_model=model_from_rows(rows),
+        trial_noise={trial_key(*k): m for k, m in zip(keys, trial_models(rows, keys), strict=True)},
     )
+    claims = compute_claims(fits, averaged, settings, forces=forces)
     write_csv(claims, outputs.csv, columns=CLAIM_COLUMNS)
     error_rates = claim_error_rates(
         read_results_csv(inputs.verdict_calibration),
