@@ -234,3 +234,7 @@ def test_a_digitised_trials_registration_replaces_the_shared_offset_prior():
     bad = [*rows[:-1], {**rows[-1], "value": "-1"}]
     with pytest.raises(ValueError, match="P1 at 1 mm"):
         trial_models(bad, [("P1", 1.0)])
+    # a dataset prior such as the wedge's position cannot be set per trial
+    wedge = [*rows[:-1], {**rows[-1], "parameter": "wedge_position_sd_mm"}]
+    with pytest.raises(ValueError, match="expected shared_offset_sd_mm"):
+        trial_models(wedge, [("P1", 1.0)])

@@ -760,21 +760,51 @@ def claim_c3(fits, averaged, settings):
     return _row("C3", our, UNTESTABLE, reason, rule)
 
 
+def _bulge_errors(fit, x, w, sides, bulge, settings):
+    """Standard errors of the readings' mean ``m`` over the bulge points, and of ``m -
+    f``, ``f`` the fitted curve's mean there: ``f`` moves with the readings of the fit
+    window through L (``dL = J' dy``), which the noise may correlate with the bulge's."""
+    finite = np.isfinite(w)
+    x, w, sides, bulge = x[finite], w[finite], sides[finite], bulge[finite]
+    covariance = _averaged_covariance_mm2(x, sides, w, fit, settings)
+    depth_mm, L_mm = float(fit["depth_mm"]), float(fit["waterbed_L_mm"])
+    mean_of = np.where(bulge, 1.0 / bulge.sum(), 0.0)
+    window = in_fit_window(x, float(fit["fit_window_mm"]))
+    through_L = np.zeros_like(x)
+    if window.sum() >= 1:
+        J = _L_sensitivity(waterbed_deflection_mm, x[window], depth_mm, L_mm, w[window])
+        step = 1e-4 * L_mm
+        slope = float(
+            np.mean(
+                waterbed_deflection_mm(x[bulge], depth_mm, L_mm + step)
+                - waterbed_deflection_mm(x[bulge], depth_mm, L_mm - step)
+            )
+            / (2 * step)
+        )
+        through_L[window] = slope * J
+    var_m = float(mean_of @ covariance @ mean_of)
+    gap = mean_of - through_L
+    var_gap = float(gap @ covariance @ gap)
+    return math.sqrt(max(var_m, 0.0)), math.sqrt(max(var_gap, 0.0))
+
+
 def claim_c4(fits, averaged, settings):
     """C4: the predicted bulge beyond L/3 is not in the data, a test per trial."""
     alpha = settings.significance
     z_one = float(norm.ppf(1.0 - alpha))
     rule = (
-        "Per trial: the averaged points with L/3 < distance < L at which the fitted waterbed "
-        "curve is below the resting surface (its predicted bulge). Statistic: the mean of "
-        "the readings there, m, against the curve's mean there, f (< 0), with the standard "
-        "error of m from the covariance of the averaged points under the measured noise "
-        "(correlated errors included). The bulge is resolvable in a trial if f lies more "
-        f"than {format_fixed(2 * z_one, 2)} standard errors below zero (flat readings then "
-        f"refute it with probability {format_fixed(1 - alpha, 2)}), refuted if m exceeds f "
-        f"by more than {format_fixed(z_one, 2)} standard errors (one-sided, significance = "
-        f"{alpha:g}), and seen if m lies below zero by more than the one-sided Bonferroni "
-        "quantile over the trials. Holds if no trial shows the bulge and every trial where "
+        "Deflection W is positive downward, so the waterbed's bulge is W < 0: skin raised "
+        "above its resting surface. Per trial: the averaged points with L/3 < distance < L "
+        "at which the fitted waterbed curve is negative (its predicted bulge). Statistic: "
+        "the mean of the readings there, m, against the curve's mean there, f (< 0), with "
+        "standard errors from the covariance of the averaged points under the measured "
+        "noise (correlated errors included), f's through the fitted L. The bulge is "
+        f"resolvable in a trial if f lies more than {format_fixed(2 * z_one, 2)} standard "
+        "errors of m - f below zero (readings at the resting surface then refute it with "
+        f"probability {format_fixed(1 - alpha, 2)}), refuted if m exceeds f by more than "
+        f"{format_fixed(z_one, 2)} of them (one-sided, significance = {alpha:g}), and seen "
+        "if m is negative by more than the one-sided Bonferroni quantile over the trials "
+        "times its standard error. Holds if no trial shows the bulge and every trial where "
         "it is resolvable refutes it; does not hold if some trial shows it; cannot be "
         "checked otherwise."
     )
@@ -791,66 +821,63 @@ def claim_c4(fits, averaged, settings):
         bulge = (x > L_mm / 3.0) & (x < L_mm) & np.isfinite(w) & (model < 0.0)
         if not bulge.any():
             continue
-        finite = np.isfinite(w)
-        covariance = _averaged_covariance_mm2(x[finite], sides[finite], w[finite], fit, settings)[
-            np.ix_(bulge[finite], bulge[finite])
-        ]
-        k = int(bulge.sum())
-        se = math.sqrt(max(float(covariance.sum()), 0.0)) / k
+        se_m, se_gap = _bulge_errors(fit, x, w, sides, bulge, settings)
         rows.append(
             {
                 "label": _label(fit),
                 "m": float(w[bulge].mean()),
                 "f": float(model[bulge].mean()),
-                "se": se,
+                "se_m": se_m,
+                "se_gap": se_gap,
                 "lowest": float(w[bulge].min()),
             }
         )
     if not rows:
         return _row(
             "C4",
-            f"none of {n_trials} trials has readings where the fitted curve dips below the "
-            "resting surface",
+            f"none of {n_trials} trials has readings where the fitted curve is negative "
+            "(a bulge above the resting surface)",
             UNTESTABLE,
             "No reading lies where the fitted curve predicts a bulge.",
             rule,
         )
     m = np.array([r["m"] for r in rows])
     f = np.array([r["f"] for r in rows])
-    se = np.array([r["se"] for r in rows])
+    se_m = np.array([r["se_m"] for r in rows])
+    se_gap = np.array([r["se_gap"] for r in rows])
     z_all = float(norm.ppf(1.0 - alpha / len(rows)))
     with np.errstate(divide="ignore", invalid="ignore"):
-        seen = np.where(se > 0, m / se < -z_all, m < 0)
-        # the least bulge that flat readings refute with power 1 - alpha
-        resolvable = np.where(se > 0, f / se < -2.0 * z_one, f < 0)
-        refuted = np.where(se > 0, (m - f) / se > z_one, m > f)
+        seen = np.where(se_m > 0, m / se_m < -z_all, m < 0)
+        # the least bulge that readings at the resting surface refute with power 1 - alpha
+        resolvable = np.where(se_gap > 0, f / se_gap < -2.0 * z_one, f < 0)
+        refuted = np.where(se_gap > 0, (m - f) / se_gap > z_one, m > f)
     labels = [r["label"] for r in rows]
     our = (
         f"{len(rows)} of {n_trials} trials have readings in the predicted bulge; mean of the "
         f"fitted curve there {_span(f, 3)}, mean of the data {_span(m, 3)} (standard error "
-        f"{_span(se, 3)}; lowest single point {_mm(min(r['lowest'] for r in rows), 3)}); "
-        f"resolvable in {int(resolvable.sum())}, refuted in "
-        f"{int((resolvable & refuted).sum())}, bulge seen in {int(seen.sum())}"
+        f"{_span(se_m, 3)}, of the difference {_span(se_gap, 3)}; lowest single point "
+        f"{_mm(min(r['lowest'] for r in rows), 3)}); resolvable in {int(resolvable.sum())}, "
+        f"refuted in {int((resolvable & refuted).sum())}, bulge seen in {int(seen.sum())}"
     )
     if seen.any():
         showing = [lab for lab, s_ in zip(labels, seen, strict=True) if s_]
         our += f" ({_list(showing)})"
         reason = (
-            "The readings sink below the resting surface, beyond the noise, where the curve "
+            "The readings rise above the resting surface, beyond the noise, where the curve "
             f"predicts a bulge, in {_list(showing)}."
         )
         return _row("C4", our, FAILS, reason, rule)
     if resolvable.any() and refuted[resolvable].all():
         reason = (
-            f"Where the fitted curves dip to {_span(f[resolvable], 3)} on average, the "
-            f"readings average {_span(m[resolvable], 3)}, above the predicted bulge beyond "
-            f"the noise in {_every(int(resolvable.sum()), 'trial')} where it is resolvable: "
-            "no bulge."
+            f"Where the fitted curves predict a bulge of {_span(-f[resolvable], 3)} on "
+            f"average, the readings average {_span(m[resolvable], 3)} of deflection: in "
+            f"{_every(int(resolvable.sum()), 'trial')} where the noise could show it, the "
+            "skin stays below the predicted bulge beyond the noise. No bulge."
         )
         return _row("C4", our, HOLDS, reason, rule)
     open_ = [lab for lab, r_, q in zip(labels, resolvable, refuted, strict=True) if r_ and not q]
     reason = (
-        f"In {_list(open_)} the readings do not rise above the predicted bulge beyond the noise"
+        f"In {_list(open_)} the readings cannot be told from the predicted bulge"
         if open_
         else "The predicted bulge is smaller than the noise can resolve in every trial"
     ) + "; no trial shows it either."

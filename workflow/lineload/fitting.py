@@ -773,13 +773,15 @@ def _boussinesq_intervals(trials, intercept, A_mm):
 #: that matters at d/x < 1/2.
 _WEDGE_NODES, _WEDGE_WEIGHTS = np.polynomial.hermite_e.hermegauss(40)
 _WEDGE_WEIGHTS = _WEDGE_WEIGHTS / _WEDGE_WEIGHTS.sum()
-#: Largest d/x taken at face value: a wedge placed beyond a reading would put it on
-#: the other side; the log's argument is kept from zero there.
+#: Where the misplacement comes within 5 % of a reading's distance (``|1 - d^2/x^2|``
+#: below ``1 - 0.95^2``), the log's argument is held there: the reading would sit on
+#: the wedge itself.  (Beyond it, ``d > x``, the reading lies on the other side, at
+#: ``d - x``; the profile is symmetric, so the same ``|.|`` holds.)
 _WEDGE_MAX_RATIO = 0.95
 
 
 def _wedge_moments(x_mm, mask, wedge_sd_mm):
-    """Mean and centred quadrature terms of ``g = -ln(1 - d^2 / x^2) / 2`` over ``d``.
+    """Mean and centred quadrature terms of ``g = -ln|1 - d^2 / x^2| / 2`` over ``d``.
 
     Returns
     -------
@@ -793,8 +795,8 @@ def _wedge_moments(x_mm, mask, wedge_sd_mm):
     if not wedge_sd_mm > 0:
         return np.zeros(shape), np.zeros((*shape, 1))
     ratio = np.where(mask, wedge_sd_mm / np.where(mask, x_mm, 1.0), 0.0)
-    scaled = np.minimum((ratio[..., None] * _WEDGE_NODES) ** 2, _WEDGE_MAX_RATIO**2)
-    g = -0.5 * np.log1p(-scaled)
+    scaled = np.abs(1.0 - (ratio[..., None] * _WEDGE_NODES) ** 2)
+    g = -0.5 * np.log(np.maximum(scaled, 1.0 - _WEDGE_MAX_RATIO**2))
     mean = g @ _WEDGE_WEIGHTS
     spread = (g - mean[..., None]) * np.sqrt(_WEDGE_WEIGHTS)
     return mean, spread
@@ -810,8 +812,8 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
 
     A wedge misplaced by ``d`` along the outline reads each side at ``x +- d``;
     the left-right mean cancels the first-order error, but the form is
-    log-singular at the wedge and the mean keeps ``A g(x, d)``, ``g = -ln(1 -
-    d**2 / x**2) / 2`` (about ``d**2 / (2 x**2)``), always positive.  Near the
+    log-singular at the wedge and the mean keeps ``A g(x, d)``, ``g = -ln|1 -
+    d**2 / x**2| / 2`` (about ``d**2 / (2 x**2)``), positive while ``d < x``.  Near the
     wedge, where the points steer the slope in ``ln x``, that biases the
     least-squares A up by about a third of its standard deviation (coverage 0.92
     instead of 0.95 in simulation).  With ``d`` normal of standard deviation
@@ -819,7 +821,12 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
     ``S`` of ``g`` over the readings are found by Gauss-Hermite quadrature; the
     intervals are centred on the line with ``A m`` removed (``E[A_ls] = A (1 +
     k_A)``, ``E[a_ls] = a + A k_a``, ``k = (X'X)^-1 X' m``) and widened by
-    ``A**2 S``; the fitted A and x0 stay the least-squares values.
+    ``A**2 S``; the fitted A and x0 stay the least-squares values.  The
+    correction assumes the logarithm holds down to the first reading, as the
+    model says; for a profile that is smoother there it widens the intervals
+    a little (in simulation of the reconstruction's shapes, A covered 97.8 %
+    with it and 95.9 % without), and it rests on the prior: with the wedge's
+    true SD 1.5 times the prior, A covered 82 %.
     """
     X = np.stack([np.ones(trials.x.shape), -np.log(trials.x)], axis=-1)
     X = np.where(trials.mask[:, :, None], X, 0.0)

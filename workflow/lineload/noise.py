@@ -63,6 +63,7 @@ __all__ = [
     "MIN_DIFFERENCES",
     "NOISE_COLUMNS",
     "PRIORS",
+    "TRIAL_PRIORS",
     "NoiseEstimate",
     "NoiseModel",
     "draw_side_errors_mm",
@@ -81,6 +82,9 @@ __all__ = [
 MEASURED = ("reading_sd_mm", "tracing_sd_mm", "tracing_length_mm", "side_offset_sd_mm")
 #: Parameters the differences cannot see: priors from the config.
 PRIORS = ("shared_offset_sd_mm", "shared_tilt_sd", "depth_sd_mm", "wedge_position_sd_mm")
+#: Priors a trial may replace with its own measurement (a photographed trial's
+#: registration error); the others hold for the whole dataset.
+TRIAL_PRIORS = ("shared_offset_sd_mm",)
 #: Columns of the noise table.
 NOISE_COLUMNS = ["scope", "parameter", "value", "se", "source", "n_trials", "n_differences"]
 #: Fewest differences a trial needs to enter the noise fit (four fixed effects
@@ -669,10 +673,10 @@ def trial_models(rows, keys):
         if scope == DATASET_SCOPE:
             continue
         value = float(row["value"])
-        if not (math.isfinite(value) and value >= 0) or row["parameter"] not in PRIORS:
+        if not (math.isfinite(value) and value >= 0) or row["parameter"] not in TRIAL_PRIORS:
             raise ValueError(
-                f"noise parameter {row['parameter']} of {scope}: expected a prior's name and "
-                f"a number >= 0, got {row['value']!r}"
+                f"noise parameter {row['parameter']} of {scope}: expected "
+                f"{' or '.join(TRIAL_PRIORS)} and a number >= 0, got {row['value']!r}"
             )
         own.setdefault(scope, {})[row["parameter"]] = value
     return [

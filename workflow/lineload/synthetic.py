@@ -506,11 +506,13 @@ def true_deflection_mm(
     return (1.0 - circle_fraction) * w + circle_fraction * circle
 
 
-def _trial_deflection_mm(distance_mm, trial, side):
+def _trial_deflection_mm(distance_mm, trial, side=None, extent_mm=None):
+    """The true deflection of ``trial`` on ``side``, or with the edge ``extent_mm``
+    (an array where the side changes along the distances)."""
     return true_deflection_mm(
         distance_mm,
         trial.depth_mm,
-        trial.extent_mm(side),
+        trial.extent_mm(side) if extent_mm is None else extent_mm,
         trial.exponent,
         trial.near_fraction,
         trial.near_exponent,
@@ -1296,10 +1298,7 @@ def photograph_outlines(subject, depth_mm, shift_mm=(0.0, 0.0)):
     def loaded(x):
         xs = np.asarray(x, dtype=float) - dx
         extent = np.where(xs < 0, trial.extent_left_mm, trial.extent_right_mm)
-        w = true_deflection_mm(
-            xs, depth_mm, extent, trial.exponent, trial.near_fraction, trial.near_exponent
-        )
-        return rest(xs) - w + dz
+        return rest(xs) - _trial_deflection_mm(xs, trial, extent_mm=extent) + dz
 
     return rest, loaded, (dx, float(loaded(dx)))
 
@@ -1358,16 +1357,9 @@ def photograph_dataset(seed=DEFAULT_SEED, camera=None):
     for name in PHOTOGRAPH_SUBJECTS:
         for depth_mm in PHOTOGRAPH_DEPTHS_MM:
             trial = trial_parameters(subjects[name], depth_mm)
-            for side, extent in (("left", trial.extent_left_mm), ("right", trial.extent_right_mm)):
-                distance = reading_distances_mm(extent, 0.05)
-                w = true_deflection_mm(
-                    distance,
-                    depth_mm,
-                    extent,
-                    trial.exponent,
-                    trial.near_fraction,
-                    trial.near_exponent,
-                )
+            for side in ("left", "right"):
+                distance = reading_distances_mm(trial.extent_mm(side), 0.05)
+                w = _trial_deflection_mm(distance, trial, side)
                 truth += [
                     f"{name},{depth_mm:g},{side},{d:.4f},{v:.6f}"
                     for d, v in zip(distance, w, strict=True)
