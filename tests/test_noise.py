@@ -238,3 +238,21 @@ def test_a_digitised_trials_registration_replaces_the_shared_offset_prior():
     wedge = [*rows[:-1], {**rows[-1], "parameter": "wedge_position_sd_mm"}]
     with pytest.raises(ValueError, match="expected shared_offset_sd_mm"):
         trial_models(wedge, [("P1", 1.0)])
+
+
+def test_the_bootstrap_reads_and_fits_each_trial_with_its_own_noise():
+    # two copies of one fitted trial; the first has its own, far larger shared offset
+    # (as a photographed trial carries its registration error): its replicates are read
+    # with it and its intervals honour it, so they come out wider than the second's
+    grid = synthetic.reading_distances_mm(3.5)
+    base = NoiseModel(reading_sd_mm=0.005, tracing_sd_mm=0.003, tracing_length_mm=0.3)
+    own = base.with_priors(shared_offset_sd_mm=0.03)
+    trial = {"species": "monkey", "depth_mm": 1.0, "distance_mm": grid, "waterbed": {"L_mm": 12.0}}
+    rows = coverage.bootstrap_study(
+        [{**trial, "noise": own}, trial, trial], 7, 3, base, models=("waterbed",)
+    )
+    width = {0: [], 1: []}
+    for i, row in enumerate(rows):
+        if i % 3 < 2:
+            width[i % 3].append(row["high"] - row["low"])
+    assert min(width[0]) > 3 * max(width[1])

@@ -27,7 +27,7 @@ import numpy as np
 from . import synthetic
 from .fitting import fit_windowed
 from .models import arc_deflection_mm, boussinesq_deflection_mm, waterbed_deflection_mm
-from .noise import NoiseModel, draw_side_errors_mm, estimate_noise, trial_differences
+from .noise import PRIORS, NoiseModel, draw_side_errors_mm, estimate_noise, trial_differences
 
 __all__ = [
     "COVERAGE_COLUMNS",
@@ -215,23 +215,23 @@ def coverage_rows(model, seed, window_mm=3.0, scenario=SCENARIOS[0], noise=TRUE_
 
 
 def _covered(trials, model, window_mm, noise, scenario_name):
-    """Measure the trials' noise (priors at ``noise``'s), fit ``model``, compare with the truth."""
+    """Measure the trials' noise (priors at ``noise``'s, or at a trial's own ``noise``),
+    fit ``model``, compare with the truth."""
     differences = [
         trial_differences(t["distance_mm"], t["left_mm"], t["right_mm"], window_mm) for t in trials
     ]
-    measured = estimate_noise(differences).model.with_priors(
-        shared_offset_sd_mm=noise.shared_offset_sd_mm,
-        shared_tilt_sd=noise.shared_tilt_sd,
-        depth_sd_mm=noise.depth_sd_mm,
-        wedge_position_sd_mm=noise.wedge_position_sd_mm,
-    )
+    measured = estimate_noise(differences).model
+    per_trial = [
+        measured.with_priors(**{p: getattr(t.get("noise", noise), p) for p in PRIORS})
+        for t in trials
+    ]
     fits = fit_windowed(
         [t["distance_mm"] for t in trials],
         [t["mean_mm"] for t in trials],
         [t["depth_mm"] for t in trials],
         window_mm,
         (model,),
-        noise=measured,
+        noise=per_trial,
     )[model]
     rows = []
     for i, trial in enumerate(trials):
@@ -273,7 +273,8 @@ def bootstrap_study(fitted, seed, n_replicates, noise, window_mm=3.0, models=tup
         One per trial: ``species``, ``depth_mm``, ``distance_mm`` (the trial's
         reading grid) and, per model of ``models``, its fitted parameters
         (``{"waterbed": {"L_mm": ...}, ...}``; a model whose parameters are not
-        all finite is left out for that trial).
+        all finite is left out for that trial); optionally ``noise``, the
+        trial's own NoiseModel (a photographed trial's registration error).
     seed : int
         Replicate ``k`` of model ``j`` is seeded by ``(seed, j, k)``.
     n_replicates : int
@@ -298,8 +299,15 @@ def bootstrap_study(fitted, seed, n_replicates, noise, window_mm=3.0, models=tup
             trials = [
                 {
                     "species": t["species"],
+                    "noise": t.get("noise", noise),
                     **_read_trial(
-                        rng, model, t[model], t["distance_mm"], t["depth_mm"], noise, scenario
+                        rng,
+                        model,
+                        t[model],
+                        t["distance_mm"],
+                        t["depth_mm"],
+                        t.get("noise", noise),
+                        scenario,
                     ),
                 }
                 for t in usable

@@ -9,7 +9,7 @@ from lineload.coverage import (
     summarise_coverage,
 )
 from lineload.io import output_to, read_json, read_rows, read_trials, write_rows, write_text
-from lineload.noise import model_from_rows
+from lineload.noise import model_from_rows, trial_models
 
 #: Each model's fitted parameters, as the fit table names them.
 FITTED = {
@@ -27,19 +27,24 @@ def bootstrap(inputs, outputs, seed, replicates, window_mm, notice):
             for depth_mm, (distance_mm, _) in depths.items():
                 keep = (distance_mm > 0) & (distance_mm <= window_mm + 0.5)
                 grids[(subject, depth_mm)] = distance_mm[keep]
+    fit_rows = read_rows(inputs.fits)
+    noise_rows = read_rows(inputs.noise)
+    noise = model_from_rows(noise_rows)
+    # each trial's own model: the dataset's, or a photographed trial's registration error
+    own = trial_models(noise_rows, [(r["subject"], float(r["depth_mm"])) for r in fit_rows])
     fitted = [
         {
             "species": row["species"],
             "depth_mm": float(row["depth_mm"]),
             "distance_mm": grids[(row["subject"], float(row["depth_mm"]))],
+            "noise": model,
             **{
-                model: {name: float(row[column] or "nan") for name, column in columns.items()}
-                for model, columns in FITTED.items()
+                name: {p: float(row[column] or "nan") for p, column in columns.items()}
+                for name, columns in FITTED.items()
             },
         }
-        for row in read_rows(inputs.fits)
+        for row, model in zip(fit_rows, own, strict=True)
     ]
-    noise = model_from_rows(read_rows(inputs.noise))
     rows = bootstrap_study(fitted, seed, replicates, noise, window_mm)
     summary = summarise_coverage(rows)
     write_rows(rows, TRIAL_COLUMNS, outputs.trials)
