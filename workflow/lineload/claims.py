@@ -773,14 +773,8 @@ def _bulge_errors(fit, x, w, sides, bulge, settings):
     through_L = np.zeros_like(x)
     if window.sum() >= 1:
         J = _L_sensitivity(waterbed_deflection_mm, x[window], depth_mm, L_mm, w[window])
-        step = 1e-4 * L_mm
-        slope = float(
-            np.mean(
-                waterbed_deflection_mm(x[bulge], depth_mm, L_mm + step)
-                - waterbed_deflection_mm(x[bulge], depth_mm, L_mm - step)
-            )
-            / (2 * step)
-        )
+        below, _, above, step = _around_L(waterbed_deflection_mm, x[bulge], depth_mm, L_mm)
+        slope = float(np.mean(above - below) / (2 * step))
         through_L[window] = slope * J
     var_m = float(mean_of @ covariance @ mean_of)
     gap = mean_of - through_L
@@ -970,6 +964,18 @@ def claim_c5(fits, averaged, settings):
     return _row("C5", our, verdict, reason, rule)
 
 
+def _around_L(curve, x_mm, depth_mm, L_mm):
+    """``curve`` at ``L - step``, ``L`` and ``L + step`` (``step = 1e-4 L``), and the step:
+    the central differences in L of :func:`_L_sensitivity` and C4's bulge."""
+    step = 1e-4 * L_mm
+    return (
+        curve(x_mm, depth_mm, L_mm - step),
+        curve(x_mm, depth_mm, L_mm),
+        curve(x_mm, depth_mm, L_mm + step),
+        step,
+    )
+
+
 def _L_sensitivity(curve, x_mm, depth_mm, L_mm, y_mm=None):
     """How a one-parameter least-squares L moves with the readings, to first order.
 
@@ -978,9 +984,7 @@ def _L_sensitivity(curve, x_mm, depth_mm, L_mm, y_mm=None):
     ``h = d2m/dL2`` (central differences).  The ``r . h`` term matters where the
     model misfits the readings; without ``y_mm`` it is left out.
     """
-    step = 1e-4 * L_mm
-    middle = curve(x_mm, depth_mm, L_mm)
-    above, below = curve(x_mm, depth_mm, L_mm + step), curve(x_mm, depth_mm, L_mm - step)
+    below, middle, above, step = _around_L(curve, x_mm, depth_mm, L_mm)
     g = (above - below) / (2 * step)
     curvature = 0.0
     if y_mm is not None:

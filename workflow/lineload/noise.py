@@ -85,6 +85,9 @@ PRIORS = ("shared_offset_sd_mm", "shared_tilt_sd", "depth_sd_mm", "wedge_positio
 #: Priors a trial may replace with its own measurement (a photographed trial's
 #: registration error); the others hold for the whole dataset.
 TRIAL_PRIORS = ("shared_offset_sd_mm",)
+#: Scope of the noise table's rows that hold for a whole dataset; a trial's own rows
+#: name the trial (:func:`_trial_scope`).
+DATASET_SCOPE = "dataset"
 #: Columns of the noise table.
 NOISE_COLUMNS = ["scope", "parameter", "value", "se", "source", "n_trials", "n_differences"]
 #: Fewest differences a trial needs to enter the noise fit (four fixed effects
@@ -554,20 +557,6 @@ def _log_parameter_se(objective, theta, bounds, step=1e-3):
     return se
 
 
-#: What each parameter of the noise table is, for its readers.
-DESCRIPTIONS = {
-    "reading_sd_mm": "independent error of one reading of one side",
-    "tracing_sd_mm": "tracing error correlated along the outline, one side",
-    "tracing_length_mm": "correlation length of the tracing error (exponential kernel)",
-    "side_offset_sd_mm": "offset of one side's whole trace",
-    "rotation_sd": "rotation of the photograph (cancels in the left-right mean)",
-    "wedge_position_sd_mm": "wedge misplaced along the outline (cancels in the mean, first order)",
-    "shared_offset_sd_mm": "offset shared by both sides of a trace",
-    "shared_tilt_sd": "symmetric tilt shared by both sides of a trace",
-    "depth_sd_mm": "error of the indentation depth",
-}
-
-
 def noise_rows(estimate, priors, overrides=None):
     """The rows of the noise table: each parameter, its value, SE and where it comes from.
 
@@ -598,7 +587,7 @@ def noise_rows(estimate, priors, overrides=None):
             source = "measured: left-right differences"
         rows.append(
             {
-                "scope": "dataset",
+                "scope": DATASET_SCOPE,
                 "parameter": name,
                 "value": float(value),
                 "se": float(se),
@@ -610,8 +599,9 @@ def noise_rows(estimate, priors, overrides=None):
     return rows
 
 
-#: Scope of the rows that hold for a whole dataset; a trial's own rows name it.
-DATASET_SCOPE = "dataset"
+def _trial_scope(subject, depth_mm):
+    """The scope of a trial's own rows in the noise table: ``"M1 at 1 mm"``."""
+    return f"{subject} at {float(depth_mm):g} mm"
 
 
 def registration_rows(records, n_trials, n_differences):
@@ -637,7 +627,7 @@ def registration_rows(records, n_trials, n_differences):
     """
     return [
         {
-            "scope": f"{subject} at {float(depth_mm):g} mm",
+            "scope": _trial_scope(subject, depth_mm),
             "parameter": "shared_offset_sd_mm",
             "value": float(sd_mm),
             "se": math.nan,
@@ -681,7 +671,7 @@ def trial_models(rows, keys):
         own.setdefault(scope, {})[row["parameter"]] = value
     return [
         dataset.with_priors(**own[scope])
-        if (scope := f"{subject} at {float(depth_mm):g} mm") in own
+        if (scope := _trial_scope(subject, depth_mm)) in own
         else dataset
         for subject, depth_mm in keys
     ]
