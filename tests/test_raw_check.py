@@ -54,6 +54,70 @@ def test_a_refused_folder_leaves_only_the_checks_log(tmp_path, snakemake_availab
     assert [p for p in results.rglob("*") if p.is_dir()] == [results / "logs"]
 
 
+def folders_under(folder):
+    return sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_dir())
+
+
+@pytest.mark.e2e
+def test_a_refused_run_removes_no_folder_it_did_not_make(tmp_path, snakemake_available):
+    """``results=.`` in a clone: the lab's empty folders (.git's among them) survive a refusal."""
+    raw = write_small_dataset(tmp_path / "raw")
+    set_cell(raw / "profiles" / "MK.csv", 3, "side", "middle")
+    work = tmp_path / "clone"
+    own = [".git/refs/tags", ".git/objects/info", ".git/branches", "notes/empty", "logs/old"]
+    for folder in own:
+        (work / folder).mkdir(parents=True)
+    (work / "notes" / "todo.txt").write_text("mine\n")
+    before = folders_under(work)
+    process = run_snakemake("check", raw=str(raw), results=".", cwd=work)
+    assert process.returncode != 0, process.stdout + process.stderr
+    assert "Traceback" not in process.stdout + process.stderr
+    after = folders_under(work)
+    # every folder that was there is there; of the run's own only the log's folder is left
+    # (and Snakemake's own working folder)
+    assert set(before) <= set(after), sorted(set(before) - set(after))
+    made = {f for f in set(after) - set(before) if not f.startswith(".snakemake")}
+    assert made == set(), made
+    assert (work / "logs" / "check_raw_data.log").is_file()
+    assert (work / "notes" / "todo.txt").read_text() == "mine\n"
+
+
+def test_cleanup_removes_only_the_folders_the_run_made(tmp_path):
+    from lineload import startup
+
+    root = tmp_path / "results"
+    (root / "logs" / "old").mkdir(parents=True)  # the user's, empty
+    (root / "figures").mkdir()  # the user's, empty, and a folder the run would use
+    patterns = [
+        str(root / "figures" / "figure{n}.pdf"),
+        str(root / "fits" / "{batch}.csv"),
+        str(root / "specs" / "fit_models" / "{key}.json"),
+        str(root / "logs" / "check_raw_data.log"),
+        str(tmp_path / "elsewhere" / "x.csv"),  # outside the results: never planned
+    ]
+    planned = startup.planned_folders(patterns, root)
+    assert planned == {
+        root, root / "figures", root / "fits", root / "specs", root / "specs" / "fit_models",
+        root / "logs",
+    }
+    new = startup.absent_folders(planned)
+    assert new == sorted([root / "fits", root / "specs", root / "specs" / "fit_models"])
+    # the run makes its folders and a spec, then is refused
+    for folder in new:
+        folder.mkdir(parents=True, exist_ok=True)
+    spec = root / "specs" / "fit_models" / "M1.json"
+    spec.write_text("{}")
+    (root / "fits" / "kept.csv").write_text("a\n")  # something in a folder the run made
+    startup.remove_written([spec], new)
+    assert folders_under(root) == ["figures", "fits", "logs", "logs/old"]
+    # and a root that did not exist before goes too, once empty
+    fresh = tmp_path / "fresh"
+    new = startup.absent_folders(startup.planned_folders([str(fresh / "a" / "b.csv")], fresh))
+    (fresh / "a").mkdir(parents=True)
+    startup.remove_written([], new)
+    assert not fresh.exists()
+
+
 @pytest.mark.e2e
 def test_the_check_target_prints_twenty_problems_and_logs_every_one(tmp_path, snakemake_available):
     subjects = {f"S{k:02d}": ("monkey", [1.0], 5.0) for k in range(25)}

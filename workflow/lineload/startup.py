@@ -24,10 +24,12 @@ __all__ = [
     "RAW_SUBFOLDERS",
     "abort",
     "abort_inputs",
+    "absent_folders",
     "data_folder",
     "folder_problem",
     "list_raw_files",
     "notice_text",
+    "planned_folders",
     "portable_config",
     "portable_path",
     "read_subject_sheet",
@@ -431,22 +433,64 @@ def portable_config(config, workdir="."):
     return portable
 
 
-def remove_written(paths, root):
-    """Remove files a refused run wrote, then every empty folder under ``root`` (and ``root``).
+def planned_folders(paths, root):
+    """The folders under ``root`` (``root`` included) that would hold the given files.
+
+    A path with wildcards (``results/fits/{batch}.csv``) counts up to its first
+    wildcard: the folder that holds the wildcard part is planned, any folder named by a
+    wildcard is not (only a job that runs makes one).
+
+    Parameters
+    ----------
+    paths : iterable of str
+        File paths or patterns (outputs, logs, benchmarks, job specs).
+    root : str or os.PathLike
+        The results folder.
+
+    Returns
+    -------
+    set of pathlib.Path
+        Absolute folders, ``root`` and the folders between it and each file.
+    """
+    root = Path(os.path.abspath(root))
+    folders = {root}
+    for path in filter(None, map(str, paths)):
+        fixed = path.split("{", 1)[0]
+        folder = Path(os.path.abspath(fixed if path != fixed else os.path.dirname(path)))
+        if "{" in path and not fixed.endswith(("/", os.sep)):
+            folder = folder.parent  # "fits/M{x}" names files in fits/
+        if folder != root and root not in folder.parents:
+            continue  # not under the results folder: never the run's to remove
+        while folder != root:
+            folders.add(folder)
+            folder = folder.parent
+    return folders
+
+
+def absent_folders(folders):
+    """Those of ``folders`` that do not exist yet (taken before anything is written)."""
+    return sorted(folder for folder in folders if not folder.is_dir())
+
+
+def remove_written(paths, folders):
+    """Remove the files a refused run wrote, and the empty folders it made.
+
+    Only what this run made is removed: the files it wrote (``paths``) and, deepest
+    first, those of the folders it was about to write into that did not exist when it
+    started (``folders``, from :func:`absent_folders`) and are empty now.  A folder
+    that existed before the run, or holds anything, is kept, whatever lies around it.
 
     Parameters
     ----------
     paths : iterable of str
         Files written by this run (the job specs it created).
-    root : str or os.PathLike
-        The results folder.
+    folders : iterable of pathlib.Path
+        Folders that did not exist when this run started.
     """
     for path in paths:
         Path(path).unlink(missing_ok=True)
-    if not os.path.isdir(root):
-        return
-    for folder, _, _ in sorted(os.walk(root), key=lambda entry: -len(entry[0])):
-        with contextlib.suppress(OSError):  # not empty: kept
+    for folder in sorted(folders, key=lambda folder: -len(folder.parts)):
+        with contextlib.suppress(OSError):  # not empty, or gone: kept as it is
             os.rmdir(folder)
 
 

@@ -127,10 +127,12 @@ def profile_files(wildcards):
 # rewritten only when they change: the job reruns exactly when its values do, and a
 # reviewer can read what it was given (params would make Snakemake import pandas).
 NEW_SPECS = []  # written by this run; removed again if the raw-data check refuses
+SPEC_FILES = []  # the pattern of each job's spec, for the folders a run may make
 
 
 def spec(job, **values):
     """Input function writing a job's spec; a value may be a function of the wildcards."""
+    SPEC_FILES.append(result("specs", job, "{key}.json"))
 
     def write(wildcards):
         path = result("specs", job, f"{next(iter(wildcards), 'all')}.json")
