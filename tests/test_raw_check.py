@@ -97,7 +97,11 @@ def test_cleanup_removes_only_the_folders_the_run_made(tmp_path):
     ]
     planned = startup.planned_folders(patterns, root)
     assert planned == {
-        root, root / "figures", root / "fits", root / "specs", root / "specs" / "fit_models",
+        root,
+        root / "figures",
+        root / "fits",
+        root / "specs",
+        root / "specs" / "fit_models",
         root / "logs",
     }
     new = startup.absent_folders(planned)
