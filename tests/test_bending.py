@@ -1,0 +1,160 @@
+"""The bending skin: its limits, its constraints, an independent solution, and its fit."""
+
+import numpy as np
+import pytest
+from scipy import stats
+from scipy.integrate import quad, solve_bvp
+
+from conftest import reading_grid_mm
+from lineload.bending import (
+    WALLS,
+    bending_coefficients,
+    bending_deflection_mm,
+    bending_load_per_tension,
+)
+from lineload.bending_fit import fit_bending
+from lineload.models import waterbed_deflection_mm
+
+L_MM, DEPTH_MM = 12.0, 1.0
+
+
+@pytest.mark.parametrize("wall", WALLS)
+def test_a_vanishing_bending_length_gives_the_papers_parabola(wall):
+    """Inner solution at the load: W'(0) = 0 turns the membrane's slope -4 W0 / L over
+    ``l_b``, ``W ~ W0 - (4 W0 / L)(X - l_b + l_b exp(-X / l_b))``, which lies above the
+    kinked parabola by ``(4 W0 / L) l_b (1 - exp(-X / l_b))``: the largest difference
+    tends to ``4 W0 l_b / L`` and the profile to eq. 19 at first order in ``l_b``."""
+    x = np.linspace(0.0, L_MM, 400_001)
+    ratios = []
+    for lb_mm in (1e-4, 1e-5):
+        difference = bending_deflection_mm(x, DEPTH_MM, L_MM, lb_mm, wall) - (
+            waterbed_deflection_mm(x, DEPTH_MM, L_MM)
+        )
+        ratios.append(np.max(np.abs(difference)) / (DEPTH_MM * lb_mm / L_MM))
+    # the correction to the leading term is of order l_b / L (1e-5 and 1e-6 here), and
+    # the grid's spacing (3e-5 mm) resolves the layer's peak to better than 1e-3
+    assert ratios == pytest.approx([4.0, 4.0], rel=2e-3)
+    coefficients = bending_coefficients(L_MM / 1e-6, wall)
+    assert coefficients[:3] == pytest.approx([1.0, -4.0, 3.0], rel=1e-5)
+
+
+@pytest.mark.parametrize("wall", WALLS)
+@pytest.mark.parametrize("lb_mm", [0.01, 0.3, 3.0, 24.0])
+def test_the_core_keeps_its_volume_and_the_ends_their_conditions(wall, lb_mm):
+    def profile(x):
+        return bending_deflection_mm(x, DEPTH_MM, L_MM, lb_mm, wall)
+
+    area, error = quad(profile, 0.0, L_MM, points=[lb_mm, L_MM - lb_mm], limit=400)
+    assert abs(area) <= 1e-10 * DEPTH_MM * L_MM + 10 * error
+    assert profile(0.0) == pytest.approx(DEPTH_MM, abs=1e-12)
+    assert profile(L_MM) == pytest.approx(0.0, abs=1e-12)
+    # second-order one-sided differences at the ends: error h**2 |third derivative| / 3,
+    # bounded by the exponential terms' (kappa**3 (|e| + |g|) W0 / L**3); rounding adds
+    # about eps W0 sum|coefficients| / h (the terms cancel when l_b >~ L)
+    h = 1e-4 * min(lb_mm, L_MM)
+    kappa = L_MM / lb_mm
+    a, b, c, e, g = bending_coefficients(kappa, wall)
+    third = kappa**3 * (abs(e) + abs(g)) * DEPTH_MM / L_MM**3
+    size = abs(a) + abs(b) + abs(c) + abs(e) + abs(g)
+    tolerance = h**2 * third + 8 * np.finfo(float).eps * size * DEPTH_MM / h
+
+    def slope(at, step):
+        return (-3 * profile(at) + 4 * profile(at + step) - profile(at + 2 * step)) / (2 * step)
+
+    assert slope(0.0, h) == pytest.approx(0.0, abs=tolerance)
+    if wall == "clamped":
+        assert slope(L_MM, -h) == pytest.approx(0.0, abs=tolerance)
+    else:  # no moment at the wall: the second derivative is zero there
+        curvature = (profile(L_MM) - 2 * profile(L_MM - h) + profile(L_MM - 2 * h)) / h**2
+        assert curvature == pytest.approx(0.0, abs=tolerance / h)
+    assert np.all(profile(np.array([L_MM * 1.01, 2 * L_MM])) == 0.0)
+
+
+@pytest.mark.parametrize("wall", WALLS)
+@pytest.mark.parametrize("lb_mm", [0.24, 1.2, 6.0])
+def test_the_closed_form_matches_a_numerical_solution_of_the_equation(wall, lb_mm):
+    """``l_b**2 W'''' - W'' + p / N = 0`` with the volume as a fifth state, solved by
+    collocation (scipy's solve_bvp) with p / N unknown: an independent route to the same
+    profile."""
+
+    def rhs(x, y, p):
+        # y = W, W', W'', W''', integral of W
+        return np.vstack([y[1], y[2], y[3], (y[2] - p[0]) / lb_mm**2, y[0]])
+
+    def ends(ya, yb, p):
+        far = yb[1] if wall == "clamped" else yb[2]
+        return np.array([ya[0] - DEPTH_MM, ya[1], yb[0], far, ya[4], yb[4]])
+
+    x = np.linspace(0.0, L_MM, 2001)
+    guess = np.vstack([waterbed_deflection_mm(x, DEPTH_MM, L_MM), *np.zeros((4, x.size))])
+    solution = solve_bvp(rhs, ends, x, guess, p=[6 * DEPTH_MM / L_MM**2], tol=1e-10,
+                         max_nodes=200_000)  # fmt: skip
+    assert solution.success, solution.message
+    closed = bending_deflection_mm(x, DEPTH_MM, L_MM, lb_mm, wall)
+    assert np.max(np.abs(solution.sol(x)[0] - closed)) <= 1e-7 * DEPTH_MM
+    # the pressure: p / N = W'' - l_b**2 W'''', i.e. 2 c W0 / L**2 in the closed form
+    c = bending_coefficients(L_MM / lb_mm, wall)[2]
+    assert solution.p[0] == pytest.approx(2 * c * DEPTH_MM / L_MM**2, rel=1e-6)
+
+
+@pytest.mark.parametrize("wall", WALLS)
+def test_the_load_tends_to_the_membranes(wall):
+    """Eq. 3 in the small-slope limit: F = 2 N sin(theta0) ~ 8 N W0 / L; bending adds."""
+    membrane = 8 * DEPTH_MM / L_MM
+    near = bending_load_per_tension(DEPTH_MM, L_MM, 1e-6 * L_MM, wall)
+    assert near == pytest.approx(membrane, rel=1e-5)
+    stiffer = bending_load_per_tension(DEPTH_MM, L_MM, [0.1, 1.0, 3.0], wall)
+    assert np.all(np.diff(stiffer) > 0) and stiffer[0] > membrane
+
+
+def test_a_wrong_wall_or_length_is_refused():
+    with pytest.raises(ValueError, match="wall must be one of clamped, pinned"):
+        bending_coefficients(10.0, "free")
+    with pytest.raises(ValueError, match="kappa"):
+        bending_coefficients(0.0)
+
+
+@pytest.mark.parametrize("lb_mm", [0.08, 0.4])
+def test_the_fit_recovers_noiseless_parameters(lb_mm):
+    x = reading_grid_mm(3.0)
+    y = bending_deflection_mm(x, 1.5, 11.0, lb_mm)
+    fit = fit_bending(x, y, 1.5)
+    assert fit.params["L_mm"] == pytest.approx(11.0, rel=1e-6)
+    assert fit.params["bending_length_mm"] == pytest.approx(lb_mm, rel=1e-5)
+    assert fit.rmse_mm < 1e-8 and fit.n_params == 2
+
+
+def test_intervals_cover_at_their_nominal_rate_on_the_papers_reading_grid():
+    """200 noisy profiles at the paper's reading grid, the noise's covariance known: each
+    95 % interval holds the truth a number of times a fair coin of 0.95 gives with
+    probability 0.999 (the band is binomial, not a tolerance picked to pass)."""
+    x = reading_grid_mm(3.0)
+    sd_mm, n_trials = 0.005, 200
+    truth = {"L_mm": 12.0, "bending_length_mm": 0.15}
+    clean = bending_deflection_mm(x, DEPTH_MM, truth["L_mm"], truth["bending_length_mm"])
+    rng = np.random.default_rng(2026)
+    covered = dict.fromkeys(truth, 0)
+    for _ in range(n_trials):
+        y = clean + rng.normal(0.0, sd_mm, x.size)
+        fit = fit_bending(x, y, DEPTH_MM, covariance_mm2=sd_mm**2 * np.eye(x.size))
+        for name, value in truth.items():
+            base = name.removesuffix("_mm")
+            low, high = fit.params[f"{base}_ci_low_mm"], fit.params[f"{base}_ci_high_mm"]
+            covered[name] += low <= value <= high
+    low, high = stats.binom.ppf([0.0005, 0.9995], n_trials, 0.95)
+    assert all(low <= count <= high for count in covered.values()), covered
+
+
+def test_a_bending_length_below_the_first_reading_is_not_told_from_zero():
+    """The paper's parabola (no bending) and a layer narrower than the first reading's
+    distance leave the interval open down to the range's end, flagged as such; a layer
+    several readings wide is resolved."""
+    x = reading_grid_mm(3.0)
+    rng = np.random.default_rng(5)
+    noise = rng.normal(0.0, 0.005, x.size)
+    covariance = 0.005**2 * np.eye(x.size)
+    flat = fit_bending(x, waterbed_deflection_mm(x, 0.5, 12.0) + noise, 0.5, covariance)
+    assert flat.params["bending_length_ci_low_mm"] == pytest.approx(0.002)
+    wide = fit_bending(x, bending_deflection_mm(x, 1.0, 12.0, 0.2) + noise, 1.0, covariance)
+    assert 0.1 < wide.params["bending_length_ci_low_mm"] < 0.2
+    assert wide.params["bending_length_at_bound"] == 0.0

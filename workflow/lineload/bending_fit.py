@@ -1,0 +1,253 @@
+"""Least-squares fit of the bending skin (:mod:`lineload.bending`) to one averaged profile.
+
+As the paper fits its waterbed, ``W0`` is held at the indentation depth and the
+shape parameters are fitted: here two, the half-width ``L`` and the bending
+length ``l_b = sqrt(D / N)``.  The fit is ordinary least squares on the same
+points as the other models (so that their sums of squares and AICc compare), read
+at the measured position as the paper read its parabola.
+
+Ranges
+------
+``L >= max(distance)``, as for the waterbed (every fitted point lies inside the
+wall), up to 1000 times that; ``l_b`` within ``bending_length_bounds_mm``.  Below
+about the first reading's distance a bending length is hard to see: the layer in
+which the skin turns lies between the wedge and the first reading, and what is
+left of it is the profile's shift by about ``4 W0 l_b / L`` (the layer's width
+times the membrane's slope at the load).  A fit that ends at a bound says so
+(``*_at_bound``) and its interval is one-sided: it runs to that bound.
+
+Intervals
+---------
+Profile-likelihood intervals, as :mod:`lineload.fitting` gives the waterbed: for
+one parameter, the other is fitted again at each value, and the interval holds
+the values whose sum of squares stays within a threshold of the minimum.  Without
+a covariance of the points the threshold is ``n ln(SSE / SSE_min) <= chi2`` (errors
+independent, of unknown variance).  With one (``covariance_mm2``, measured apart
+from the fit) it is the sandwich's: the least-squares estimate moves with the
+readings by ``(J'J)^-1 J' dy``, so its covariance is ``V = (J'J)^-1 J'CJ (J'J)^-1``,
+and the interval holds the values whose sum of squares exceeds the minimum by less
+than ``chi2 V_jj / [(J'J)^-1]_jj``; for a model linear in its parameters that is
+exactly the Wald interval with the sandwich's variance.  ``chi2`` is the 95 %
+point of chi-square with one degree of freedom.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import brentq, least_squares
+
+from .bending import bending_deflection_mm
+from .fitting import FitResult, goodness_of_fit
+from .optimize import CHI2_1DOF_95
+
+__all__ = ["BENDING_LENGTH_BOUNDS_MM", "fit_bending"]
+
+#: Default range of the bending length searched (mm): from well below the paper's
+#: first reading (0.05 mm from the wedge) to several times the fit window.
+BENDING_LENGTH_BOUNDS_MM = (0.002, 10.0)
+
+#: Largest L searched, as a multiple of the smallest (the farthest point fitted).
+_L_SPAN = 1000.0
+
+#: Steps of the profile's grid, in log units of the profiled parameter.
+_GRID = 48
+
+
+class _Problem:
+    """Sum of squares of one trial in log parameters ``(ln L, ln l_b)``."""
+
+    def __init__(self, x_mm, y_mm, depth_mm, wall, bounds_mm):
+        self.x, self.y, self.depth, self.wall = x_mm, y_mm, depth_mm, wall
+        self.low = np.log([bounds_mm[0][0], bounds_mm[1][0]])
+        self.high = np.log([bounds_mm[0][1], bounds_mm[1][1]])
+
+    def curve(self, theta):
+        L_mm, lb_mm = np.exp(theta)
+        return bending_deflection_mm(self.x, self.depth, L_mm, lb_mm, self.wall)
+
+    def residual(self, theta):
+        return self.y - self.curve(theta)
+
+    def sse(self, theta):
+        return float(np.sum(self.residual(theta) ** 2))
+
+    def sse_many(self, log_L, log_lb):
+        """Sums of squares for arrays of ``ln L`` and ``ln l_b`` (broadcast), at once."""
+        log_L, log_lb = np.broadcast_arrays(np.asarray(log_L), np.asarray(log_lb))
+        curves = bending_deflection_mm(
+            self.x, self.depth, np.exp(log_L)[..., None], np.exp(log_lb)[..., None], self.wall
+        )
+        return np.sum((self.y - curves) ** 2, axis=-1)
+
+    def jacobian(self, theta):
+        """d curve / d (L, l_b), in mm per mm, by central differences."""
+        values = np.exp(theta)
+        columns = []
+        for j in range(2):
+            step = 1e-6 * values[j]
+            up, down = values.copy(), values.copy()
+            up[j] += step
+            down[j] -= step
+            columns.append((self.curve(np.log(up)) - self.curve(np.log(down))) / (2.0 * step))
+        return np.column_stack(columns)
+
+    def _with(self, j, value, other_values):
+        pair = [None, None]
+        pair[j], pair[1 - j] = value, other_values
+        return self.sse_many(*pair)
+
+    def best_other(self, j, value):
+        """Sum of squares minimised over the other parameter, with ``theta_j = value``.
+
+        A grid over the other parameter's whole range, a finer one around its best
+        point, then the vertex of the parabola through the best three: the minimum's
+        value is what matters, and its error is second order in the position's.
+        """
+        other = 1 - j
+        grid = np.linspace(self.low[other], self.high[other], _GRID)
+        values = self._with(j, value, grid)
+        i = int(np.argmin(values))
+        fine = np.linspace(grid[max(i - 1, 0)], grid[min(i + 1, _GRID - 1)], _GRID // 2 + 1)
+        fine_values = self._with(j, value, fine)
+        k = int(np.argmin(fine_values))
+        best = float(fine_values[k])
+        if 0 < k < fine.size - 1:
+            f0, f1, f2 = fine_values[k - 1 : k + 2]
+            curvature = f0 - 2 * f1 + f2
+            if curvature > 0:
+                vertex = fine[k] + 0.5 * (fine[1] - fine[0]) * (f0 - f2) / curvature
+                best = min(best, float(self._with(j, value, np.array([vertex]))[0]))
+        return best
+
+
+def _minimum(problem):
+    """Global least squares: the best of a grid over both parameters, then polished.
+
+    The objective may have more than one valley (a narrow membrane with a stiff skin
+    against a wide one with a soft skin), so the start is the best point of a grid
+    over the whole range, not a guess.
+    """
+    log_L = np.linspace(problem.low[0], problem.high[0], 4 * _GRID)
+    log_lb = np.linspace(problem.low[1], problem.high[1], _GRID)
+    values = problem.sse_many(log_L[:, None], log_lb[None, :])
+    i, k = np.unravel_index(np.argmin(values), values.shape)
+    start = np.array([log_L[i], log_lb[k]])
+    found = least_squares(
+        problem.residual, start, bounds=(problem.low, problem.high),
+        xtol=1e-13, ftol=1e-14, gtol=1e-14,
+    )  # fmt: skip
+    return found.x if problem.sse(found.x) <= values[i, k] else start
+
+
+def _threshold(problem, theta, j, covariance_mm2):
+    """How far above its minimum the sum of squares may rise inside the interval."""
+    sse_min = problem.sse(theta)
+    n = problem.x.size
+    if covariance_mm2 is None:
+        return sse_min * np.expm1(CHI2_1DOF_95 / n)
+    jac = problem.jacobian(theta)
+    try:
+        inverse = np.linalg.inv(jac.T @ jac)
+    except np.linalg.LinAlgError:
+        return np.inf
+    sandwich = inverse @ jac.T @ np.asarray(covariance_mm2) @ jac @ inverse
+    return CHI2_1DOF_95 * sandwich[j, j] / inverse[j, j]
+
+
+def _profile_interval(problem, theta, j, covariance_mm2):
+    """Ends of the profile interval of parameter ``j`` (log units) and whether each is a bound."""
+    sse_min = problem.sse(theta)
+    limit = sse_min + _threshold(problem, theta, j, covariance_mm2)
+    if not np.isfinite(limit):
+        return (problem.low[j], problem.high[j]), (True, True)
+
+    def excess(t):
+        return problem.best_other(j, t) - limit
+
+    ends, at_bound = [], []
+    # the grid's minimum over the other parameter may lie a rounding above SSE_min: no
+    # interval then (a noiseless profile), rather than a bracket without a sign change
+    starts_inside = excess(theta[j]) < 0
+    for direction, bound in ((-1.0, problem.low[j]), (1.0, problem.high[j])):
+        inner, step = theta[j], 0.01
+        end, hit = (bound, True) if starts_inside else (theta[j], False)
+        while starts_inside and abs(inner - bound) > 1e-12:
+            outer = float(np.clip(inner + direction * step, min(inner, bound), max(inner, bound)))
+            if excess(outer) > 0:
+                end = brentq(excess, min(inner, outer), max(inner, outer), xtol=1e-10)
+                hit = False
+                break
+            inner, step = outer, step * 2.0
+        ends.append(end)
+        at_bound.append(hit)
+    return tuple(ends), tuple(at_bound)
+
+
+def fit_bending(
+    distance_mm,
+    deflection_mm,
+    depth_mm,
+    covariance_mm2=None,
+    wall="clamped",
+    bending_length_bounds_mm=BENDING_LENGTH_BOUNDS_MM,
+):
+    """Fit ``L`` and ``l_b`` of the bending skin with ``W0`` held at the depth.
+
+    Parameters
+    ----------
+    distance_mm, deflection_mm : array_like
+        Averaged profile points (mm); distances > 0.
+    depth_mm : float
+        Indentation depth, used as W0 (mm).
+    covariance_mm2 : array_like, optional
+        Covariance of the deflections (mm^2), measured apart from the fit: the
+        intervals honour it (the fit itself stays least squares).
+    wall : {"clamped", "pinned"}
+        The wall condition (:mod:`lineload.bending`).
+    bending_length_bounds_mm : (float, float)
+        Range of ``l_b`` searched (mm).
+
+    Returns
+    -------
+    FitResult
+        ``model = "bending"``; ``params``: ``L_mm``, ``bending_length_mm``, each
+        with ``*_ci_low_mm`` and ``*_ci_high_mm`` (95 %), and ``L_at_bound`` /
+        ``bending_length_at_bound`` (1.0 where the estimate lies at an end of its
+        range, else 0.0).
+    """
+    x = np.asarray(distance_mm, dtype=float)
+    y = np.asarray(deflection_mm, dtype=float)
+    if x.shape != y.shape or x.ndim != 1 or x.size < 4:
+        raise ValueError("need 1-D distance_mm and deflection_mm of equal length, >= 4 points")
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y)) and np.all(x > 0)):
+        raise ValueError("distances must be finite and > 0, deflections finite")
+    L_min_mm = float(x.max())
+    problem = _Problem(
+        x, y, float(depth_mm), wall, ((L_min_mm, _L_SPAN * L_min_mm), bending_length_bounds_mm)
+    )
+    theta = _minimum(problem)
+    params = {}
+    names = ("L", "bending_length")
+    for j, name in enumerate(names):
+        (low, high), _ = _profile_interval(problem, theta, j, covariance_mm2)
+        at_bound = np.isclose(theta[j], problem.low[j], atol=1e-6) or np.isclose(
+            theta[j], problem.high[j], atol=1e-6
+        )
+        params[f"{name}_mm"] = float(np.exp(theta[j]))
+        params[f"{name}_ci_low_mm"] = float(np.exp(min(low, theta[j])))
+        params[f"{name}_ci_high_mm"] = float(np.exp(max(high, theta[j])))
+        params[f"{name}_at_bound"] = float(at_bound)
+    residual = problem.residual(theta)
+    measures = goodness_of_fit(residual, n_params=2)
+    chi2 = np.nan
+    if covariance_mm2 is not None:
+        chi2 = float(residual @ np.linalg.solve(np.asarray(covariance_mm2), residual))
+    return FitResult(
+        model="bending",
+        params=params,
+        n_points=int(x.size),
+        n_params=2,
+        residual_mm=residual,
+        chi2=chi2,
+        **measures,
+    )
