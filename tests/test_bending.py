@@ -12,8 +12,9 @@ from lineload.bending import (
     bending_deflection_mm,
     bending_load_per_tension,
 )
+from lineload.bending_exact import bending_finite_profile
 from lineload.bending_fit import fit_bending
-from lineload.models import waterbed_deflection_mm
+from lineload.models import arc_deflection_mm, waterbed_deflection_mm
 
 L_MM, DEPTH_MM = 12.0, 1.0
 
@@ -158,3 +159,40 @@ def test_a_bending_length_below_the_first_reading_is_not_told_from_zero():
     wide = fit_bending(x, bending_deflection_mm(x, 1.0, 12.0, 0.2) + noise, 1.0, covariance)
     assert 0.1 < wide.params["bending_length_ci_low_mm"] < 0.2
     assert wide.params["bending_length_at_bound"] == 0.0
+
+
+# ------------------------------------------------------------ the finite-slope solution
+
+
+def test_the_finite_slope_skin_tends_to_the_small_slope_one_as_the_depth_shrinks():
+    """The small-slope step drops terms of relative order (W0 / L)**2: its error over W0
+    falls a hundredfold when W0 falls tenfold."""
+    errors = []
+    for depth_mm in (0.02, 0.2):
+        exact = bending_finite_profile(depth_mm, L_MM, 0.5)
+        x = exact["distance_mm"]
+        small = bending_deflection_mm(x, depth_mm, L_MM, 0.5)
+        errors.append(np.max(np.abs(exact["deflection_mm"] - small)) / depth_mm)
+        assert exact["load_per_H"] == pytest.approx(
+            bending_load_per_tension(depth_mm, L_MM, 0.5), rel=5 * (depth_mm / L_MM) ** 2
+        )
+    assert errors[1] / errors[0] == pytest.approx(100.0, rel=0.05)
+    assert errors[0] < 10 * (0.02 / L_MM) ** 2  # of that order, with a modest factor
+
+
+@pytest.mark.parametrize("wall", WALLS)
+def test_the_finite_slope_skin_tends_to_the_membranes_exact_arc(wall):
+    """With l_b -> 0 the rod is the paper's membrane solved exactly, the zero-area arc;
+    what is left is the layer at the load, of order W0 l_b / L as in the small-slope
+    case (the arc's slope at the load is not small here: W0 / L = 1/6)."""
+    depth_mm, L_mm = 2.0, 12.0
+    ratios = []
+    for lb_mm in (0.04, 0.02):
+        exact = bending_finite_profile(depth_mm, L_mm, lb_mm, wall)
+        x, w = exact["distance_mm"], exact["deflection_mm"]
+        arc = arc_deflection_mm(x, depth_mm, L_mm)
+        ratios.append(np.max(np.abs(w - arc)) / (depth_mm * lb_mm / L_mm))
+        # the volume, without the small-slope step (trapezoids on a fine mesh)
+        assert abs(np.trapezoid(w, x)) < 1e-6 * depth_mm * L_mm
+    assert all(1.0 < ratio < 8.0 for ratio in ratios), ratios
+    assert ratios[1] == pytest.approx(ratios[0], rel=0.2)  # first order in l_b
