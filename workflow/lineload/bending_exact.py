@@ -39,7 +39,7 @@ from scipy.integrate import solve_bvp
 
 from .bending import bending_coefficients, bending_deflection_mm, bending_load_per_tension
 
-__all__ = ["bending_finite_profile"]
+__all__ = ["SMALL_SLOPE_COLUMNS", "bending_finite_profile", "small_slope_error"]
 
 
 def bending_finite_profile(depth_mm, L_mm, bending_length_mm, wall="clamped", n_nodes=801):
@@ -116,4 +116,59 @@ def bending_finite_profile(depth_mm, L_mm, bending_length_mm, wall="clamped", n_
         "pressure_per_H_per_mm": float(p),
         "load_per_H": float(2.0 * V),
         "length_mm": float(S),
+    }
+
+
+#: Columns of :func:`small_slope_error` rows, units in their names.
+SMALL_SLOPE_COLUMNS = [
+    "depth_mm",
+    "L_mm",
+    "bending_length_mm",
+    "wall",
+    "max_error_in_window_mm",
+    "fitted_L_mm",
+    "fitted_bending_length_mm",
+    "fit_rmse_mm",
+]
+
+
+def small_slope_error(depth_mm, L_mm, bending_length_mm, distance_mm, wall="clamped"):
+    """What the small-slope step costs for one skin: its error, and what a fit makes of it.
+
+    The finite-slope profile (:func:`bending_finite_profile`) is read at
+    ``distance_mm`` as a photograph would read it (at the deformed position), and the
+    small-slope model is fitted to it (:func:`lineload.bending_fit.fit_bending`) with
+    W0 at the depth, as the workflow fits readings.
+
+    Parameters
+    ----------
+    depth_mm, L_mm, bending_length_mm : float
+        The skin (mm).
+    distance_mm : array_like
+        Where the profile is read (mm, > 0): the readings of one fit window.
+    wall : {"clamped", "pinned"}
+
+    Returns
+    -------
+    dict
+        One row with the keys of :data:`SMALL_SLOPE_COLUMNS`: the largest difference
+        between the two profiles at the readings, and the small-slope fit's ``L``,
+        ``l_b`` and RMSE on the finite-slope profile.
+    """
+    from .bending_fit import fit_bending
+
+    distance_mm = np.asarray(distance_mm, dtype=float)
+    exact = bending_finite_profile(depth_mm, L_mm, bending_length_mm, wall)
+    read = np.interp(distance_mm, exact["distance_mm"], exact["deflection_mm"])
+    small = bending_deflection_mm(distance_mm, depth_mm, L_mm, bending_length_mm, wall)
+    fit = fit_bending(distance_mm, read, depth_mm, wall=wall)
+    return {
+        "depth_mm": depth_mm,
+        "L_mm": L_mm,
+        "bending_length_mm": bending_length_mm,
+        "wall": wall,
+        "max_error_in_window_mm": float(np.max(np.abs(read - small))),
+        "fitted_L_mm": fit.params["L_mm"],
+        "fitted_bending_length_mm": fit.params["bending_length_mm"],
+        "fit_rmse_mm": fit.rmse_mm,
     }
