@@ -13,7 +13,7 @@ from lineload.bending import (
     bending_load_per_tension,
 )
 from lineload.bending_exact import bending_finite_profile
-from lineload.bending_fit import fit_bending
+from lineload.bending_fit import BENDING_LENGTH_BOUNDS_MM, fit_bending, fit_bending_trials
 from lineload.models import arc_deflection_mm, waterbed_deflection_mm
 
 L_MM, DEPTH_MM = 12.0, 1.0
@@ -155,7 +155,7 @@ def test_a_bending_length_below_the_first_reading_is_not_told_from_zero():
     noise = rng.normal(0.0, 0.005, x.size)
     covariance = 0.005**2 * np.eye(x.size)
     flat = fit_bending(x, waterbed_deflection_mm(x, 0.5, 12.0) + noise, 0.5, covariance)
-    assert flat.params["bending_length_ci_low_mm"] == pytest.approx(0.002)
+    assert flat.params["bending_length_ci_low_mm"] == pytest.approx(BENDING_LENGTH_BOUNDS_MM[0])
     wide = fit_bending(x, bending_deflection_mm(x, 1.0, 12.0, 0.2) + noise, 1.0, covariance)
     assert 0.1 < wide.params["bending_length_ci_low_mm"] < 0.2
     assert wide.params["bending_length_at_bound"] == 0.0
@@ -196,3 +196,36 @@ def test_the_finite_slope_skin_tends_to_the_membranes_exact_arc(wall):
         assert abs(np.trapezoid(w, x)) < 1e-6 * depth_mm * L_mm
     assert all(1.0 < ratio < 8.0 for ratio in ratios), ratios
     assert ratios[1] == pytest.approx(ratios[0], rel=0.2)  # first order in l_b
+
+
+def test_the_papers_membrane_is_the_bending_fits_special_case():
+    """The waterbed is the bending skin at l_b -> 0: on any profile, the bending fit's sum
+    of squares is at most the waterbed's (plus the 0.1 um the range's end leaves)."""
+    from lineload.fitting import fit_waterbed
+
+    x = reading_grid_mm(3.0)
+    rng = np.random.default_rng(11)
+    for _ in range(20):
+        # profiles neither model makes: a log near the wedge on a parabola
+        depth = rng.uniform(0.5, 2.0)
+        y = (
+            waterbed_deflection_mm(x, depth, rng.uniform(9, 16))
+            - rng.uniform(0, 0.05) * np.log(x / 3.0)
+            + rng.normal(0, 0.005, x.size)
+        )
+        bending, waterbed = fit_bending(x, y, depth), fit_waterbed(x, y, depth)
+        assert bending.sse_mm2 <= waterbed.sse_mm2 + x.size * (1e-4) ** 2
+
+
+def test_the_batch_fits_each_trial_on_its_window_like_the_single_fit():
+    x = reading_grid_mm(6.0)
+    profiles = [bending_deflection_mm(x, d, 12.0, 0.2) for d in (0.5, 1.0)]
+    rows = fit_bending_trials([x, x], profiles, [0.5, 1.0], 3.0)
+    inside = x <= 3.0
+    for row, y, depth in zip(rows, profiles, (0.5, 1.0), strict=True):
+        single = fit_bending(x[inside], y[inside], depth)
+        assert row["n_points"] == inside.sum()
+        assert row["bending_L_mm"] == single.params["L_mm"]
+        assert row["bending_length_mm"] == pytest.approx(0.2, rel=1e-5)
+    few = fit_bending_trials([x[:3]], [profiles[0][:3]], [0.5], 3.0)[0]
+    assert few["n_points"] == 3 and np.isnan(few["bending_L_mm"])
