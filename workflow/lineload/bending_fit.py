@@ -136,9 +136,13 @@ def _minimum(problem):
     i, k = np.unravel_index(np.argmin(values), values.shape)
     start = np.array([log_L[i], log_lb[k]])
     found = least_squares(
-        problem.residual, start, bounds=(problem.low, problem.high),
-        xtol=1e-13, ftol=1e-14, gtol=1e-14,
-    )  # fmt: skip
+        problem.residual,
+        start,
+        bounds=(problem.low, problem.high),
+        xtol=1e-13,
+        ftol=1e-14,
+        gtol=1e-14,
+    )
     return found.x if problem.sse(found.x) <= values[i, k] else start
 
 
@@ -314,8 +318,12 @@ def fit_bending_trials(
     for k, (x, y, depth) in enumerate(zip(distance_mm, deflection_mm, depth_mm, strict=True)):
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
         keep = in_fit_window(x, window_mm) & np.isfinite(y)
-        row = {"depth_mm": float(depth), "fit_window_mm": float(window_mm), "wall": wall,
-               "n_points": int(keep.sum())}  # fmt: skip
+        row = {
+            "depth_mm": float(depth),
+            "fit_window_mm": float(window_mm),
+            "wall": wall,
+            "n_points": int(keep.sum()),
+        }
         columns = [c for c in BENDING_COLUMNS if c not in row and c not in ("subject", "species")]
         if keep.sum() < 4:
             rows.append({**row, **dict.fromkeys(columns, np.nan)})

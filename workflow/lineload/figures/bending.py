@@ -1,0 +1,290 @@
+"""Figures of the bending skin: every model family on one trial, and the bending lengths.
+
+Every function takes data (pandas DataFrames, plain numbers) and returns a
+:class:`matplotlib.figure.Figure`; parameter names are those of
+:data:`lineload.figures.registry.ARGUMENTS`.
+
+gids: ``data``, ``model:<family>`` and ``fit-window`` in the comparison;
+``lb:<subject>`` (an estimate with its interval), ``lb-bound:<subject>`` (an
+estimate at the range's end, drawn open with its one-sided interval) and
+``first-reading`` in the bending lengths; ``footer`` for the data notice.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.lines import Line2D
+
+from ..bending import bending_deflection_mm
+from .data import fit_row, model_curve_mm, trial_points
+from .style import (
+    DATA_COLOUR,
+    DEFLECTION_LABEL,
+    DOUBLE_COLUMN_MM,
+    MODEL_COLOURS,
+    MODEL_LINESTYLES,
+    MODEL_NAMES,
+    SINGLE_COLUMN_MM,
+    SPECIES_PLURAL,
+    WINDOW_STYLE,
+    add_footer,
+    legend_columns,
+    log_distance_axis,
+    message_figure,
+    new_figure,
+    padded_limits,
+    panel_title,
+    styled,
+    subject_table,
+)
+
+__all__ = ["figure_bending_examples", "figure_bending_lengths"]
+
+#: Colour of the bending skin's curve (Okabe-Ito orange, apart from the other families').
+BENDING_COLOUR = "#E69F00"
+BENDING_NAME = "bending skin"
+#: The families drawn beside the bending skin, in drawing order.
+OTHER_FAMILIES = ("boussinesq", "waterbed", "arc")
+#: Marker of each species in the bending-length figure.
+SPECIES_MARKERS = {"monkey": "o", "human": "s"}
+
+
+def _bending_row(bending, subject, depth_mm):
+    return fit_row(bending, subject, depth_mm) if bending is not None and len(bending) else None
+
+
+def _example_trials(bending, subjects):
+    """One trial per species, in sheet order: its first subject at its deepest depth."""
+    table = subject_table(subjects)
+    chosen = []
+    for species in ("monkey", "human"):
+        for subject in table.index[table["species"] == species]:
+            rows = bending[(bending["subject"] == subject) & np.isfinite(bending["bending_L_mm"])]
+            if len(rows):
+                chosen.append((subject, species, float(rows["depth_mm"].max())))
+                break
+    return chosen, table
+
+
+@styled
+def figure_bending_examples(averaged, fits, bending, subjects, fit_window_mm, notice=""):
+    """Every model family on the averaged points of a monkey and a human.
+
+    Parameters
+    ----------
+    averaged : pandas.DataFrame
+        Averaged profiles (``subject``, ``depth_mm``, ``distance_mm``, ``deflection_mm``).
+    fits : pandas.DataFrame
+        The fit table (waterbed, arc and Boussinesq parameters per trial).
+    bending : pandas.DataFrame
+        The bending fits (``bending_L_mm``, ``bending_length_mm`` per trial).
+    subjects : pandas.DataFrame
+        ``subject``, ``species`` and optionally ``label``.
+    fit_window_mm : float
+        Outer edge of the fitted region (mm), marked on every panel.
+    notice : str
+        Footer text; empty for none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    chosen, table = _example_trials(bending, subjects)
+    if not chosen:
+        return message_figure("No trial of this dataset has a bending fit.", notice)
+    n = len(chosen)
+    fig = new_figure(SINGLE_COLUMN_MM if n == 1 else DOUBLE_COLUMN_MM, 78.0)
+    axes = fig.subplots(1, n, squeeze=False, sharey=False)[0]
+    for ax, (subject, species, depth_mm) in zip(axes, chosen, strict=True):
+        distance_mm, deflection_mm = trial_points(averaged, subject, depth_mm)
+        keep = distance_mm > 0
+        distance_mm, deflection_mm = distance_mm[keep], deflection_mm[keep]
+        lo = distance_mm.min() / 1.3 if distance_mm.size else 0.05
+        hi = max(distance_mm.max() if distance_mm.size else 0.0, fit_window_mm) * 1.3
+        curve_mm = np.geomspace(lo, hi, 500)
+        ax.axvline(fit_window_mm, gid="fit-window", **WINDOW_STYLE)
+        drawn = [deflection_mm]
+        row = fit_row(fits, subject, depth_mm)
+        for model in OTHER_FAMILIES:
+            values = model_curve_mm(model, curve_mm, depth_mm, row)
+            if values is not None:
+                ax.plot(
+                    curve_mm,
+                    values,
+                    color=MODEL_COLOURS[model],
+                    linestyle=MODEL_LINESTYLES[model],
+                    gid=f"model:{model}",
+                )
+                drawn.append(values)
+        bent = _bending_row(bending, subject, depth_mm)
+        values = bending_deflection_mm(
+            curve_mm,
+            depth_mm,
+            float(bent["bending_L_mm"]),
+            float(bent["bending_length_mm"]),
+            str(bent.get("wall", "clamped")),
+        )
+        ax.plot(
+            curve_mm,
+            values,
+            color=BENDING_COLOUR,
+            linewidth=1.4,
+            linestyle=(0, (4, 1.5)),
+            gid="model:bending",
+            zorder=2.5,
+        )
+        drawn.append(values)
+        ax.plot(
+            distance_mm,
+            deflection_mm,
+            linestyle="none",
+            marker="o",
+            markersize=3.2,
+            markerfacecolor="white",
+            markeredgecolor=DATA_COLOUR,
+            markeredgewidth=0.8,
+            gid="data",
+            zorder=3,
+        )
+        log_distance_axis(ax)
+        ax.set_xlim(lo, hi)
+        values = np.concatenate([np.ravel(v) for v in drawn])
+        values = np.clip(values[np.isfinite(values)], -0.6 * depth_mm, 1.3 * depth_mm)
+        y_lo, y_hi = padded_limits(np.append(values, 0.0))
+        ax.set_ylim(y_hi, y_lo)
+        ax.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
+        label = table.loc[subject, "label"] if subject in table.index else subject
+        lb_mm = float(bent["bending_length_mm"])
+        at_bound = float(bent.get("bending_length_at_bound", 0.0)) > 0
+        lb_text = "not told from a membrane's" if at_bound else f"{lb_mm:.3g} mm"
+        ax.set_title(
+            f"{panel_title(label, species)}, {depth_mm:g} mm depth\nbending length {lb_text}",
+            loc="left",
+        )
+        ax.set_xlabel("distance from the wedge x (mm, log scale)")
+        ax.set_ylabel(DEFLECTION_LABEL)
+    handles = [
+        Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker="o",
+            markerfacecolor="white",
+            markeredgecolor=DATA_COLOUR,
+            label="data (mean of left and right)",
+        ),
+        *[
+            Line2D(
+                [], [], color=MODEL_COLOURS[m], linestyle=MODEL_LINESTYLES[m], label=MODEL_NAMES[m]
+            )
+            for m in OTHER_FAMILIES
+        ],
+        Line2D(
+            [], [], color=BENDING_COLOUR, linewidth=1.4, linestyle=(0, (4, 1.5)), label=BENDING_NAME
+        ),
+        Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE),
+    ]
+    fig.legend(handles=handles, loc="outside upper center", ncols=legend_columns(fig, handles, 3))
+    add_footer(fig, notice)
+    return fig
+
+
+@styled
+def figure_bending_lengths(bending, averaged, subjects, notice=""):
+    """The fitted bending length of every trial, by species and depth, with its interval.
+
+    An estimate at the lower end of its range (the skin cannot be told from the paper's
+    membrane) is drawn open, its interval one-sided from that end.  The dotted line is
+    the closest reading to the wedge: a bending length well below it is hidden between
+    the wedge and the first reading.
+
+    Parameters
+    ----------
+    bending : pandas.DataFrame
+        The bending fits.
+    averaged : pandas.DataFrame
+        Averaged profiles (for the closest reading to the wedge).
+    subjects : pandas.DataFrame
+        ``subject``, ``species`` and optionally ``label``.
+    notice : str
+        Footer text; empty for none.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    rows = bending[np.isfinite(bending["bending_length_mm"].astype(float))] if len(bending) else []
+    if not len(rows):
+        return message_figure("No trial of this dataset has a bending fit.", notice)
+    table = subject_table(subjects)
+    species_present = [s for s in ("monkey", "human") if (rows["species"] == s).any()]
+    species_present += sorted(set(rows["species"]) - set(species_present))
+    fig = new_figure(SINGLE_COLUMN_MM if len(species_present) == 1 else DOUBLE_COLUMN_MM, 70.0)
+    axes = fig.subplots(1, len(species_present), squeeze=False, sharey=True)[0]
+    low_end = float(np.nanmin(rows["bending_length_ci_low_mm"].astype(float)))
+    high_end = float(np.nanmax(rows["bending_length_ci_high_mm"].astype(float)))
+    distances = averaged["distance_mm"].astype(float) if len(averaged) else []
+    first_mm = float(np.min(distances[distances > 0])) if len(distances) else np.nan
+    for ax, species in zip(axes, species_present, strict=True):
+        members = [s for s in table.index if s in set(rows["subject"][rows["species"] == species])]
+        depths = sorted(set(rows["depth_mm"].astype(float)))
+        step = min(np.diff(depths)) if len(depths) > 1 else 0.5
+        for k, subject in enumerate(members):
+            offset = (k - (len(members) - 1) / 2) * 0.6 * step / max(len(members), 1)
+            mine = rows[rows["subject"] == subject]
+            for _, row in mine.iterrows():
+                x = float(row["depth_mm"]) + offset
+                lb = float(row["bending_length_mm"])
+                low, high = (
+                    float(row["bending_length_ci_low_mm"]),
+                    float(row["bending_length_ci_high_mm"]),
+                )
+                bound = float(row.get("bending_length_at_bound", 0.0)) > 0
+                colour = f"C{k % 10}"
+                ax.plot(
+                    [x, x], [low, high], color=colour, linewidth=0.9, gid=f"lb-interval:{subject}"
+                )
+                ax.plot(
+                    x,
+                    lb,
+                    linestyle="none",
+                    marker=SPECIES_MARKERS.get(species, "D"),
+                    markersize=4.0,
+                    color=colour,
+                    markerfacecolor="white" if bound else colour,
+                    gid=f"lb-bound:{subject}" if bound else f"lb:{subject}",
+                )
+            label = table.loc[subject, "label"] if subject in table.index else subject
+            ax.plot(
+                [],
+                [],
+                linestyle="none",
+                marker=SPECIES_MARKERS.get(species, "D"),
+                color=f"C{k % 10}",
+                label=str(label),
+            )
+        if np.isfinite(first_mm):
+            ax.axhline(first_mm, gid="first-reading", **WINDOW_STYLE)
+        ax.set_yscale("log")
+        ax.set_ylim(low_end / 2, high_end * 40)  # room above for the subjects' key
+        ax.set_xticks(depths, [f"{d:g}" for d in depths])
+        ax.set_xlabel("indentation depth W₀ (mm)")
+        ax.set_title(SPECIES_PLURAL.get(species, species).capitalize(), loc="left")
+        ax.legend(loc="upper left", ncols=2, fontsize=7.0)
+    axes[0].set_ylabel("bending length l_b (mm, log scale)")
+    handles = [
+        Line2D([], [], linestyle="none", marker="o", color="0.3", label="estimate, 95 % interval"),
+        Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker="o",
+            color="0.3",
+            markerfacecolor="white",
+            label="at the range's end (one-sided interval)",
+        ),
+        Line2D([], [], label="closest reading to the wedge", **WINDOW_STYLE),
+    ]
+    fig.legend(handles=handles, loc="outside upper center", ncols=legend_columns(fig, handles, 3))
+    add_footer(fig, notice)
+    return fig
