@@ -387,3 +387,131 @@ def test_one_dataset_mixes_readings_and_photographs(tmp_path):
     assert sorted(fits["subject"].unique()) == ["M1", "M2", "M3"]
     assert len(fits[fits["subject"] == "M3"]) == 4  # its four depths, from its readings
     assert not (tmp_path / "results" / "digitised" / "M3.csv").exists()
+
+
+# ------------------------------------------------------------ the check, file by file
+# (check_dataset called directly: the same lines the raw-data check prints, in a second)
+
+DIGITISE = {"reach_mm": 6.5, "first_mm": 0.05, "smoothing_px": 1.5, "window_mm": 0.02}
+
+
+def example_copy(folder):
+    """A copy of the shipped photograph example (data/photographs) in ``folder``."""
+    import shutil
+
+    shutil.copytree(REPO / "data" / "photographs", folder)
+    return folder
+
+
+def problems_of(raw, **settings):
+    """The raw-data check's lines for a folder (empty when it passes)."""
+    from lineload.io import load_schema
+    from lineload.validation import InputError, check_dataset
+
+    schemas = {n: load_schema(n) for n in ("subjects", "profiles", "outlines", "forces", "images")}
+    try:
+        check_dataset(
+            str(raw), schemas, plausibility=settings.get("plausibility"), digitise=DIGITISE
+        )
+    except InputError as error:
+        return error.problems
+    return []
+
+
+def one_line_each(problems):
+    assert problems, "expected a refusal"
+    for line in problems:
+        assert "\n" not in line and "Traceback" not in line, line
+    return problems
+
+
+def png_claiming(path, width, height):
+    """Rewrite a PNG's header to claim another size (the pixels stay as they are)."""
+    import struct
+    import zlib
+
+    data = bytearray(path.read_bytes())
+    data[16:24] = struct.pack(">II", width, height)  # IHDR's width and height
+    data[29:33] = struct.pack(">I", zlib.crc32(bytes(data[12:29])))
+    path.write_bytes(bytes(data))
+
+
+def test_the_example_passes_the_check(tmp_path):
+    assert problems_of(example_copy(tmp_path / "raw")) == []
+
+
+def test_both_photographs_of_a_pair_refused_each_have_their_line(tmp_path):
+    """Both files of a pair failing (missing, a name in the wrong case) gave StopIteration."""
+    raw = example_copy(tmp_path / "raw")
+    (raw / "images" / "M1_1mm_rest.png").unlink()
+    sheet = raw / "images" / "images.csv"
+    sheet.write_text(sheet.read_text().replace("M1_1mm_loaded.png", "M1_1mm_loaded.PNG"))
+    problems = one_line_each(problems_of(raw))
+    assert any("line 2, column 'file': no file" in p and "M1_1mm_rest.png" in p for p in problems)
+    assert any(
+        "line 3, column 'file'" in p and "'M1_1mm_loaded.png': names differ in case" in p
+        for p in problems
+    ), problems
+
+
+@pytest.mark.parametrize(
+    ("kind", "words"),
+    [
+        ("LA", "greyscale with an alpha channel (LA)"),
+        ("1-bit", "1-bit black and white"),
+        ("float", "32-bit floating point"),
+        ("palette", "palette colours"),
+        ("truncated", "is the file truncated or damaged?"),
+        ("bomb", "claims 1,600,000,000 pixels; expected at most 40,000,000"),
+        ("large", "is 10000 x 5000 pixels (50,000,000); expected at most 40,000,000"),
+        ("12-bit", "levels reach only"),
+        ("text", "cannot be read as an image"),
+    ],
+)
+def test_each_kind_of_bad_photograph_is_named(tmp_path, kind, words):
+    import imageio.v3 as iio
+    from PIL import Image
+
+    raw = example_copy(tmp_path / "raw")
+    path = raw / "images" / "M2_1mm_loaded.png"
+    picture = iio.imread(path)
+    grey = picture if picture.ndim == 2 else picture[..., 0]
+    if kind == "LA":
+        Image.fromarray(grey.astype(np.uint8)).convert("LA").save(path)
+    elif kind == "1-bit":
+        Image.fromarray(grey.astype(np.uint8)).convert("1").save(path)
+    elif kind == "float":
+        path.unlink()
+        path = path.with_suffix(".tif")
+        iio.imwrite(path, grey.astype(np.float32))
+        sheet = raw / "images" / "images.csv"
+        sheet.write_text(sheet.read_text().replace("M2_1mm_loaded.png", "M2_1mm_loaded.tif"))
+    elif kind == "palette":
+        Image.fromarray(grey.astype(np.uint8)).convert("P").save(path)
+    elif kind == "truncated":
+        data = path.read_bytes()
+        path.write_bytes(data[: len(data) // 2])
+    elif kind == "bomb":
+        png_claiming(path, 40000, 40000)
+    elif kind == "large":
+        png_claiming(path, 10000, 5000)
+    elif kind == "12-bit":
+        levels = grey.astype(np.float64) / (255.0 if grey.dtype == np.uint8 else 65535.0)
+        iio.imwrite(path, np.rint(levels * 4095).astype(np.uint16))
+    elif kind == "text":
+        path.write_text("not a picture\n")
+    started = time.perf_counter()
+    problems = one_line_each(problems_of(raw))
+    assert time.perf_counter() - started < 30  # a bomb is refused from its header
+    assert any(
+        words in p and "M2_1mm_loaded." in p and "images.csv, line 7, column 'file'" in p
+        for p in problems
+    ), problems
+
+
+def test_a_256_character_file_name_is_one_line(tmp_path):
+    raw = example_copy(tmp_path / "raw")
+    sheet = raw / "images" / "images.csv"
+    sheet.write_text(sheet.read_text().replace("M1_1mm_rest.png", "x" * 256 + ".png"))
+    problems = one_line_each(problems_of(raw))
+    assert any("line 2, column 'file'" in p and "260 bytes long" in p for p in problems), problems

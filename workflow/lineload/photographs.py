@@ -38,6 +38,7 @@ from skimage import filters
 
 __all__ = [
     "BACKGROUND_LEVEL",
+    "MAX_PIXELS",
     "SKIN_LEVEL",
     "WEDGE_LEVEL",
     "Camera",
@@ -46,12 +47,119 @@ __all__ = [
     "Scene",
     "digitise_pair",
     "digitise_photographs",
+    "photograph_problem",
     "profile_rows",
     "quality_record",
+    "read_photograph",
     "render_photograph",
     "skin_outline_mm",
     "truth_error_um",
 ]
+
+#: The most pixels a photograph may have (data/README.md): 40 megapixels, a 7300 x 5500
+#: camera with room to spare.  Checked from the file's header before it is decoded: a
+#: small file may claim 40000 x 40000 pixels and take gigabytes once decoded.
+MAX_PIXELS = 40_000_000
+
+#: Pillow's image modes that hold a photograph this workflow reads: 8- or 16-bit grey,
+#: 8-bit colour (with or without alpha).
+READABLE_MODES = ("L", "I;16", "I;16B", "I;16L", "I;16N", "RGB", "RGBA")
+
+#: What the other modes are, in words.
+MODE_WORDS = {
+    "1": "1-bit black and white",
+    "LA": "greyscale with an alpha channel (LA)",
+    "La": "greyscale with an alpha channel (La)",
+    "PA": "palette colours with an alpha channel",
+    "P": "palette colours (an indexed image)",
+    "F": "32-bit floating point",
+    "I": "32-bit integer",
+    "CMYK": "CMYK colour",
+    "YCbCr": "YCbCr colour",
+    "LAB": "Lab colour",
+    "HSV": "HSV colour",
+    "RGBX": "RGB with a padding channel",
+    "RGBa": "RGB with a premultiplied alpha channel",
+}
+
+
+def photograph_problem(path, name, max_pixels=MAX_PIXELS):
+    """Why a file cannot be read as a photograph, from its header alone, or None.
+
+    Nothing is decoded: the size and mode come from the header (Pillow's ``open``),
+    so a file claiming more than ``max_pixels`` pixels is refused before it can take
+    the machine's memory.
+
+    Parameters
+    ----------
+    path : str
+        The file.
+    name : str
+        How the message names it.
+    max_pixels : int, optional
+        The most pixels allowed (:data:`MAX_PIXELS`).
+
+    Returns
+    -------
+    str or None
+        One sentence naming the file, what it is and what was expected.
+    """
+    import re
+    import warnings
+
+    from PIL import Image, UnidentifiedImageError
+
+    expected = "expected a PNG or TIFF of 8- or 16-bit grey or 8-bit colour"
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            with Image.open(path) as image:
+                (width, height), mode = image.size, image.mode
+    except Image.DecompressionBombError as error:
+        claimed = re.search(r"\((\d+) pixels\)", str(error))
+        size = f"{int(claimed.group(1)):,} pixels" if claimed else "too many pixels"
+        return (
+            f"{name} claims {size}; expected at most {max_pixels:,} (a decompression "
+            "bomb, or a photograph far larger than a camera's)"
+        )
+    except UnidentifiedImageError:
+        return f"{name} cannot be read as an image (not a format Pillow knows); {expected}"
+    except OSError as error:  # a header cut short, or a device that is no file
+        return f"{name} cannot be read as an image ({error}); {expected}"
+    except Exception as error:  # any other reader failure: still one line
+        return f"{name} cannot be read as an image ({type(error).__name__}: {error}); {expected}"
+    if width * height > max_pixels:
+        return (
+            f"{name} is {width} x {height} pixels ({width * height:,}); expected at most "
+            f"{max_pixels:,} (a decompression bomb, or a photograph far larger than a camera's)"
+        )
+    if mode not in READABLE_MODES:
+        what = MODE_WORDS.get(mode, f"of Pillow's mode {mode!r}")
+        return f"{name} is {what}; {expected}"
+    return None
+
+
+def read_photograph(path, name, max_pixels=MAX_PIXELS):
+    """A photograph's pixels, after its header has passed :func:`photograph_problem`.
+
+    Raises
+    ------
+    ImageError
+        One sentence: the header's problem, or a file that cannot be decoded to its end
+        (truncated or damaged).
+    """
+    import imageio.v3 as iio
+
+    if problem := photograph_problem(path, name, max_pixels):
+        raise ImageError(problem)
+    try:
+        return iio.imread(path)
+    except Exception as error:  # a truncated or damaged file: any reader's failure
+        raise ImageError(
+            f"{name} cannot be decoded ({error}); is the file truncated or damaged? "
+            "expected the whole photograph, as the camera wrote it"
+        ) from None
+
 
 #: Brightness of the plain background, the skin and the wedge (fractions of full scale).
 BACKGROUND_LEVEL = 0.88
@@ -212,6 +320,13 @@ def _as_float(image, name):
     if image.dtype == np.uint8:
         return image.astype(float) / 255.0
     if image.dtype == np.uint16:
+        top = int(image.max()) if image.size else 0
+        if 0 < top < 4096:  # 10- or 12-bit levels in a 16-bit file: no edge would show
+            raise ImageError(
+                f"{name}: its levels reach only {top} of 65535, as 10- or 12-bit data "
+                "stored in a 16-bit file do; expected levels over the full 16 bits "
+                "(multiply 12-bit levels by 16, 10-bit ones by 64)"
+            )
         return image.astype(float) / 65535.0
     if image.dtype.kind == "f" and np.isfinite(image).all():
         return image.astype(float)

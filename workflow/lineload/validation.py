@@ -954,13 +954,8 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
                 )
                 continue
             path = os.path.join(raw_dir, "images", name)
-            if not os.path.isfile(path):
-                found.error(
-                    sheet_shown,
-                    line,
-                    "file",
-                    f"no file {shown}/images/{name}; expected the photograph",
-                )
+            if problem := _photograph_file_problem(path, name, shown):
+                found.error(sheet_shown, line, "file", problem)
                 continue
             properties = image_properties(path)
             if properties is None:
@@ -993,6 +988,8 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
             sizes[key][state] = (line, shape[:2], path, float(scale.loc[line]), row)
         for (subject, depth), states in sizes.items():
             missing = [s for s in IMAGE_STATES if s not in states]
+            if not states:  # both photographs refused: each has its line already
+                continue
             if missing:
                 line = next(iter(states.values()))[0]
                 found.error(
@@ -1026,21 +1023,47 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
         return {subject: sorted(d) for subject, d in depths.items()}
 
 
+#: The longest file name most file systems allow (bytes of one path component).
+NAME_MAX = 255
+
+
+def _photograph_file_problem(path, name, shown):
+    """Why a photograph the sheet names cannot be read, from its name and header, or None."""
+    from .photographs import photograph_problem
+
+    longest = max(name.replace("\\", "/").split("/"), key=lambda part: len(part.encode()))
+    if len(longest.encode()) > NAME_MAX:
+        return (
+            f"the file name {_shown(longest)} is {len(longest.encode())} bytes long; "
+            f"expected at most {NAME_MAX} (the longest name a file system allows)"
+        )
+    if not os.path.isfile(path):
+        if os.path.exists(path):
+            return f"{shown}/images/{name} is not a regular file; expected the photograph"
+        near = [
+            other
+            for other in _files_in(os.path.dirname(path))
+            if other.lower() == os.path.basename(path).lower()
+        ]
+        hint = f" (there is {near[0]!r}: names differ in case)" if near else ""
+        return f"no file {shown}/images/{name}{hint}; expected the photograph"
+    return photograph_problem(path, f"{shown}/images/{name}")
+
+
 def _digitising_problem(rest_path, loaded_path, ppmm, loaded_row, settings, shown, raw_dir):
     """Why a pair cannot be read (the digitiser's one line), or None."""
-    import imageio.v3 as iio
-
-    from .photographs import ImageError, digitise_photographs
+    from .photographs import ImageError, digitise_photographs, read_photograph
 
     paths = (rest_path, loaded_path)
+    names = [path.replace(raw_dir.rstrip("/"), shown, 1) for path in paths]
     try:
         digitise_photographs(
-            *(iio.imread(path) for path in paths),
+            *(read_photograph(path, name) for path, name in zip(paths, names, strict=True)),
             ppmm,
             [settings["first_mm"]],
             settings,
             tip_x_px=loaded_row.get("tip_x_px"),
-            names=[path.replace(raw_dir.rstrip("/"), shown, 1) for path in paths],
+            names=names,
         )
     except ImageError as error:
         return str(error)

@@ -10,8 +10,6 @@ job with one line naming it.
 import os
 import sys
 
-import imageio.v3 as iio
-
 from lineload.figures.data import figure_digitised
 from lineload.figures.style import save_figure
 from lineload.io import json_text, load_schema, output_to, read_json, write_text
@@ -20,6 +18,7 @@ from lineload.photographs import (
     digitise_photographs,
     profile_rows,
     quality_record,
+    read_photograph,
 )
 from lineload.synthetic import reading_distances_mm
 from lineload.validation import (
@@ -63,7 +62,7 @@ def digitise(sheet, subject, label, magnification, settings, window_mm, notice, 
         pair = mine[mine["depth_mm"].astype(float) == depth_mm]
         rest, loaded = (pair[pair["state"] == state].iloc[0] for state in ("rest", "loaded"))
         names = [os.path.join(folder, str(r["file"])) for r in (rest, loaded)]
-        pictures = [iio.imread(name) for name in names]
+        pictures = [read_photograph(name, name) for name in names]
         ppmm = float(scale.loc[loaded.name])
         trial = digitise_photographs(
             *pictures, ppmm, grid, settings, tip_x_px=loaded.get("tip_x_px"), names=names
