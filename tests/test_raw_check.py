@@ -348,3 +348,50 @@ def test_the_report_command_is_read_as_snakemake_reads_it(tmp_path, capsys):
     assert (
         capsys.readouterr().err == f"The report: {tmp_path / 'r.html'} (open it in a web browser)\n"
     )
+
+
+# ------------------------------------------------------ config values that are numbers
+
+
+@pytest.mark.parametrize(
+    ("setting", "key"),
+    [
+        ("fit_window_mm=nan", "fit_window_mm"),
+        ("input_checks__deflection_factor=nan", "input_checks/deflection_factor"),
+        ("claims__significance=nan", "claims/significance"),
+        ("digitise__reach_mm=nan", "digitise/reach_mm"),
+    ],
+)
+def test_nan_and_infinities_in_the_config_are_refused_with_one_line(tmp_path, setting, key):
+    process = run_snakemake(
+        "-n", raw=write_small_dataset(tmp_path / "raw"), results=tmp_path / "out", config=[setting]
+    )
+    output = process.stdout + process.stderr
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert process.returncode != 0 and "Traceback" not in output, output
+    assert len(errors) == 1 and errors[0].startswith(f"Error: config, key '{key}': nan is not a"), (
+        output
+    )
+    assert not (tmp_path / "out").exists()
+
+
+def test_config_problem_sees_what_the_schema_cannot():
+    from lineload.startup import config_problem
+
+    assert config_problem({"raw_data": "data/raw", "results": "results", "a": [1.0, 2]}) is None
+    assert "key 'a/1'" in config_problem({"a": [1.0, float("nan")]})
+    # an infinity where the schema sets no upper bound
+    assert "key 'b/c': inf is not a finite" in config_problem({"b": {"c": float("inf")}})
+    long_name = config_problem({"raw_data": "data/" + "x" * 256, "results": "results"})
+    assert long_name.startswith("config, key 'raw_data': the name") and "256 bytes" in long_name
+    deep = config_problem({"results": "/".join(["y" * 200] * 25)})
+    assert deep.startswith("config, key 'results': the path is") and "\n" not in deep
+
+
+def test_an_over_long_results_path_is_one_line(tmp_path):
+    process = run_snakemake(
+        "-n", raw=write_small_dataset(tmp_path / "raw"), results=tmp_path / ("z" * 256)
+    )
+    output = process.stdout + process.stderr
+    assert process.returncode != 0 and "Traceback" not in output, output
+    assert "Error: config, key 'results': the name" in output, output

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import math
 import os
 import sys
 from pathlib import Path
@@ -105,6 +106,90 @@ def schema_message(error, what):
     elif "description" in inner.schema:
         message = f"{message} ({inner.schema['description'].rstrip('.')})"
     return f"{what}, key '{where}': {message}" if where else f"{what}: {message}"
+
+
+#: The longest name of one file or folder most file systems allow (bytes), and the
+#: longest path (Linux's PATH_MAX).
+NAME_MAX = 255
+PATH_MAX = 4096
+
+#: The config's keys that name folders.
+PATH_KEYS = ("raw_data", "results")
+
+
+def _non_finite(value, where=()):
+    """(key path, value) of the first NaN or infinity in a nested config, or None."""
+    if isinstance(value, dict):
+        items = value.items()
+    elif isinstance(value, list | tuple):
+        items = enumerate(value)
+    else:
+        if isinstance(value, float) and not math.isfinite(value):
+            return where, value
+        return None
+    for key, item in items:
+        if found := _non_finite(item, (*where, str(key))):
+            return found
+    return None
+
+
+def path_problem(key, path):
+    """What is wrong with the length of a configured path, or None.
+
+    Parameters
+    ----------
+    key : str
+        The config key (for the message).
+    path : str
+        Its value.
+
+    Returns
+    -------
+    str or None
+        One sentence naming the key, the over-long name and the limit.
+    """
+    for part in Path(path).parts:
+        if len(os.fsencode(part)) > NAME_MAX:
+            shown = part if len(part) <= 40 else f"{part[:30]}... ({len(part)} characters)"
+            return (
+                f"config, key '{key}': the name {shown!r} is {len(os.fsencode(part))} bytes "
+                f"long; expected at most {NAME_MAX} (the longest name a file system allows)"
+            )
+    if len(os.fsencode(os.path.abspath(path))) > PATH_MAX:
+        return (
+            f"config, key '{key}': the path is {len(os.fsencode(os.path.abspath(path)))} "
+            f"bytes long; expected at most {PATH_MAX} (the longest path Linux allows)"
+        )
+    return None
+
+
+def config_problem(config):
+    """What the schema check cannot see in a validated config, or None.
+
+    A NaN passes every bound of a JSON schema (it compares false with everything), and
+    an infinity passes a lower bound: both are refused here, naming the key; so is a
+    folder whose name or path is longer than a file system allows.
+
+    Parameters
+    ----------
+    config : dict
+        The config, after ``snakemake.utils.validate``.
+
+    Returns
+    -------
+    str or None
+        One sentence in the form of :func:`schema_message`.
+    """
+    if found := _non_finite(config):
+        where, value = found
+        return (
+            f"config, key '{'/'.join(where)}': {value} is not a finite number; "
+            "expected a number (NaN and infinities are not values a setting can take)"
+        )
+    for key in PATH_KEYS:
+        if isinstance(config.get(key), str) and (problem := path_problem(key, config[key])):
+            return problem
+    return None
 
 
 def data_folder(path, repository):

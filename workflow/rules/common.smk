@@ -32,6 +32,8 @@ try:
     validate(config, "../schemas/config.schema.yaml")  # fills in the defaults
 except WorkflowError as error:
     startup.abort(startup.schema_message(error, "config"))
+if problem := startup.config_problem(config):  # NaN, infinities, over-long paths
+    startup.abort(problem)
 RAW = config["raw_data"] = startup.data_folder(
     config["raw_data"], Path(workflow.basedir).parent
 )
