@@ -2,6 +2,7 @@
 uneven light, texture, glare), digitised, and compared with the truth they came from."""
 
 import json
+import os
 import time
 
 import numpy as np
@@ -515,3 +516,117 @@ def test_a_256_character_file_name_is_one_line(tmp_path):
     sheet.write_text(sheet.read_text().replace("M1_1mm_rest.png", "x" * 256 + ".png"))
     problems = one_line_each(problems_of(raw))
     assert any("line 2, column 'file'" in p and "260 bytes long" in p for p in problems), problems
+
+
+# ------------------------------------------------------ nothing read from outside
+
+
+@pytest.mark.parametrize(
+    ("entry", "target"),
+    [
+        ("images/M1_1mm_rest.png", "/dev/zero"),
+        ("images/M1_1mm_rest.png", "/etc/passwd"),
+        ("images/images.csv", "/etc/passwd"),
+        ("subjects.csv", "/etc/passwd"),
+        ("images/M2_2mm_loaded.png", "elsewhere"),  # a real photograph, outside the folder
+    ],
+)
+def test_a_link_out_of_the_dataset_is_refused_before_it_is_opened(
+    tmp_path, monkeypatch, entry, target
+):
+    import builtins
+
+    raw = example_copy(tmp_path / "raw")
+    if target == "elsewhere":
+        target = tmp_path / "elsewhere.png"
+        (raw / entry).rename(target)
+    else:
+        (raw / entry).unlink()
+    (raw / entry).symlink_to(target)
+    opened = []
+    real_open = builtins.open
+
+    def watched(file, *args, **kwargs):
+        opened.append(os.path.realpath(file) if isinstance(file, str | os.PathLike) else file)
+        return real_open(file, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "open", watched)
+    problems = one_line_each(problems_of(raw))
+    assert any(
+        p.startswith(f"{raw}/{entry} leads to {os.path.realpath(target)}, outside the raw-data")
+        for p in problems
+    ), problems
+    assert os.path.realpath(target) not in opened
+
+
+def test_a_dataset_that_is_itself_a_link_is_read(tmp_path):
+    """Labs and clusters link data folders: the folder is resolved once, and its own
+    files are inside it."""
+    example_copy(tmp_path / "store" / "raw")
+    (tmp_path / "raw").symlink_to(tmp_path / "store" / "raw")
+    assert problems_of(tmp_path / "raw") == []
+
+
+def test_a_sheet_naming_a_file_outside_is_refused(tmp_path):
+    raw = example_copy(tmp_path / "raw")
+    sheet = raw / "images" / "images.csv"
+    sheet.write_text(sheet.read_text().replace("M1_1mm_rest.png", "../../../../etc/passwd"))
+    from lineload.validation import photograph_files
+
+    assert all("passwd" not in f for f in photograph_files(str(raw))["M1"])
+    problems = one_line_each(problems_of(raw))
+    assert any("line 2, column 'file'" in p and "'../../../../etc/passwd'" in p for p in problems)
+
+
+# --------------------------------------------------------- sheets as labs save them
+
+
+def sheet_saved(raw, how):
+    sheet = raw / "images" / "images.csv"
+    text = sheet.read_text()
+    if how == "BOM":
+        sheet.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    elif how == "semicolons":
+        sheet.write_text(text.replace(",", ";"))
+    elif how == "tabs":
+        sheet.write_text(text.replace(",", "\t"))
+    elif how == "UTF-16":
+        sheet.write_bytes(text.encode("utf-16"))
+    elif how == "File":
+        sheet.write_text(text.replace(",file,", ",File,", 1))
+    elif how == "trailing":
+        sheet.write_text("".join(line + ",,\n" for line in text.splitlines()))
+    elif how == "nameless":
+        lines = text.splitlines()
+        sheet.write_text(
+            "".join(f"{line},,{'x' if i == 3 else ''}\n" for i, line in enumerate(lines))
+        )
+    elif how == "Images":
+        (raw / "images").rename(raw / "Images")
+
+
+@pytest.mark.parametrize(
+    ("how", "words"),
+    [
+        ("BOM", None),
+        ("trailing", None),
+        ("semicolons", "found semicolons (';') between the column names"),
+        ("tabs", "found tabs between the column names"),
+        ("UTF-16", "is UTF-16 text"),
+        ("File", "column 'file': missing from the header; found 'File', expected 'file'"),
+        ("nameless", "line 1: column 7 has no name in the header but holds values"),
+        ("Images", "Images: expected the name 'images'"),
+    ],
+)
+def test_a_sheet_as_a_lab_saves_it_is_read_or_named(tmp_path, how, words):
+    raw = example_copy(tmp_path / "raw")
+    sheet_saved(raw, how)
+    problems = problems_of(raw)
+    if words is None:
+        assert problems == []
+        return
+    one_line_each(problems)
+    assert any(words in p for p in problems), problems
+    # never the misleading line: a photographed subject has no profile file to miss
+    if how != "Images":
+        assert not any("no profile file" in p for p in problems), problems

@@ -395,3 +395,23 @@ def test_an_over_long_results_path_is_one_line(tmp_path):
     output = process.stdout + process.stderr
     assert process.returncode != 0 and "Traceback" not in output, output
     assert "Error: config, key 'results': the name" in output, output
+
+
+# ------------------------------------------------------ nothing read from outside
+
+
+@pytest.mark.parametrize("entry", ["subjects.csv", "profiles/MK.csv"])
+def test_start_up_refuses_a_link_out_of_the_dataset_before_reading_it(tmp_path, entry):
+    raw = write_small_dataset(tmp_path / "raw")
+    (raw / entry).unlink()
+    (raw / entry).symlink_to("/etc/passwd")
+    process = run_snakemake("-n", raw=raw, results=tmp_path / "out")
+    output = process.stdout + process.stderr
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert process.returncode != 0 and "Traceback" not in output, output
+    assert errors == [
+        f"Error: {raw}/{entry} leads to /etc/passwd, outside the raw-data folder {raw}; "
+        "expected every input inside it (copy the file in, or link the whole folder), "
+        "nothing is read from elsewhere"
+    ], output
+    assert not (tmp_path / "out").exists()

@@ -40,7 +40,7 @@ __all__ = [
 ]
 
 #: Sub-folders of the raw-data folder whose files the check reads ("" is the top level).
-RAW_SUBFOLDERS = ("", "profiles", "outlines", "images")
+from .validation import DATA_FOLDERS as RAW_SUBFOLDERS
 
 
 def abort(message):
@@ -342,6 +342,11 @@ def list_raw_files(raw_dir):
         ``forces`` and ``notice``: the path of ``forces.csv`` and
         ``NOTICE.txt``, or None.
     """
+    from .validation import links_outside
+
+    if away := links_outside(raw_dir):  # nothing is read from outside the dataset
+        more = f" (and {len(away) - 1} more such links)" if len(away) > 1 else ""
+        abort(away[0] + more)
     found = {"all": []}
     for sub in RAW_SUBFOLDERS:
         folder = os.path.join(raw_dir, sub) if sub else raw_dir

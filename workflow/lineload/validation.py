@@ -32,6 +32,7 @@ collected problems into the lines printed for the user, at most
 
 from __future__ import annotations
 
+import codecs
 import contextlib
 import csv
 import math
@@ -436,6 +437,16 @@ def _csv_rows(path, shown):
                 rows.append(row)
                 numbers.append(start)
     except UnicodeDecodeError as error:
+        with open(path, "rb") as handle:
+            start = handle.read(2)
+        if start in (codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE):
+            _fail(
+                shown,
+                None,
+                None,
+                "is UTF-16 text (it starts with UTF-16's byte order mark); expected UTF-8: "
+                "save it as 'CSV UTF-8 (comma delimited)'",
+            )
         _fail(
             shown,
             None,
@@ -483,6 +494,34 @@ def read_columns(path, schema, display_path=None, problems=None):
     return table
 
 
+def _drop_empty_nameless(shown, header, header_line, rows, found):
+    """The header and rows without the columns that have no name and no value (the empty
+    columns a spreadsheet may save after the last one); a nameless column holding a value
+    is refused, naming its position.  Returns ``(header, rows, ok)``."""
+    keep = []
+    for i, name in enumerate(header):
+        if name:
+            keep.append(i)
+            continue
+        if any(i < len(row) and row[i].strip() for row in rows):
+            found.error(
+                shown,
+                header_line,
+                None,
+                f"column {i + 1} has no name in the header but holds values; expected a "
+                "name for every column that holds values",
+            )
+            return header, rows, False
+    return (
+        [header[i] for i in keep],
+        [
+            [row[i] for i in keep if i < len(row)] if len(row) == len(header) else row
+            for row in rows
+        ],
+        True,
+    )
+
+
 def _read_columns(path, schema, shown, found):
     if not os.path.isfile(path):
         found.error(shown, None, None, "file not found")
@@ -504,6 +543,10 @@ def _read_columns(path, schema, shown, found):
         return None
     header, header_line = [cell.strip() for cell in rows[0]], lines[0]
     rows, lines = rows[1:], lines[1:]
+    if "" in header:  # columns without a name: empty ones (a sheet's trailing commas) dropped
+        header, rows, named = _drop_empty_nameless(shown, header, header_line, rows, found)
+        if not named:
+            return None
     if not _check_header(shown, header, header_line, schema, found):
         return None
     if not rows:
@@ -669,6 +712,110 @@ def _files_in(folder):
         return []
 
 
+#: Sub-folders of the raw-data folder whose files the check reads ("" is the top level).
+DATA_FOLDERS = ("", "profiles", "outlines", "images")
+
+
+def outside(path, root_real):
+    """Where ``path`` leads when that is outside the folder ``root_real`` (already resolved
+    with ``os.path.realpath``), else None.  Nothing is opened: only links are followed."""
+    target = os.path.realpath(path)
+    if target == root_real or target.startswith(root_real.rstrip(os.sep) + os.sep):
+        return None
+    return target
+
+
+def _outside_message(shown, target, root_shown):
+    return (
+        f"{shown} leads to {target}, outside the raw-data folder {root_shown}; expected "
+        "every input inside it (copy the file in, or link the whole folder), nothing is "
+        "read from elsewhere"
+    )
+
+
+def links_outside(raw_dir, raw_dir_shown=None):
+    """Every entry of the folders the check reads whose link leads out of the raw folder.
+
+    The raw folder is resolved once (it may itself be a link, as clusters arrange data);
+    an entry (a file, a link to a file or to a device such as /dev/zero, or a link
+    inside a linked sub-folder) that resolves outside it is listed, never opened.
+
+    Parameters
+    ----------
+    raw_dir : str
+        The raw-data folder.
+    raw_dir_shown : str, optional
+        How to name it in messages.
+
+    Returns
+    -------
+    list of str
+        One sentence per such entry, naming it and where it leads.
+    """
+    shown = (raw_dir_shown or raw_dir).rstrip("/") or "/"
+    root = os.path.realpath(raw_dir)
+    lines = []
+    for sub in DATA_FOLDERS:
+        folder = os.path.join(raw_dir, sub) if sub else raw_dir
+        if sub and os.path.islink(folder) and (target := outside(folder, root)):
+            lines.append(_outside_message(f"{shown}/{sub}", target, shown))
+            continue
+        try:
+            entries = sorted(os.scandir(folder), key=lambda e: e.name)
+        except OSError:  # missing, not a folder, or a link loop: reported where it is read
+            continue
+        for entry in entries:
+            if entry.is_symlink() and (target := outside(entry.path, root)):
+                name = "/".join(p for p in (shown, sub, entry.name) if p)
+                lines.append(_outside_message(name, target, shown))
+    return lines
+
+
+#: The names the data contract gives (folder -> its expected entries), for near misses.
+CONTRACT_NAMES = {
+    "": ("subjects.csv", "profiles", "outlines", "images", "forces.csv", "NOTICE.txt"),
+    "images": ("images.csv", "truth.csv"),
+}
+
+
+def _stem(name):
+    """A name as a person would read it, and without a plural 's'."""
+    loose = _loose(name)
+    base, dot, ext = loose.rpartition(".")
+    base, ext = (base, dot + ext) if dot else (loose, "")
+    return base.rstrip("s") + ext
+
+
+def near_miss_names(raw_dir, raw_dir_shown=None):
+    """Entries of the raw folder named almost as the contract says (``Images`` for
+    ``images``, ``image``, ``Subjects.CSV``), where the exact name is missing.
+
+    Returns
+    -------
+    list of str
+        One sentence each: what was found and the name expected.
+    """
+    shown = (raw_dir_shown or raw_dir).rstrip("/")
+    lines = []
+    for sub, expected in CONTRACT_NAMES.items():
+        folder = os.path.join(raw_dir, sub) if sub else raw_dir
+        try:
+            present = sorted(os.listdir(folder))
+        except OSError:
+            continue
+        for name in expected:
+            if name in present:
+                continue
+            near = [p for p in present if p != name and _stem(p) == _stem(name)]
+            if near:
+                where = "/".join(p for p in (shown, sub, near[0]) if p)
+                lines.append(
+                    f"{where}: expected the name {name!r} (names are matched exactly: case "
+                    "and a plural 's' count); rename it"
+                )
+    return lines
+
+
 def _near_names(subject, names):
     """Files named like ``<subject>.csv`` up to case, spaces or the extension."""
     stem = _loose(subject)
@@ -818,25 +965,40 @@ IMAGE_STATES = ("rest", "loaded")
 def photograph_files(raw_dir):
     """Subject -> the photographs images/images.csv names for it (paths, in sheet order;
     empty without the file), read as plain text before any check: what each subject's
-    digitising job reads.  The raw-data check reports anything wrong with the sheet."""
+    digitising job reads.  The raw-data check reports anything wrong with the sheet.
+
+    Read leniently (a BOM, UTF-16, semicolons or tabs, ``File`` for ``file``): a sheet
+    saved another way still says which subjects are photographed, so the check names
+    what is wrong with it rather than a profile file those subjects never had.  A
+    photograph whose path leads out of the raw folder is left out (never opened)."""
     path = os.path.join(raw_dir, "images", "images.csv")
-    if not os.path.isfile(path):  # (not even tried: a dataset without photographs)
+    root = os.path.realpath(raw_dir)
+    if not os.path.isfile(path) or outside(path, root):  # (a dataset without photographs)
         return {}
     try:
-        with open(path, newline="", encoding="utf-8") as handle:
-            rows = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError):
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except OSError:
         return {}
-    if not rows or not {"subject", "file"} <= {c.strip() for c in rows[0]}:
+    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        text = data.decode("utf-16", errors="replace")
+    else:
+        text = data.decode("utf-8-sig", errors="replace")
+    first = text.split("\n", 1)[0]
+    delimiter = max([",", *OTHER_SEPARATORS], key=first.count)
+    rows = list(csv.reader(text.splitlines(), delimiter=delimiter))
+    header = [_loose(c) for c in rows[0]] if rows else []
+    if not {"subject", "file"} <= set(header):
         return {}
-    header = [c.strip() for c in rows[0]]
     subject, name = header.index("subject"), header.index("file")
     files = {}
     for row in rows[1:]:
         if len(row) > max(subject, name) and row[subject].strip():
-            files.setdefault(row[subject].strip(), []).append(
-                os.path.join(raw_dir, "images", row[name].strip())
-            )
+            photo = os.path.join(raw_dir, "images", row[name].strip())
+            if not outside(photo, root):
+                files.setdefault(row[subject].strip(), []).append(photo)
+            else:
+                files.setdefault(row[subject].strip(), [])
     return files
 
 
@@ -954,7 +1116,7 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
                 )
                 continue
             path = os.path.join(raw_dir, "images", name)
-            if problem := _photograph_file_problem(path, name, shown):
+            if problem := _photograph_file_problem(path, name, shown, raw_dir):
                 found.error(sheet_shown, line, "file", problem)
                 continue
             properties = image_properties(path)
@@ -1027,7 +1189,7 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
 NAME_MAX = 255
 
 
-def _photograph_file_problem(path, name, shown):
+def _photograph_file_problem(path, name, shown, raw_dir):
     """Why a photograph the sheet names cannot be read, from its name and header, or None."""
     from .photographs import photograph_problem
 
@@ -1037,6 +1199,8 @@ def _photograph_file_problem(path, name, shown):
             f"the file name {_shown(longest)} is {len(longest.encode())} bytes long; "
             f"expected at most {NAME_MAX} (the longest name a file system allows)"
         )
+    if target := outside(path, os.path.realpath(raw_dir)):
+        return _outside_message(f"{shown}/images/{name}", target, shown)
     if not os.path.isfile(path):
         if os.path.exists(path):
             return f"{shown}/images/{name} is not a regular file; expected the photograph"
@@ -1449,6 +1613,9 @@ def check_dataset(
     shown = raw_dir_shown or raw_dir
     limits = {**plausibility_defaults(), **(plausibility or {})}
     found = Problems()
+    found.errors += links_outside(raw_dir, shown)  # refused before anything is opened
+    found.raise_if_any()
+    found.errors += near_miss_names(raw_dir, shown)
 
     def here(*parts):
         return os.path.join(raw_dir, *parts), "/".join([shown.rstrip("/"), *parts])
@@ -1461,7 +1628,7 @@ def check_dataset(
     id_pattern = re.compile(schemas["subjects"]["properties"]["subject"]["pattern"])
     photographed = photographed_subjects(raw_dir)
     image_depths = {}
-    if photographed:
+    if os.path.isfile(os.path.join(raw_dir, "images", "images.csv")):  # however it is saved
         image_depths = check_images(
             raw_dir,
             schemas.get("images") or _images_schema(),
