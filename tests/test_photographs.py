@@ -404,7 +404,7 @@ def example_copy(folder):
     return folder
 
 
-def problems_of(raw, **settings):
+def problems_of(raw, digitise=None, **settings):
     """The raw-data check's lines for a folder (empty when it passes)."""
     from lineload.io import load_schema
     from lineload.validation import InputError, check_dataset
@@ -412,7 +412,10 @@ def problems_of(raw, **settings):
     schemas = {n: load_schema(n) for n in ("subjects", "profiles", "outlines", "forces", "images")}
     try:
         check_dataset(
-            str(raw), schemas, plausibility=settings.get("plausibility"), digitise=DIGITISE
+            str(raw),
+            schemas,
+            plausibility=settings.get("plausibility"),
+            digitise={**DIGITISE, **(digitise or {})},
         )
     except InputError as error:
         return error.problems
@@ -630,3 +633,96 @@ def test_a_sheet_as_a_lab_saves_it_is_read_or_named(tmp_path, how, words):
     # never the misleading line: a photographed subject has no profile file to miss
     if how != "Images":
         assert not any("no profile file" in p for p in problems), problems
+
+
+# ------------------------------------- photographs held to the profiles' plausibility
+
+
+def photograph_mistake(raw, mistake):
+    """Make one of a lab's mistakes in the example; returns the config's digitise changes."""
+    import shutil
+
+    import imageio.v3 as iio
+    from skimage.transform import rescale
+
+    images = raw / "images"
+    sheet = images / "images.csv"
+    text = sheet.read_text()
+    if mistake == "rest copied over":
+        shutil.copy(images / "M1_1mm_loaded.png", images / "M1_1mm_rest.png")
+    elif mistake == "loaded copied over":
+        shutil.copy(images / "M1_1mm_rest.png", images / "M1_1mm_loaded.png")
+    elif mistake == "loaded copied over, tip given":
+        shutil.copy(images / "M1_1mm_rest.png", images / "M1_1mm_loaded.png")
+        sheet.write_text(
+            "".join(
+                line + (",tip_x_px\n" if i == 0 else ",480\n")
+                for i, line in enumerate(text.splitlines())
+            )
+        )
+    elif mistake == "swapped":
+        sheet.write_text(
+            text.replace("M1,1,rest", "M1,1,tmp")
+            .replace("M1,1,loaded", "M1,1,rest")
+            .replace("M1,1,tmp", "M1,1,loaded")
+        )
+    elif mistake == "micrometres":
+        sheet.write_text(text.replace("M2,1,", "M2,1000,").replace("M2,2,", "M2,2000,"))
+    elif mistake == "scale on the 1 mm rows":
+        sheet.write_text(
+            text.replace("mm_rest.png,60", "mm_rest.png,15", 1).replace(
+                "M1_1mm_loaded.png,60", "M1_1mm_loaded.png,15"
+            )
+        )
+    elif mistake in ("resting zoomed", "resting zoomed, its scale given"):
+        path = images / "M2_2mm_rest.png"
+        picture = iio.imread(path)
+        zoomed = rescale(picture.astype(float), 1.03, preserve_range=True)
+        iio.imwrite(
+            path, np.rint(zoomed[: picture.shape[0], : picture.shape[1]]).astype(picture.dtype)
+        )
+        if mistake.endswith("given"):
+            sheet.write_text(text.replace("M2_2mm_rest.png,60", "M2_2mm_rest.png,61.8"))
+    elif mistake == "reach too short":
+        return {"reach_mm": 2.0}
+    return {}
+
+
+@pytest.mark.parametrize(
+    ("mistake", "line", "words"),
+    [
+        ("rest copied over", 3, "M1_1mm_loaded.png: no deflection"),
+        ("loaded copied over", 3, "is the loaded photograph the resting one (copied over it)?"),
+        ("loaded copied over, tip given", 3, "copied over the other?"),
+        ("swapped", 2, "the resting photograph shows it: are rest and loaded swapped?"),
+        ("micrometres", 6, "column 'depth_mm'"),
+        ("scale on the 1 mm rows", 3, "the two photographs at different scales"),
+        ("resting zoomed", 9, "the two photographs at different scales (zoom"),
+        ("resting zoomed, its scale given", 8, "at 61.8 pixels per mm, the loaded one"),
+        ("reach too short", 3, "reach_mm too short"),
+    ],
+)
+def test_a_photograph_mistake_is_refused_with_its_likely_cause(tmp_path, mistake, line, words):
+    raw = example_copy(tmp_path / "raw")
+    digitise = photograph_mistake(raw, mistake)
+    problems = one_line_each(problems_of(raw, digitise))
+    assert any(f"images.csv, line {line}," in p and words in p for p in problems), problems
+
+
+def test_readings_past_the_deflection_bound_are_refused_as_a_profile_file_is():
+    """The bounds of trial_problem, on readings made to break each one."""
+    from lineload.photographs import DigitisedTrial, trial_problem
+
+    def trial(near, far, residual_mm=0.002):
+        distances = np.array([0.05, 1.0])
+        readings = {side: (distances, np.array([near, far])) for side in ("left", "right")}
+        return DigitisedTrial(readings, 8.0, (0.0, 0.0), residual_mm, 0.001, 0.001)
+
+    assert trial_problem(trial(0.97, 0.5), 1.0, 3.0) is None
+    assert "more than 3 times it" in trial_problem(trial(3.5, 0.5), 1.0, 3.0)
+    assert "more than 3 times it" in trial_problem(trial(0.97, 3.2), 1.0, 3.0)
+    assert "less than 1/3 of it" in trial_problem(trial(0.2, 0.1), 1.0, 3.0)
+    assert "no deflection" in trial_problem(trial(0.0, 0.0), 1.0, 3.0)
+    assert "swapped" in trial_problem(trial(-0.9, -0.5), 1.0, 3.0)
+    assert "times the outlines' own roughness" in trial_problem(trial(0.97, 0.5, 0.011), 1.0, 3.0)
+    assert trial_problem(trial(0.97, 0.5, 0.009), 1.0, 3.0) is None

@@ -53,6 +53,7 @@ __all__ = [
     "read_photograph",
     "render_photograph",
     "skin_outline_mm",
+    "trial_problem",
     "truth_error_um",
 ]
 
@@ -648,6 +649,84 @@ def digitise_photographs(
         window_mm=settings["window_mm"],
         names=tuple(names) or ("rest", "loaded"),
     )
+
+
+#: How many times the outlines' own roughness the registration may leave beyond
+#: reach_mm.  On the photograph example the residual is 1.9-2.4 times it; a pair whose
+#: skin beyond reach_mm moved (reach 2 mm: 156-276 times), whose resting view is 3 %
+#: zoomed (44-61 times) or whose scale is a quarter of the truth (195-212 times) is
+#: far beyond.
+REGISTRATION_ROUGHNESS_MAX = 10.0
+
+
+def trial_problem(trial, depth_mm, deflection_factor, names=("rest", "loaded")):
+    """Why a digitised trial is not a plausible indentation, or None.
+
+    The checks a profile file gets (its readings within ``deflection_factor`` of the
+    depth), and those only a pair of photographs can fail: no deflection at all (one
+    photograph copied over the other), skin raised at the wedge (the two swapped), a
+    registration that leaves many times the outlines' roughness (the skin beyond
+    ``reach_mm`` moved, or the two photographs differ in scale).
+
+    Parameters
+    ----------
+    trial : DigitisedTrial
+    depth_mm : float
+        The pair's depth (images.csv, tissue mm).
+    deflection_factor : float
+        The config's ``input_checks: deflection_factor``.
+    names : tuple of str, optional
+        How messages name the two photographs.
+
+    Returns
+    -------
+    str or None
+        One sentence naming the loaded photograph, what was found and the likely cause.
+    """
+    name = names[1]
+    values = [trial.readings[side][1] for side in ("left", "right")]
+    readings = np.concatenate(values)
+    if readings.size == 0:
+        return None  # nothing read: the digitiser said so already
+    edge_mm = max(trial.edge_noise_mm, 1e-9)
+    near_mm = float(np.mean([v[0] for v in values if v.size]))
+    largest = float(np.max(np.abs(readings)))
+    if largest < 5.0 * edge_mm or largest < depth_mm / 100.0:
+        return (
+            f"{name}: no deflection (at most {1000 * largest:.1f} um anywhere, at a depth of "
+            f"{depth_mm:g} mm); expected the loaded outline pressed in: is one photograph "
+            "copied over the other?"
+        )
+    if near_mm < 0 and -near_mm > depth_mm / deflection_factor:
+        return (
+            f"{name}: the skin at the wedge is raised by {-near_mm:.3f} mm against the "
+            f"resting photograph, at a depth of {depth_mm:g} mm; expected it pressed down: "
+            "are rest and loaded swapped?"
+        )
+    ratio = trial.registration_rms_mm / edge_mm
+    if ratio > REGISTRATION_ROUGHNESS_MAX:
+        return (
+            f"{name}: the two outlines beyond reach_mm differ by "
+            f"{1000 * trial.registration_rms_mm:.1f} um after registration, {ratio:.0f} times "
+            f"the outlines' own roughness ({1000 * edge_mm:.2f} um; expected at most "
+            f"{REGISTRATION_ROUGHNESS_MAX:g} times): reach_mm too short (the load still "
+            "moves the skin there), the two photographs at different scales (zoom, or a "
+            "wrong pixels_per_mm), or not the same finger"
+        )
+    if near_mm > deflection_factor * depth_mm or largest > deflection_factor * depth_mm:
+        return (
+            f"{name}: deflected {max(near_mm, largest):.3f} mm at a depth of {depth_mm:g} mm, "
+            f"more than {deflection_factor:g} times it; expected about the depth at the "
+            "wedge: is the scale (pixels_per_mm) or the depth wrong?"
+        )
+    if near_mm < depth_mm / deflection_factor:
+        return (
+            f"{name}: deflected {near_mm:.3f} mm next to the wedge at a depth of "
+            f"{depth_mm:g} mm, less than 1/{deflection_factor:g} of it; expected about the "
+            "depth: is the scale (pixels_per_mm) or the depth wrong, or the loaded view "
+            "not indented?"
+        )
+    return None
 
 
 def _wedge_apex_mm(smooth, scene, z_mm, smoothing_px, half_window_mm=1.5):

@@ -1028,7 +1028,15 @@ def image_properties(path):
     return tuple(properties.shape), np.dtype(properties.dtype)
 
 
-def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None, digitise=None):
+def check_images(
+    raw_dir,
+    schema,
+    subject_ids,
+    raw_dir_shown=None,
+    problems=None,
+    digitise=None,
+    plausibility=None,
+):
     """Check ``images/images.csv`` and the photographs it names.
 
     Every (subject, depth) needs one ``rest`` and one ``loaded`` photograph of the same
@@ -1051,7 +1059,11 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
         The config's ``digitise`` settings: each pair is then read as its job will read
         it, so that a photograph without an edge, without a wedge or without skin
         beyond ``reach_mm`` is refused here, before any job runs (reading a pair takes
-        a few hundredths of a second).
+        a few hundredths of a second); and its readings are held to the bounds of a
+        profile file (:func:`lineload.photographs.trial_problem`).
+    plausibility : dict, optional
+        The config's ``input_checks`` (:func:`plausibility_defaults` for any not
+        given): the depths' range and the deflection factor.
 
     Returns
     -------
@@ -1059,6 +1071,7 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
         Subject -> sorted depths (mm) of its photograph pairs; empty without images.csv.
     """
     shown = (raw_dir_shown or raw_dir).rstrip("/")
+    limits = {**plausibility_defaults(), **(plausibility or {})}
     sheet = os.path.join(raw_dir, "images", "images.csv")
     sheet_shown = f"{shown}/images/images.csv"
     if not os.path.isfile(sheet):
@@ -1067,6 +1080,12 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
         before = found.count()
         images = read_table(sheet, schema, sheet_shown, found)
         if images is None or found.count() > before:
+            return {}
+        # depths in tissue mm, as a profile file's (1000 is micrometres)
+        check_depth_range(
+            images, sheet_shown, limits["depth_min_mm"], limits["depth_max_mm"], None, found
+        )
+        if found.count() > before:
             return {}
         truth_path = os.path.join(raw_dir, "images", "truth.csv")
         if os.path.isfile(truth_path):  # optional: the truth, where it is known
@@ -1162,8 +1181,19 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
                     "and one loaded photograph per depth",
                 )
                 continue
-            (_, rest_shape, rest_path, _, _) = states["rest"]
+            (rest_line, rest_shape, rest_path, rest_ppmm, _) = states["rest"]
             (line, loaded_shape, loaded_path, ppmm, loaded_row) = states["loaded"]
+            if not math.isclose(rest_ppmm, ppmm, rel_tol=1e-6):
+                found.error(
+                    sheet_shown,
+                    rest_line,
+                    "pixels_per_mm" if "pixels_per_mm" in images else "scale_bar_px",
+                    f"the resting photograph of {subject} at {depth:g} mm is at "
+                    f"{rest_ppmm:g} pixels per mm, the loaded one (line {line}) at {ppmm:g}; "
+                    "expected one scale for the pair (the digitiser registers them pixel "
+                    "for pixel): a zoomed view, or a scale copied from another row?",
+                )
+                continue
             if rest_shape != loaded_shape:
                 found.error(
                     sheet_shown,
@@ -1176,7 +1206,15 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
                 continue
             if digitise is not None:
                 problem = _digitising_problem(
-                    rest_path, loaded_path, ppmm, loaded_row, digitise, shown, raw_dir
+                    rest_path,
+                    loaded_path,
+                    ppmm,
+                    loaded_row,
+                    digitise,
+                    shown,
+                    raw_dir,
+                    depth,
+                    limits["deflection_factor"],
                 )
                 if problem:
                     found.error(sheet_shown, line, "file", problem)
@@ -1214,24 +1252,44 @@ def _photograph_file_problem(path, name, shown, raw_dir):
     return photograph_problem(path, f"{shown}/images/{name}")
 
 
-def _digitising_problem(rest_path, loaded_path, ppmm, loaded_row, settings, shown, raw_dir):
-    """Why a pair cannot be read (the digitiser's one line), or None."""
-    from .photographs import ImageError, digitise_photographs, read_photograph
+def _digitising_problem(
+    rest_path, loaded_path, ppmm, loaded_row, settings, shown, raw_dir, depth_mm, factor
+):
+    """Why a pair cannot be read, or is no plausible indentation (one line), or None.
+
+    The pair is read as its job reads it, over the same distances, and its readings held
+    to the profile files' bounds (:func:`lineload.photographs.trial_problem`)."""
+    from .photographs import ImageError, digitise_photographs, read_photograph, trial_problem
+    from .synthetic import reading_distances_mm
 
     paths = (rest_path, loaded_path)
     names = [path.replace(raw_dir.rstrip("/"), shown, 1) for path in paths]
+    grid = reading_distances_mm(settings["reach_mm"], settings["first_mm"])
     try:
-        digitise_photographs(
-            *(read_photograph(path, name) for path, name in zip(paths, names, strict=True)),
-            ppmm,
-            [settings["first_mm"]],
-            settings,
-            tip_x_px=loaded_row.get("tip_x_px"),
-            names=names,
-        )
+        images = [read_photograph(path, name) for path, name in zip(paths, names, strict=True)]
     except ImageError as error:
         return str(error)
-    return None
+
+    def read(rest, loaded):
+        return digitise_photographs(
+            rest, loaded, ppmm, grid, settings, tip_x_px=loaded_row.get("tip_x_px"), names=names
+        )
+
+    try:
+        trial = read(*images)
+    except ImageError as error:
+        if "the wedge was not found" not in str(error):
+            return str(error)
+        try:  # the resting photograph shows the notch: the two swapped
+            read(*images[::-1])
+        except ImageError:
+            return (
+                f"{error}; is the loaded photograph the resting one (copied over it)?"
+                if "notch" in str(error)
+                else str(error)
+            )
+        return f"{error}; the resting photograph shows it: are rest and loaded swapped?"
+    return trial_problem(trial, depth_mm, factor, names)
 
 
 # ---------------------------------------------------------------- plausibility of units
@@ -1636,6 +1694,7 @@ def check_dataset(
             shown,
             found,
             digitise,
+            limits,
         )
     check_subjects(
         subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern, photographed
