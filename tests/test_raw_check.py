@@ -415,3 +415,82 @@ def test_start_up_refuses_a_link_out_of_the_dataset_before_reading_it(tmp_path, 
         "nothing is read from elsewhere"
     ], output
     assert not (tmp_path / "out").exists()
+
+
+# ------------------------------------------------------ one build per results folder
+
+HOLD = """
+import sys, time
+from lineload import buildlock
+fd, held = buildlock.acquire(sys.argv[1], buildlock.this_build(sys.argv))
+print("held" if fd is not None else held, flush=True)
+time.sleep(120)
+"""
+
+
+def holder(results, cwd):
+    """A process holding the results folder's lock (as a running build's main process does)."""
+    import os
+
+    process = subprocess.Popen(
+        [sys.executable, "-c", HOLD, str(results)],
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(REPO / "workflow")},
+    )
+    assert process.stdout.readline().strip() == "held"
+    return process
+
+
+def test_the_lock_is_taken_once_and_taken_over_from_a_killed_holder(tmp_path):
+    import signal
+
+    from lineload.buildlock import LOCK_NAME, acquire, release
+
+    results = tmp_path / "results"
+    other = holder(results, tmp_path)
+    try:
+        fd, held = acquire(str(results))
+        assert fd is None and f"process {other.pid} on " in held and str(tmp_path) in held
+        assert "\n" not in held
+    finally:
+        other.send_signal(signal.SIGKILL)
+        other.wait()
+    assert (results / LOCK_NAME).is_file()  # left behind by the killed build...
+    fd, held = acquire(str(results))  # ...and taken over: its process is gone
+    assert fd is not None and held is None
+    assert json.loads((results / LOCK_NAME).read_text())["pid"] != other.pid
+    again, held = acquire(str(results))  # the same process's second try is refused too
+    assert again is None and held
+    release(fd, str(results))
+    assert not (results / LOCK_NAME).exists()
+
+
+def test_a_second_build_on_one_results_folder_is_refused_naming_the_first(tmp_path):
+    """Snakemake's lock is the working folder's: a build from another working folder
+    onto the same results folder is refused by this one, and the first's files stay."""
+    raw = write_small_dataset(tmp_path / "raw")
+    results = tmp_path / "results"
+    (results / "mine").mkdir(parents=True)  # the lab's own, which must stay
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    first = holder(results, elsewhere)
+    try:
+        process = run_snakemake("check", raw=raw, results=results)
+    finally:
+        first.kill()
+        first.wait()
+    output = process.stdout + process.stderr
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert process.returncode != 0 and "Traceback" not in output, output
+    assert len(errors) == 1 and f"process {first.pid} on" in errors[0], output
+    assert f"in {elsewhere})" in errors[0], output
+    assert (results / "mine").is_dir()
+    # the first build gone, the next one runs, and lets go of the lock when done
+    dry = run_snakemake("-n", raw=raw, results=tmp_path / "dry")
+    assert dry.returncode == 0, dry.stderr  # a dry run takes no lock
+    assert not (tmp_path / "dry" / ".lineload-build.lock").exists()
+    done = run_snakemake("check", raw=raw, results=results)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert not (results / ".lineload-build.lock").exists()

@@ -8,7 +8,7 @@ from snakemake.exceptions import IncompleteCheckpointException, WorkflowError
 from snakemake.io import strip_wildcard_constraints
 from snakemake.utils import min_version, validate
 
-from lineload import codedeps, settings, startup, validation
+from lineload import buildlock, codedeps, settings, startup, validation
 from lineload.interrupt import stop_on_sigterm
 from lineload.io import load_schema, write_json_if_changed
 from lineload.validation import InputError
