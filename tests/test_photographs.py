@@ -660,6 +660,13 @@ def photograph_mistake(raw, mistake):
                 for i, line in enumerate(text.splitlines())
             )
         )
+    elif mistake.startswith("tip at"):  # "tip at 470": the sheet's tip for M1 at 1 mm
+        sheet.write_text(
+            "".join(
+                line + (",tip_x_px\n" if i == 0 else f",{mistake.split()[-1] if i == 2 else 480}\n")
+                for i, line in enumerate(text.splitlines())
+            )
+        )
     elif mistake == "swapped":
         sheet.write_text(
             text.replace("M1,1,rest", "M1,1,tmp")
@@ -700,6 +707,7 @@ def photograph_mistake(raw, mistake):
         ("resting zoomed", 9, "the two photographs at different scales (zoom"),
         ("resting zoomed, its scale given", 8, "at 61.8 pixels per mm, the loaded one"),
         ("reach too short", 3, "reach_mm too short"),
+        ("tip at 470", 3, "puts the wedge's tip 10.1 pixels left of its apex"),
     ],
 )
 def test_a_photograph_mistake_is_refused_with_its_likely_cause(tmp_path, mistake, line, words):
@@ -726,3 +734,15 @@ def test_readings_past_the_deflection_bound_are_refused_as_a_profile_file_is():
     assert "swapped" in trial_problem(trial(-0.9, -0.5), 1.0, 3.0)
     assert "times the outlines' own roughness" in trial_problem(trial(0.97, 0.5, 0.011), 1.0, 3.0)
     assert trial_problem(trial(0.97, 0.5, 0.009), 1.0, 3.0) is None
+
+
+def test_a_tip_given_where_the_image_shows_it_is_read():
+    """The sheet's tip, where the photograph shows it (the example's tip is pixel 480),
+    passes; the check of the tip against the apex can fail only on a wrong one."""
+    import tempfile
+    from pathlib import Path
+
+    with tempfile.TemporaryDirectory() as folder:
+        raw = example_copy(Path(folder) / "raw")
+        photograph_mistake(raw, "tip at 480")
+        assert problems_of(raw) == []
