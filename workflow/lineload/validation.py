@@ -1071,7 +1071,9 @@ def check_images(
         Subject -> sorted depths (mm) of its photograph pairs; empty without images.csv.
     """
     shown = (raw_dir_shown or raw_dir).rstrip("/")
-    limits = {**plausibility_defaults(), **(plausibility or {})}
+    limits = dict(plausibility or {})
+    if not {"depth_min_mm", "depth_max_mm", "deflection_factor"} <= set(limits):
+        limits = {**plausibility_defaults(), **limits}  # (reads the config schema: slow)
     sheet = os.path.join(raw_dir, "images", "images.csv")
     sheet_shown = f"{shown}/images/images.csv"
     if not os.path.isfile(sheet):
