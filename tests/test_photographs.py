@@ -746,3 +746,26 @@ def test_a_tip_given_where_the_image_shows_it_is_read():
         raw = example_copy(Path(folder) / "raw")
         photograph_mistake(raw, "tip at 480")
         assert problems_of(raw) == []
+
+
+@pytest.mark.e2e
+@pytest.mark.parametrize(
+    ("mistake", "words"),
+    [
+        ("rest copied over", "M1_1mm_loaded.png: no deflection"),
+        ("micrometres", "line 6, column 'depth_mm'"),
+        ("truncated", "is the file truncated or damaged?"),
+    ],
+)
+def test_a_photograph_mistake_stops_the_build_with_one_line_and_nothing_written(
+    tmp_path, mistake, words
+):
+    def change(raw):
+        if mistake == "truncated":
+            path = raw / "images" / "M2_2mm_rest.png"
+            path.write_bytes(path.read_bytes()[:5000])
+        else:
+            photograph_mistake(raw, mistake)
+
+    _, output, errors = refuse(tmp_path, change)  # no traceback, nothing but the log
+    assert any(words in e and "images/images.csv, line" in e for e in errors), output
