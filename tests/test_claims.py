@@ -496,14 +496,54 @@ def test_c8_tests_the_slope_of_the_excess_misfit_across_subjects():
     row = CLAIM_FUNCTIONS["C8"](*misfit_subjects(lambda d: 0.05 * (2.5 - d) ** 2), SETTINGS)
     assert row["verdict"] == FAILS
     # the model itself at every depth: the slope is noise, and the data cannot tell
+    # (the noise stated as it is: averaged points of SD 0.005 mm, one side's 0.005 √2)
+    stated = ClaimSettings(noise_mm=0.005 * math.sqrt(2), large_depth_mm=1.5)
+    row = CLAIM_FUNCTIONS["C8"](*misfit_subjects(lambda d: 0.0), stated)
+    assert row["verdict"] == UNTESTABLE, row["our_value"]
+    # over-stated noise leaves q = -(excess noise) / W0², rising towards zero with depth:
+    # the relative statistic is sensitive to a wrong noise level at the smallest depths
     row = CLAIM_FUNCTIONS["C8"](*misfit_subjects(lambda d: 0.0), SETTINGS)
-    assert row["verdict"] == UNTESTABLE
+    assert row["verdict"] == HOLDS
     # one subject per species leaves no degrees of freedom for the t-test
     single = table([fit_row("A", "monkey", 1.0), fit_row("B", "human", 2.0)])
     averaged = pd.concat(
         [profile("A", 1.0, power_profile_mm(1.0, 5.0)), profile("B", 2.0, power_profile_mm(2, 5))]
     )
     assert verdict("C8", single, averaged) == UNTESTABLE
+
+
+def shape_subjects(shape, subjects=(("A", 9.0), ("B", 10.0), ("C", 11.0), ("D", 12.0)), seed=7):
+    """Four monkeys read at 0.5-2 mm, ``shape(depth_mm, size_mm)`` on the grid, small noise."""
+    rng = np.random.default_rng(seed)
+    trials = []
+    for subject, size_mm in subjects:
+        for d in (0.5, 1.0, 1.5, 2.0):
+            w = shape(d, size_mm) + rng.normal(0, 0.002, GRID_MM.size)
+            trials.append((subject, "monkey", d, w))
+    return fitted_dataset(trials)
+
+
+def test_c8_profiles_of_one_shape_at_every_depth_do_not_hold():
+    # w = W0 f(x): the misfit grows as W0, the relative misfit stays; not 'holds'
+    # although RMSE² - s² grows sixteenfold from 0.5 to 2 mm
+    fits, averaged = shape_subjects(
+        lambda d, e: d * (np.clip(1 - GRID_MM / e, 0, None) ** 2.6 + 0.2 * np.exp(-GRID_MM))
+    )
+    rmse = fits.groupby("depth_mm")["waterbed_rmse_mm"].mean()
+    assert rmse[2.0] > 3 * rmse[0.5]  # the absolute misfit grows with depth
+    row = CLAIM_FUNCTIONS["C8"](fits, averaged, ClaimSettings(noise_mm=0.002))
+    assert row["verdict"] != HOLDS, row["our_value"]
+
+
+def test_c8_holds_on_arc_made_data():
+    # the exact arc's shape departs further from eq. 19 the larger W0/L
+    sizes = [
+        (name, L_mm)
+        for name, L_mm in zip("ABCDEF", (10.0, 10.5, 11.0, 11.5, 12.0, 12.5), strict=True)
+    ]
+    fits, averaged = shape_subjects(lambda d, L: models.arc_deflection_mm(GRID_MM, d, L), sizes)
+    row = CLAIM_FUNCTIONS["C8"](fits, averaged, ClaimSettings(noise_mm=0.002))
+    assert row["verdict"] == HOLDS, row["our_value"]
 
 
 def test_c9_needs_the_readings_below_every_fitted_curve():

@@ -1162,54 +1162,80 @@ def claim_c7(fits, averaged, settings, deflection=None):
 
 
 def claim_c8(fits, averaged, settings):
-    """C8: the waterbed's misfit beyond the noise grows with depth, tested across subjects."""
+    """C8: the waterbed's misfit relative to the depth grows with depth, tested across
+    subjects.
+
+    The statistic of a trial is ``q = (RMSE**2 - s**2) / W0**2``: the waterbed's mean
+    square misfit beyond the noise (``s**2`` the mean noise variance of the fitted
+    points, from the trial's covariance) over the depth squared.  The small-slope
+    waterbed is linear in W0 at a fixed L, so a finger whose profile keeps one shape
+    at every depth (``w = W0 f(x)``) has a misfit ``W0 (f - g)`` of fixed shape: its
+    ``RMSE**2 - s**2`` grows as W0**2 although the model is no worse relative to the
+    deformation, and ``q`` stays constant.  ``q`` grows only where the shape of the
+    profile departs further from the waterbed's the deeper the indentation, which is
+    what "describes the data less well" means for a model of the deformation.
+
+    Each subject with two or more depths gives the least-squares slope of ``q``
+    against depth; the slopes are tested across subjects, species a fixed effect, by
+    Student's t.  The t-test needs one degree of freedom for the spread between
+    subjects, so at least one more subject with two depths than there are species;
+    with fewer the claim cannot be checked.
+    """
     alpha = settings.significance
     rule = (
-        "Per trial: the waterbed's excess mean square error RMSE² − s² (mm²), with RMSE "
-        "over the fit window and s² the mean noise variance of the averaged points there "
-        "(the reading noise squared over the number of sides averaged); not truncated at "
-        "zero, so noise averages out. Per subject with two or more depths: the "
-        "least-squares slope of the excess against depth (mm² per mm). Across subjects: "
-        "the slopes regressed on species (a fixed effect), and the mean of the species' "
-        "mean slopes tested one-sided with "
-        f"Student's t (significance = {alpha:g}). Holds if the slope is significantly above "
-        "zero (the misfit grows with depth); does not hold if its upper one-sided "
-        f"{format_fixed(100 * (1 - alpha), 0)} % bound is below zero (it shrinks); cannot be "
-        "checked otherwise (the data cannot tell) or with fewer subjects than species + 1."
+        "Per trial: the waterbed's relative excess misfit q = (RMSE² − s²) / W₀², with "
+        "RMSE over the fit window and s² the mean noise variance of the averaged points "
+        "there (the trial's covariance from the noise table); not truncated at zero, so "
+        "noise averages out. Relative to W₀² because the waterbed is linear in W₀ at a "
+        "fixed L: a profile that keeps one shape at every depth has an excess growing as "
+        "W₀² but a constant q. Per subject with two or more depths: the least-squares "
+        "slope of q against depth (per mm). Across subjects: the slopes regressed on "
+        "species (a fixed effect), and the mean of the species' mean slopes tested "
+        f"one-sided with Student's t (significance = {alpha:g}). Holds if the slope is "
+        "significantly above zero (the relative misfit grows with depth); does not hold if "
+        f"its upper one-sided {format_fixed(100 * (1 - alpha), 0)} % bound is below zero; "
+        "cannot be checked otherwise, or with fewer subjects measured at two depths than "
+        "species + 1 (the t-test needs one degree of freedom for the spread between "
+        "subjects)."
     )
-    excess = {}
+    relative = {}
     species_of = {}
     for fit, points in _trials(fits, averaged):
         rmse_mm = float(fit["waterbed_rmse_mm"])
-        if points.empty or not math.isfinite(rmse_mm):
+        depth_mm = float(fit["depth_mm"])
+        if points.empty or not math.isfinite(rmse_mm) or not depth_mm > 0:
             continue
-        _, _, sides = _window_points(fit, points)
-        noise_sd_mm = _noise_sd_mm(settings.reading_noise_mm, sides)
-        variance = float(np.mean(noise_sd_mm**2)) if sides.size else 0.0
+        x, w, sides = _window_points(fit, points)
+        variance = (
+            float(np.mean(np.diag(_averaged_covariance_mm2(x, sides, w, fit, settings))))
+            if x.size
+            else 0.0
+        )
         subject = str(fit["subject"])
         species_of[subject] = str(fit["species"])
-        excess.setdefault(subject, []).append((float(fit["depth_mm"]), rmse_mm**2 - variance))
+        relative.setdefault(subject, []).append((depth_mm, (rmse_mm**2 - variance) / depth_mm**2))
     slopes = {}
-    for subject, values in excess.items():
+    for subject, values in relative.items():
         depths = np.array([d for d, _ in values])
         if np.unique(depths).size >= 2:
-            slopes[subject] = float(np.polyfit(depths, [e for _, e in values], 1)[0])
+            slopes[subject] = float(np.polyfit(depths, [q for _, q in values], 1)[0])
     species = sorted({species_of[s] for s in slopes})
     df = len(slopes) - len(species)
     per_depth = {}
-    for values in excess.values():
+    for values in relative.values():
         for depth_mm, value in values:
             per_depth.setdefault(depth_mm, []).append(value)
     means = ", ".join(
-        f"{d:g} mm {format_fixed(1e6 * np.mean(v), 1)}" for d, v in sorted(per_depth.items())
+        f"{d:g} mm {format_fixed(100 * np.mean(v), 3)}" for d, v in sorted(per_depth.items())
     )
     if df < 1:
         return _row(
             "C8",
-            f"{_n(len(slopes), 'subject')} measured at two or more depths",
+            f"{_n(len(slopes), 'subject')} measured at two or more depths, "
+            f"{_n(len(species), 'species', 'species')}: no degree of freedom for the t-test",
             UNTESTABLE,
             "Too few subjects were measured at two or more depths to test the slope across "
-            "subjects.",
+            f"subjects (at least {len(species) + 1 if species else 2} are needed).",
             rule,
         )
     groups = {sp: np.array([v for s, v in slopes.items() if species_of[s] == sp]) for sp in species}
@@ -1223,29 +1249,30 @@ def claim_c8(fits, averaged, settings):
     t_value = estimate / se if se > 0 else math.copysign(math.inf, estimate)
     p_value = float(student_t.sf(t_value, df))
     upper = estimate + float(student_t.ppf(1.0 - alpha, df)) * se
-    per_subject = ", ".join(f"{s} {format_fixed(1e6 * v, 1)}" for s, v in slopes.items())
+    per_subject = ", ".join(f"{s} {format_fixed(100 * v, 3)}" for s, v in slopes.items())
     our = (
-        f"excess mean square error (µm²), mean per depth: {means}; slope per subject "
-        f"(µm² per mm of depth): {per_subject}; mean slope {format_fixed(1e6 * estimate, 1)} "
-        f"± {format_fixed(1e6 * se, 1)} (t = {format_fixed(t_value, 2)}, {df} degrees of "
-        f"freedom, one-sided p {_p_text(p_value)})"
+        f"relative excess misfit (RMSE² − s²) / W₀² (%), mean per depth: {means}; slope "
+        f"per subject (% per mm of depth): {per_subject}; mean slope "
+        f"{format_fixed(100 * estimate, 3)} ± {format_fixed(100 * se, 3)} (t = "
+        f"{format_fixed(t_value, 2)}, {df} degrees of freedom, one-sided p {_p_text(p_value)})"
     )
     if p_value < alpha:
         reason = (
-            f"Across {_n(len(slopes), 'subject')} the waterbed's misfit beyond the noise grows "
-            f"with depth, by {format_fixed(1e6 * estimate, 0)} µm² per mm on average "
-            f"(one-sided p {_p_text(p_value)})."
+            f"Across {_n(len(slopes), 'subject')} the waterbed's misfit beyond the noise, "
+            f"relative to the depth, grows with depth, by {format_fixed(100 * estimate, 3)} % "
+            f"of W₀² per mm on average (one-sided p {_p_text(p_value)})."
         )
         return _row("C8", our, HOLDS, reason, rule)
     if upper < 0:
         reason = (
-            f"Across {_n(len(slopes), 'subject')} the misfit beyond the noise shrinks with "
-            f"depth (upper bound {format_fixed(1e6 * upper, 1)} µm² per mm)."
+            f"Across {_n(len(slopes), 'subject')} the misfit beyond the noise, relative to "
+            f"the depth, shrinks with depth (upper bound {format_fixed(100 * upper, 3)} % of "
+            "W₀² per mm)."
         )
         return _row("C8", our, FAILS, reason, rule)
     reason = (
-        f"Across {_n(len(slopes), 'subject')} the mean slope "
-        f"({format_fixed(1e6 * estimate, 1)} ± {format_fixed(1e6 * se, 1)} µm² per mm) is "
+        f"Across {_n(len(slopes), 'subject')} the mean slope of the relative misfit "
+        f"({format_fixed(100 * estimate, 3)} ± {format_fixed(100 * se, 3)} % of W₀² per mm) is "
         "neither shown to be above zero nor below it."
     )
     return _row("C8", our, UNTESTABLE, reason, rule)
