@@ -19,12 +19,14 @@ from lineload.claims import (
     ClaimSettings,
     InternalError,
     _L_sensitivity,
+    _mean_residual,
     chord_curvature,
     claim_c7,
     claim_c11,
     claims_markdown,
     compute_claims,
     deformed_extent_mm,
+    deformed_extent_se_mm,
     verdict_counts,
     waterbed_zero_crossing_mm,
 )
@@ -196,10 +198,28 @@ def test_c1_flips_when_humans_are_not_wider_and_is_untestable_without_humans():
 
     assert verdict("C1", *dataset(9.0)) == HOLDS
     assert verdict("C1", *dataset(4.0)) == FAILS
+    # edges 1 % apart: the extents differ by less than their uncertainty
+    assert verdict("C1", *dataset(5.05)) == UNTESTABLE
     fits, averaged = dataset(9.0)
     only_monkeys = fits[fits["species"] == "monkey"]
     row = CLAIM_FUNCTIONS["C1"](only_monkeys, averaged, SETTINGS)
     assert row["verdict"] == UNTESTABLE and "no human" in row["our_value"]
+
+
+def test_extent_standard_error_matches_repeated_readings():
+    # a straight decay read with independent noise small beside a step's drop (0.083 mm):
+    # the crossing scatters as the interpolated deflection's error over the slope (at
+    # sd 0.02 mm the last point above jumps between steps and the spread is 15 % more)
+    x = np.arange(0.5, 8.0, 0.5)
+    w = 1.0 - x / 6.0
+    sd = 0.005
+    extent, se = deformed_extent_se_mm(x, w, 0.3, sd**2 * np.eye(x.size))
+    assert extent == pytest.approx(4.2)
+    s = (4.2 - 4.0) / 0.5  # the crossing's fraction of its step
+    assert se == pytest.approx(sd * math.hypot(1 - s, s) * 6.0, rel=1e-9)
+    rng = np.random.default_rng(2)
+    draws = [deformed_extent_mm(x, w + rng.normal(0, sd, x.size), 0.3) for _ in range(2000)]
+    assert np.std(draws) == pytest.approx(se, rel=0.1)
 
 
 def test_c2_follows_the_left_right_difference():
@@ -564,10 +584,44 @@ def test_c9_needs_the_readings_below_every_fitted_curve():
     w = models.shifted_deflection_mm(GRID_MM, depth_mm, 10.0)
     fitted = fitted_dataset([("A", "monkey", depth_mm, w + alternating_mm(w.size, 0.003))])
     row = CLAIM_FUNCTIONS["C9"](*fitted, SETTINGS)
-    assert row["verdict"] == FAILS and "artefact" in row["reason"]
+    assert row["verdict"] == UNTESTABLE and "artefact" in row["reason"]
+    # readings deflected more than that parabola everywhere: beyond it, so it does not hold
+    fitted = fitted_dataset([("A", "monkey", depth_mm, w + 0.03 * (GRID_MM < 2.0))])
+    assert CLAIM_FUNCTIONS["C9"](*fitted, SETTINGS)["verdict"] == FAILS
     # only 1 mm trials: nothing at or above large_depth_mm
     shallow = table([fit_row("A", "monkey", 1.0)])
     assert verdict("C9", shallow, profile("A", 1.0, lowest / 2)) == UNTESTABLE
+
+
+@pytest.mark.parametrize("model", ["waterbed", "arc"])
+def test_c9_mean_residual_error_matches_the_spread_over_repeated_readings(model):
+    # readings on the curve with independent noise and a shared offset, 300 times: the
+    # mean residual after refitting L scatters as C9's standard error says, and the
+    # one-sided test says 'short of the curve' in about alpha of them
+    n_trials, depth_mm, L_mm = 300, 2.0, 12.0
+    settings = ClaimSettings(
+        noise_model=NoiseModel(reading_sd_mm=0.01, shared_offset_sd_mm=0.005), large_depth_mm=1.5
+    )
+    curve = {"waterbed": models.waterbed_deflection_mm, "arc": models.arc_deflection_mm}[model]
+    rng = np.random.default_rng(3)
+    readings = curve(WINDOW_MM, depth_mm, L_mm) + rng.normal(
+        0.0, 0.01 / np.sqrt(2), (n_trials, WINDOW_MM.size)
+    )
+    readings += rng.normal(0.0, 0.005, (n_trials, 1))  # shared by both sides
+    fitted = fitting.fit_batch(
+        [WINDOW_MM] * n_trials, list(readings), [depth_mm] * n_trials, (model,)
+    )
+    L_fit = fitted[model].params["L_mm"]
+    means = [
+        np.mean(y - curve(WINDOW_MM, depth_mm, L)) for y, L in zip(readings, L_fit, strict=True)
+    ]
+    fit = fit_row("A", "monkey", depth_mm, **{f"{model}_L_mm": L_fit[0]})
+    sides = np.full(WINDOW_MM.size, 2.0)
+    _, se, _ = _mean_residual(fit, WINDOW_MM, readings[0], sides, model, settings)
+    spread = np.std(means, ddof=1)
+    assert abs(se - spread) <= 4 * spread / np.sqrt(2 * (n_trials - 1)), (se, spread)
+    short = np.mean(np.array(means) / se < -1.645)
+    assert short <= 0.05 + 3 * np.sqrt(0.05 * 0.95 / n_trials), short
 
 
 def test_chord_curvature_of_a_circle_at_any_tilt():
