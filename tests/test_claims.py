@@ -2,6 +2,7 @@
 'does not hold' on data built to violate it, and says when it cannot judge."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -14,6 +15,7 @@ from lineload.averaging import AVERAGED_COLUMNS
 from lineload.claims import (
     CLAIM_COLUMNS,
     CLAIM_FUNCTIONS,
+    CLAIM_KINDS,
     EVIDENCE_VERDICTS,
     VERDICTS,
     ClaimSettings,
@@ -137,7 +139,12 @@ def test_claims_table_has_c1_to_c11_with_allowed_verdicts():
     assert list(result.columns) == CLAIM_COLUMNS
     assert list(result["claim"]) == [f"C{i}" for i in range(1, 12)]
     assert set(result["verdict"]) <= set(VERDICTS)
-    assert result[CLAIM_COLUMNS].map(lambda cell: isinstance(cell, str) and cell != "").all().all()
+    text = [c for c in CLAIM_COLUMNS if c != "smallest_margin"]
+    assert result[text].map(lambda cell: isinstance(cell, str) and cell != "").all().all()
+    # a smallest margin for the equivalence tests only
+    margins = result.set_index("claim")["smallest_margin"]
+    assert (margins.drop(["C2", "C6", "C10"]) == "").all()
+    assert margins[["C2", "C6", "C10"]].str.fullmatch(r"\d+ %|none").all()
     # the same inputs give the same text
     assert compute_claims(fits, averaged, SETTINGS).equals(result)
     md = claims_markdown(result, notice="Synthetic, for testing")
@@ -150,8 +157,47 @@ def test_claims_table_has_c1_to_c11_with_allowed_verdicts():
 def test_summary_counts_evidence_only():
     claims = pd.DataFrame({"verdict": [HOLDS, HOLDS, FAILS, IDENTITY, UNTESTABLE]})
     counts = verdict_counts(claims)
-    assert counts == {HOLDS: 2, FAILS: 1, UNTESTABLE: 1, IDENTITY: 1, "evidence": 3}
+    assert counts == {
+        HOLDS: 2,
+        FAILS: 1,
+        UNTESTABLE: 1,
+        IDENTITY: 1,
+        "evidence": 3,
+        "paper_claims": 5,
+        "checks": 0,
+    }
     assert set(EVIDENCE_VERDICTS) == {HOLDS, FAILS}
+    # a property of the method and a model-consistency check are reported, not counted
+    kinds = ["paper claim", "property of the method", "paper claim", "identity of the method"]
+    claims = pd.DataFrame({"verdict": [HOLDS, HOLDS, FAILS, IDENTITY], "kind": kinds})
+    counts = verdict_counts(claims)
+    assert (counts["evidence"], counts[HOLDS], counts["checks"]) == (2, 1, 2)
+
+
+def test_kinds_of_the_rows():
+    assert CLAIM_KINDS["C6"] == "property of the method"
+    assert CLAIM_KINDS["C7"] == "identity of the method"
+    assert CLAIM_KINDS["C11"] == "model-consistency check"
+    assert {CLAIM_KINDS[c] for c in ("C1", "C2", "C3", "C4", "C5", "C8", "C9", "C10")} == {
+        "paper claim"
+    }
+
+
+def test_smallest_margin_is_where_the_equivalence_test_starts_to_hold():
+    fits = table([fit_row("MK", "monkey", 1.0)])
+    w = power_profile_mm(1.0, 5.0)
+    # sides 2 x 0.03 mm apart at 1 mm depth: true RMS difference 6 % of W0
+    row = CLAIM_FUNCTIONS["C2"](fits, profile("MK", 1.0, w, asymmetry_mm=0.03), SETTINGS)
+    smallest = int(row["smallest_margin"].rstrip(" %")) / 100
+    assert 0.06 < smallest <= 0.09, row["smallest_margin"]
+    # at that margin it holds, one percent less it does not
+    at = replace(SETTINGS, symmetry_margin=smallest)
+    below = replace(SETTINGS, symmetry_margin=smallest - 0.01)
+    data = (fits, profile("MK", 1.0, w, asymmetry_mm=0.03))
+    assert verdict("C2", *data, at) == HOLDS and verdict("C2", *data, below) != HOLDS
+    # sides 2 x 0.2 mm apart: 40 % of W0, no margin of 1-20 % makes it hold
+    row = CLAIM_FUNCTIONS["C2"](fits, profile("MK", 1.0, w, asymmetry_mm=0.2), SETTINGS)
+    assert row["smallest_margin"] == "none"
 
 
 def test_rules_state_the_configured_thresholds():
@@ -168,7 +214,8 @@ def test_rules_state_the_configured_thresholds():
     )
     rules = compute_claims(fits, averaged, settings).set_index("claim")["rule"]
     assert "0.060 mm" in rules["C1"] and "significance = 0.01" in rules["C4"]
-    assert "8 % of the depth" in rules["C2"]
+    assert "symmetry_margin = 5 %" in rules["C2"] and "shift_margin = 5 %" in rules["C6"]
+    assert "circularity_margin = 10 %" in rules["C10"]
     assert "0.75 mm" in rules["C9"]
     assert "significance = 0.01" in rules["C8"] and "98 % interval" in rules["C6"]
     assert "significance = 0.01" in rules["C10"]
@@ -244,7 +291,7 @@ def test_c2_removes_the_noise_before_comparing():
     points["right_mm"] = w + rng.normal(0.0, 0.01, w.size)
     raw = np.sqrt(np.mean((points["left_mm"] - points["right_mm"]) ** 2)) / depth_mm
     assert raw > 0.08
-    assert verdict("C2", fits, points) == HOLDS
+    assert verdict("C2", fits, points, replace(SETTINGS, symmetry_margin=0.08)) == HOLDS
     # the same noise with a true difference of 2 x 0.02 mm (27 % of the depth)
     points["left_mm"] += 0.02
     points["right_mm"] -= 0.02

@@ -17,7 +17,7 @@ import numpy as np
 
 from . import paper
 from .calibration import claim_error_rates
-from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
+from .claims import EVIDENCE_VERDICTS, PAPER_CLAIM, summary_sentence, verdict_counts
 from .tables import format_fixed, join_words, span_text
 
 __all__ = [
@@ -277,7 +277,8 @@ def article_facts(
         "verdicts": {
             **{key.replace(" ", "_"): value for key, value in counts.items()},
             "sentence": summary_sentence(claims),
-            "n_claims": len(claims),
+            # the paper's claims about fingers; the checks of method and model apart
+            "n_claims": counts["paper_claims"],
             "evidence_words": number_words(counts["evidence"]),
             "holds_words": number_words(counts["holds"]),
             "fails_words": number_words(counts["does not hold"]),
@@ -290,7 +291,9 @@ def article_facts(
                 "paper_value": row["paper_value"],
                 "our_value": row["our_value"],
                 "verdict": row["verdict"],
-                "evidence": row["verdict"] in EVIDENCE_VERDICTS,
+                "kind": row.get("kind", PAPER_CLAIM),
+                "evidence": row["verdict"] in EVIDENCE_VERDICTS
+                and row.get("kind", PAPER_CLAIM) == PAPER_CLAIM,
                 "reason": row["reason"],
             }
             for _, row in claims.iterrows()
@@ -311,8 +314,8 @@ def article_facts(
         "built_in": None
         if built_in is None
         else {
-            how: join_words(r["claim"] for r in built_in if r["how"] == how)
-            for how in ("tuned", "follows")
+            how.replace(" ", "_"): join_words(r["claim"] for r in built_in if r["how"] == how)
+            for how in ("tuned", "by construction", "follows")
         },
         "software": {
             # name, version and release date: the citation file's (absent in older callers)

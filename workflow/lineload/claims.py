@@ -64,8 +64,10 @@ __all__ = [
     "CLAIM_COLUMNS",
     "CLAIM_FUNCTIONS",
     "CLAIM_IDS",
+    "CLAIM_KINDS",
     "EVIDENCE_VERDICTS",
     "FORCE_CLAIMS",
+    "MARGIN_GRID",
     "VERDICTS",
     "ClaimSettings",
     "InternalError",
@@ -93,14 +95,44 @@ VERDICTS = (HOLDS, FAILS, UNTESTABLE, IDENTITY)
 #: The verdicts that are evidence about the data (the others are not counted).
 EVIDENCE_VERDICTS = (HOLDS, FAILS)
 
+PAPER_CLAIM = "paper claim"
+METHOD_PROPERTY = "property of the method"
+METHOD_IDENTITY = "identity of the method"
+MODEL_CHECK = "model-consistency check"
+#: What each row is.  Only the paper's claims about fingers are counted as evidence
+#: (:func:`verdict_counts`); the others are checked and reported apart:
+#:
+#: - C6 is a property of the paper's method at the data's W0/L, not evidence about
+#:   fingers: both fits are one-parameter curves of the same membrane, so the gap
+#:   between the paper's L and the exact arc's is fixed by W0/L (the arc and the
+#:   parabola differ by about 1 % of W0 at W0/L = 0.1 and 4 % at 0.2) up to a standard
+#:   error of hundredths of a percent; its verdict is a function of W0/L, the fingers
+#:   entering only through L, which C5 tests.
+#: - C7 is an identity of eq. 19.
+#: - C11 is a claim the paper never makes: whether the fitted shapes and the forces go
+#:   with the stress-free membrane, a check of the model's consistency.
+CLAIM_KINDS = {
+    **{claim: PAPER_CLAIM for claim in ("C1", "C2", "C3", "C4", "C5", "C8", "C9", "C10")},
+    "C6": METHOD_PROPERTY,
+    "C7": METHOD_IDENTITY,
+    "C11": MODEL_CHECK,
+}
+
+#: The margins searched for the smallest at which an equivalence test holds (C2, C6, C10).
+MARGIN_GRID = tuple(k / 100 for k in range(1, 21))
+#: ``smallest_margin`` where no margin of the grid makes the claim hold.
+NO_MARGIN = "none"
+
 #: Columns of the claims table, in order.
 CLAIM_COLUMNS = [
     "claim",
+    "kind",
     "statement",
     "paper_location",
     "paper_value",
     "our_value",
     "verdict",
+    "smallest_margin",
     "reason",
     "rule",
 ]
@@ -217,6 +249,9 @@ class ClaimSettings:
     significance : float
         Error rate of the tests of C2, C3, C5, C6, C8, C10 and C11 (Bonferroni
         over the trials or subjects where a claim tests several).
+    symmetry_margin, shift_margin, circularity_margin : float
+        The equivalence margins of C2, C6 and C10, the workflow's own (config keys of
+        the same names; the schema gives the reasons).
     force_sd_N : float
         C11: precision of one force reading (N, standard deviation); config key
         ``mechanics: force_sd_N``.
@@ -237,6 +272,9 @@ class ClaimSettings:
     large_depth_mm: float = _DEFAULTS["large_depth_mm"]
     significance: float = _DEFAULTS["significance"]
     force_sd_N: float = _DEFAULTS["force_sd_N"]
+    symmetry_margin: float = _DEFAULTS["symmetry_margin"]
+    shift_margin: float = _DEFAULTS["shift_margin"]
+    circularity_margin: float = _DEFAULTS["circularity_margin"]
     zero_crossing_rtol: float = 1e-6
     noise_model: NoiseModel | None = None
     trial_noise: dict | None = None
@@ -285,20 +323,32 @@ def _list(labels, limit=12):
     return ", ".join(labels[:limit]) + f" and {len(labels) - limit} more (claims.csv per trial)"
 
 
-def _row(claim, our_value, verdict, reason, rule):
+def _row(claim, our_value, verdict, reason, rule, smallest_margin=""):
+    """One row of the claims table; ``smallest_margin`` only for the equivalence tests."""
     statement, location, paper_value = CLAIM_TEXT[claim]
     if verdict not in VERDICTS:
         raise ValueError(f"{claim}: unknown verdict {verdict!r}")
     return {
         "claim": claim,
+        "kind": CLAIM_KINDS[claim],
         "statement": statement,
         "paper_location": location,
         "paper_value": paper_value,
         "our_value": our_value,
         "verdict": verdict,
+        "smallest_margin": smallest_margin,
         "reason": reason,
         "rule": rule,
     }
+
+
+def _smallest_margin(decide):
+    """The smallest margin of :data:`MARGIN_GRID` at which ``decide(margin)`` says
+    ``holds``, as a percentage ('4 %'), or :data:`NO_MARGIN`."""
+    for margin in MARGIN_GRID:
+        if decide(margin) == HOLDS:
+            return _pct(margin, 0)
+    return NO_MARGIN
 
 
 def trial_key(subject, depth_mm):
@@ -527,21 +577,27 @@ def chord_curvature(distance_mm, deflection_mm, sd_mm):
 
 
 def verdict_counts(claims):
-    """How many claims got each verdict; only ``holds`` and ``does not hold`` are evidence.
+    """How many of the paper's claims got each verdict; only ``holds`` and ``does not
+    hold`` are evidence.
 
     Parameters
     ----------
     claims : pandas.DataFrame
-        A claims table (column ``verdict``).
+        A claims table (column ``verdict``; with a column ``kind``, only the rows of
+        kind ``paper claim`` are counted, see :data:`CLAIM_KINDS`).
 
     Returns
     -------
     dict
-        Verdict -> count for every verdict of :data:`VERDICTS`, plus ``evidence``
-        (the number of claims the data tested).
+        Verdict -> count for every verdict of :data:`VERDICTS`, ``evidence`` (the
+        number of claims the data tested), ``paper_claims`` (the rows counted) and
+        ``checks`` (the rows of other kinds, reported apart).
     """
-    counts = {v: int((claims["verdict"] == v).sum()) for v in VERDICTS}
+    counted = claims[claims["kind"] == PAPER_CLAIM] if "kind" in claims else claims
+    counts = {v: int((counted["verdict"] == v).sum()) for v in VERDICTS}
     counts["evidence"] = sum(counts[v] for v in EVIDENCE_VERDICTS)
+    counts["paper_claims"] = len(counted)
+    counts["checks"] = len(claims) - len(counted)
     return counts
 
 
@@ -694,10 +750,11 @@ def asymmetry_excess(difference_mm, covariance_mm2):
 def claim_c2(fits, averaged, settings):
     """C2: left and right profiles nearly the same, an equivalence test against the noise."""
     alpha = settings.significance
-    margin = paper.MAX_SHIFT_FRACTION
+    margin = settings.symmetry_margin
     rule = (
-        "An equivalence test, the noise removed, with the paper's margin for an approximation "
-        f"({_pct(margin, 0)}, its bound on |U|/X; the paper gives no number for symmetry). Per "
+        "An equivalence test, the noise removed, with the workflow's margin (config "
+        f"claims: symmetry_margin = {_pct(margin, 0)}, reasons in the config schema; the "
+        "paper gives no number for symmetry). Per "
         "trial, over the distances read on both sides (left_source and right_source both "
         "'measured'): the mean square of left - right beyond what the noise gives, D = "
         "mean(d²) − trace(C)/n, with C the covariance of the difference under noise alone "
@@ -706,7 +763,8 @@ def claim_c2(fits, averaged, settings):
         f"below {_pct(margin, 0)} of the depth W₀. Equivalent if D + z(1 - {alpha:g}) SE < "
         f"({margin:g} W₀)²; different if D - z(1 - {alpha:g}/(2 x trials)) SE > ({margin:g} "
         "W₀)² (Bonferroni). Holds if every trial is equivalent; does not hold if any is "
-        "different; cannot be checked otherwise."
+        "different; cannot be checked otherwise. Beside it: the smallest margin of 1-20 % at "
+        "which the claim holds."
     )
     values = []
     for fit, points in _trials(fits, averaged):
@@ -726,14 +784,25 @@ def claim_c2(fits, averaged, settings):
             UNTESTABLE,
             "No trial was read on both sides at the same distances.",
             rule,
+            NO_MARGIN,
         )
-    bound = (margin * np.array([v[3] for v in values])) ** 2
+    depths = np.array([v[3] for v in values])
     z_one = float(norm.ppf(1.0 - alpha))
     z_all = float(norm.ppf(1.0 - alpha / (2.0 * len(values))))
     excess = np.array([v[1] for v in values])
     se = np.array([v[2] for v in values])
-    equivalent = excess + z_one * se < bound
-    different = excess - z_all * se > bound
+
+    def tests(margin):
+        bound = (margin * depths) ** 2
+        return excess + z_one * se < bound, excess - z_all * se > bound
+
+    def decide(margin):
+        equivalent, different = tests(margin)
+        return FAILS if different.any() else HOLDS if equivalent.all() else UNTESTABLE
+
+    smallest = _smallest_margin(decide)
+    equivalent, different = tests(margin)
+    bound = (margin * depths) ** 2
     fraction = np.sqrt(np.clip(excess, 0.0, None)) / np.sqrt(bound) * margin
     worst = values[int(np.argmax(fraction))][0]
     our = (
@@ -748,18 +817,18 @@ def claim_c2(fits, averaged, settings):
             f"In {_n(len(labels), 'trial')} ({_list(labels)}) the sides differ by more than "
             f"{_pct(margin, 0)} of the depth, beyond what the noise explains."
         )
-        return _row("C2", our, FAILS, reason, rule)
+        return _row("C2", our, FAILS, reason, rule, smallest)
     if equivalent.all():
         reason = (
             "In every trial the two sides differ, once the noise is removed, by less than "
             f"{_pct(margin, 0)} of the depth."
         )
-        return _row("C2", our, HOLDS, reason, rule)
+        return _row("C2", our, HOLDS, reason, rule, smallest)
     reason = (
         f"In {_n(int((~equivalent).sum()), 'trial')} the noise leaves it open whether the sides "
         f"differ by more or less than {_pct(margin, 0)} of the depth."
     )
-    return _row("C2", our, UNTESTABLE, reason, rule)
+    return _row("C2", our, UNTESTABLE, reason, rule, smallest)
 
 
 def claim_c3(fits, averaged, settings):
@@ -1098,14 +1167,22 @@ def _averaged_covariance_mm2(x_mm, sides, y_mm, fit, settings):
 
 
 def claim_c6(fits, averaged, settings):
-    """C6: the paper's small-slope procedure against the exact arc, an equivalence test."""
-    margin = paper.MAX_SHIFT_FRACTION
+    """C6: the paper's small-slope procedure against the exact arc, an equivalence test.
+
+    A property of the paper's method at the data's W0/L, not evidence about fingers
+    (:data:`CLAIM_KINDS`): reported, not counted.
+    """
+    margin = settings.shift_margin
     alpha = settings.significance
     z_equivalence = norm.ppf(1.0 - alpha)
     rule = (
-        "An equivalence test with the paper's own margin. Neglecting U (eq. 19 read at the "
-        "deformed position) is negligible if it changes the fitted L by less than "
-        f"{_pct(margin, 0)}, the paper's bound on |U|/X. The reference is the exact arc, the "
+        "A property of the paper's method at the data's W0/L, not counted as evidence about "
+        "fingers: both fits are one-parameter curves of the same membrane, so the gap "
+        "between their L is fixed by W0/L up to a standard error of hundredths of a percent. "
+        "An equivalence test with the workflow's margin (config claims: shift_margin = "
+        f"{_pct(margin, 0)}, reasons in the config schema; not the paper's 8 %, a bound on "
+        "|U|/X). Neglecting U (eq. 19 read at the deformed position) is negligible if it "
+        f"changes the fitted L by less than {_pct(margin, 0)}. The reference is the exact arc, the "
         "finite-deformation solution of the same membrane (consistent in both coordinates). "
         "Per trial with both fits: the paired relative difference d = (L of the paper's "
         "procedure − L of the arc) / L of the arc, both from the same readings, with its "
@@ -1120,7 +1197,8 @@ def claim_c6(fits, averaged, settings):
         "equivalent; does not hold if some trial is different; cannot be checked otherwise. "
         "Beside it, not deciding: the largest gap between the two fitted curves against "
         "the reading noise, the paper's own bound |U(L/3)| / (L/3) from eq. 20, and the shifted "
-        "parabola (eq. 19 placed at x = X + U) as a sensitivity."
+        "parabola (eq. 19 placed at x = X + U) as a sensitivity, and the smallest margin of "
+        "1-20 % at which the claim holds."
     )
     rows = []
     for fit, points in _trials(fits, averaged):
@@ -1158,12 +1236,22 @@ def claim_c6(fits, averaged, settings):
             UNTESTABLE,
             "No trial has both the paper's fit and the exact arc's.",
             rule,
+            NO_MARGIN,
         )
     d = np.array([r["d"] for r in rows])
     sd = np.array([r["sd"] for r in rows])
     z_difference = norm.ppf(1.0 - alpha / (2 * len(rows)))
-    equivalent = (d - z_equivalence * sd > -margin) & (d + z_equivalence * sd < margin)
-    different = (np.abs(d) - z_difference * sd) > margin
+
+    def tests(margin):
+        equivalent = (d - z_equivalence * sd > -margin) & (d + z_equivalence * sd < margin)
+        return equivalent, (np.abs(d) - z_difference * sd) > margin
+
+    def decide(margin):
+        equivalent, different = tests(margin)
+        return FAILS if different.any() else HOLDS if equivalent.all() else UNTESTABLE
+
+    smallest = _smallest_margin(decide)
+    equivalent, different = tests(margin)
     gaps = np.array([r["gap_mm"] for r in rows])
     fractions = np.array([r["fraction"] for r in rows])
     shifted = np.array([r["shifted"] for r in rows])
@@ -1185,20 +1273,20 @@ def claim_c6(fits, averaged, settings):
             f"{_pct(margin, 0)} from the exact arc's, beyond the uncertainty: neglecting U "
             "is not negligible there."
         )
-        return _row("C6", our, FAILS, reason, rule)
+        return _row("C6", our, FAILS, reason, rule, smallest)
     if equivalent.all():
         reason = (
             f"In {_every(d.size, 'trial')} the paper's L is within {_pct(margin, 0)} of the "
             f"exact arc's ({_span(100 * d, 1, ' %')}), interval included: neglecting U costs "
-            "less than the paper's own bound."
+            "less than the margin."
         )
-        return _row("C6", our, HOLDS, reason, rule)
+        return _row("C6", our, HOLDS, reason, rule, smallest)
     open_ = [lab for lab, e in zip(labels, equivalent, strict=True) if not e]
     reason = (
         f"In {_list(open_)} the interval of the difference reaches past {_pct(margin, 0)}: "
-        "these data cannot tell whether neglecting U stays within the paper's bound."
+        "these data cannot tell whether neglecting U stays within the margin."
     )
-    return _row("C6", our, UNTESTABLE, reason, rule)
+    return _row("C6", our, UNTESTABLE, reason, rule, smallest)
 
 
 def claim_c7(fits, averaged, settings, deflection=None):
@@ -1495,10 +1583,11 @@ def claim_c9(fits, averaged, settings):
 def claim_c10(fits, averaged, settings):
     """C10: constant curvature, an equivalence test of the two halves of the window."""
     alpha = settings.significance
-    margin = paper.MAX_SHIFT_FRACTION
+    margin = settings.circularity_margin
     rule = (
-        "An equivalence test with the paper's margin for an approximation "
-        f"({_pct(margin, 0)}, its bound on |U|/X). Per trial: the fitted points (the fit "
+        "An equivalence test with the workflow's margin (config claims: circularity_margin "
+        f"= {_pct(margin, 0)}, reasons in the config schema; the paper says 'approximately "
+        "circular' and gives no number). Per trial: the fitted points (the fit "
         "window) are split at half the largest fitted distance; the whole window and each half "
         "with at least 5 points get the curvature of their best-fitting circle, with standard "
         "errors from the noise table's covariance (correlated errors included; "
@@ -1509,7 +1598,8 @@ def claim_c10(fits, averaged, settings):
         f"±{_pct(margin, 0)} and no trial's r lies significantly outside it (Bonferroni over "
         f"the trials; significance = {alpha:g}); it is not if the pooled interval lies "
         "outside, or any trial's r lies significantly outside the margin. Cannot be checked "
-        "otherwise: the noise hides a change as large as the margin."
+        "otherwise: the noise hides a change as large as the margin. Beside it: the smallest "
+        "margin of 1-20 % at which the claim holds."
     )
     tested = []
     for fit, points in _trials(fits, averaged):
@@ -1537,6 +1627,7 @@ def claim_c10(fits, averaged, settings):
             UNTESTABLE,
             "No trial has enough points in both halves of the window to compare curvatures.",
             rule,
+            NO_MARGIN,
         )
     r = np.array([t[1] for t in tested])
     se = np.array([t[2] for t in tested])
@@ -1545,9 +1636,18 @@ def claim_c10(fits, averaged, settings):
     pooled_se = float(np.sum(weights) ** -0.5)
     z_one = float(norm.ppf(1.0 - alpha))
     z_all = float(norm.ppf(1.0 - alpha / (2.0 * len(tested))))
-    inside = (pooled - z_one * pooled_se > -margin) and (pooled + z_one * pooled_se < margin)
-    outside = (pooled - z_one * pooled_se > margin) or (pooled + z_one * pooled_se < -margin)
-    beyond = (np.abs(r) - margin) / se > z_all
+
+    def tests(margin):
+        inside = (pooled - z_one * pooled_se > -margin) and (pooled + z_one * pooled_se < margin)
+        outside = (pooled - z_one * pooled_se > margin) or (pooled + z_one * pooled_se < -margin)
+        return inside, outside, (np.abs(r) - margin) / se > z_all
+
+    def decide(margin):
+        inside, outside, beyond = tests(margin)
+        return FAILS if outside or beyond.any() else HOLDS if inside else UNTESTABLE
+
+    smallest = _smallest_margin(decide)
+    inside, outside, beyond = tests(margin)
     our = (
         f"relative change of curvature, inner minus outer half over the whole window: pooled "
         f"{_pct(pooled)} ± {_pct(pooled_se)} (SE) over {len(tested)} trials; per trial "
@@ -1563,18 +1663,18 @@ def claim_c10(fits, averaged, settings):
             f"margin{where}, the {direction} half bending more: the free skin is not one "
             "circle there."
         )
-        return _row("C10", our, FAILS, reason, rule)
+        return _row("C10", our, FAILS, reason, rule, smallest)
     if inside:
         reason = (
             "Pooled over the trials, the two halves of the window bend alike to within "
             f"the {_pct(margin, 0)} margin, and no trial departs from it significantly."
         )
-        return _row("C10", our, HOLDS, reason, rule)
+        return _row("C10", our, HOLDS, reason, rule, smallest)
     reason = (
         f"The noise leaves the change of curvature ({_pct(pooled)} ± {_pct(pooled_se)}) "
         f"undecided against the {_pct(margin, 0)} margin."
     )
-    return _row("C10", our, UNTESTABLE, reason, rule)
+    return _row("C10", our, UNTESTABLE, reason, rule, smallest)
 
 
 def _shape_checks(fits, allowed):
@@ -1816,8 +1916,8 @@ def summary_sentence(claims):
     """
     counts = verdict_counts(claims)
     text = (
-        f"Of the {len(claims)} claims, the data tested {counts['evidence']}: "
-        f"{counts[HOLDS]} hold and {counts[FAILS]} do not"
+        f"Of the paper's {counts['paper_claims']} claims about fingers, the data tested "
+        f"{counts['evidence']}: {counts[HOLDS]} hold and {counts[FAILS]} do not"
     )
     extras = []
     if counts[UNTESTABLE]:
@@ -1826,6 +1926,12 @@ def summary_sentence(claims):
         extras.append(
             f"{counts[IDENTITY]} {'is an identity' if counts[IDENTITY] == 1 else 'are identities'}"
             " of the model's equations and not evidence"
+        )
+    if "kind" in claims and counts["checks"]:
+        others = claims[claims["kind"] != PAPER_CLAIM]
+        extras.append(
+            "checked and reported apart, not counted as evidence: "
+            + join_words(f"{r['claim']} ({r['kind']})" for _, r in others.iterrows())
         )
     return text + ("; " + "; ".join(extras) if extras else "") + "."
 
@@ -1848,15 +1954,32 @@ def claims_markdown(claims, notice="", error_rates=None):
     -------
     str
     """
-    headers = ["Claim", "Statement", "Where in the paper", "Paper", "Ours", "Verdict", "Reason"]
+    headers = [
+        "Claim",
+        "Kind",
+        "Statement",
+        "Where in the paper",
+        "Paper",
+        "Ours",
+        "Verdict",
+        "Reason",
+    ]
     rows = [
         [
             r["claim"],
+            r.get("kind", PAPER_CLAIM),
             r["statement"],
             r["paper_location"],
             r["paper_value"],
             r["our_value"],
-            f"**{r['verdict']}**",
+            f"**{r['verdict']}**"
+            + (
+                f" (holds from a margin of {r['smallest_margin']})"
+                if r.get("smallest_margin") not in (None, "", NO_MARGIN)
+                else " (at no margin up to 20 %)"
+                if r.get("smallest_margin") == NO_MARGIN
+                else ""
+            ),
             r["reason"],
         ]
         for _, r in claims.iterrows()
@@ -1865,10 +1988,14 @@ def claims_markdown(claims, notice="", error_rates=None):
         "# Claims of Srinivasan (1989), recomputed\n\n"
         "Each verdict comes from applying the rule below to numbers computed from the data "
         "this table was built from; it describes those data, not the paper's fingertips. "
-        "'identity' marks a statement that follows from the model's equations alone: it is "
-        f"checked, but not counted as evidence. {summary_sentence(claims)}\n\n"
+        "Only the paper's claims about fingers (kind 'paper claim') are counted as evidence; "
+        "a property or identity of the paper's method, and a check of the model's "
+        "consistency, are checked and reported apart. The equivalence margins are the "
+        "workflow's own (config claims: symmetry_margin, shift_margin, circularity_margin); "
+        "beside each such verdict, the smallest margin of 1-20 % at which the claim holds. "
+        f"{summary_sentence(claims)}\n\n"
     )
-    text += markdown_table(headers, rows, "lllllll")
+    text += markdown_table(headers, rows, "llllllll")
     text += "\n## Rules\n\n"
     text += "".join(
         f"- **{r['claim']}**: {' '.join(r['rule'].split())}\n" for _, r in claims.iterrows()
