@@ -213,7 +213,7 @@ def test_rules_state_the_configured_thresholds():
         significance=0.01,
     )
     rules = compute_claims(fits, averaged, settings).set_index("claim")["rule"]
-    assert "0.060 mm" in rules["C1"] and "significance = 0.01" in rules["C4"]
+    assert "2 % of the depth" in rules["C1"] and "significance = 0.01" in rules["C4"]
     assert "symmetry_margin = 5 %" in rules["C2"] and "shift_margin = 5 %" in rules["C6"]
     assert "circularity_margin = 10 %" in rules["C10"]
     assert "0.75 mm" in rules["C9"]

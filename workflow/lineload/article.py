@@ -374,16 +374,27 @@ def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None, bootst
     pooled = coverage[coverage["species"] == "all"]
     at_boundary = []
     if boundary is not None:
-        # only the datasets where the claim is not true: 'holds' there is wrong
-        for _, row in boundary[boundary["truth"] != "holds"].iterrows():
+        # every world, side and truth: wrong 'holds' and wrong 'does not hold'
+        for _, row in boundary.iterrows():
             at_boundary.append(
                 {
                     "claim": str(row["claim"]),
+                    "side": str(row["side"]),
+                    "truth": str(row["truth"]),
                     "n": str(int(row["n_datasets"])),
                     "holds": str(int(row["n_holds"])),
                     "fails": str(int(row["n_fails"])),
                     "untestable": str(int(row["n_untestable"])),
-                    "wrong": _percent(row["wrong_rate"], row["wrong_ci_low"], row["wrong_ci_high"]),
+                    "wrong_holds": _percent(
+                        row["wrong_holds_rate"],
+                        row["wrong_holds_ci_low"],
+                        row["wrong_holds_ci_high"],
+                    ),
+                    "wrong_fails": _percent(
+                        row["wrong_fails_rate"],
+                        row["wrong_fails_ci_low"],
+                        row["wrong_fails_ci_high"],
+                    ),
                 }
             )
     by_claim = claim_error_rates(verdicts, boundary)

@@ -68,6 +68,7 @@ __all__ = [
     "EVIDENCE_VERDICTS",
     "FORCE_CLAIMS",
     "MARGIN_GRID",
+    "PAPER_CLAIM",
     "VERDICTS",
     "ClaimSettings",
     "InternalError",
@@ -249,6 +250,9 @@ class ClaimSettings:
     significance : float
         Error rate of the tests of C2, C3, C5, C6, C8, C10 and C11 (Bonferroni
         over the trials or subjects where a claim tests several).
+    extent_fraction : float
+        C1: the deformed region ends where the deflection falls through this
+        fraction of the depth.
     symmetry_margin, shift_margin, circularity_margin : float
         The equivalence margins of C2, C6 and C10, the workflow's own (config keys of
         the same names; the schema gives the reasons).
@@ -272,6 +276,7 @@ class ClaimSettings:
     large_depth_mm: float = _DEFAULTS["large_depth_mm"]
     significance: float = _DEFAULTS["significance"]
     force_sd_N: float = _DEFAULTS["force_sd_N"]
+    extent_fraction: float = _DEFAULTS["extent_fraction"]
     symmetry_margin: float = _DEFAULTS["symmetry_margin"]
     shift_margin: float = _DEFAULTS["shift_margin"]
     circularity_margin: float = _DEFAULTS["circularity_margin"]
@@ -607,7 +612,7 @@ def verdict_counts(claims):
 def claim_c1(fits, averaged, settings):
     """C1: wider deformed region in humans than in monkeys at the same depth, each extent
     with its standard error under the trial's noise."""
-    threshold_mm = 2.0 * settings.reading_noise_mm
+    fraction = settings.extent_fraction
     alpha = settings.significance
     extents = {}
     for fit, points in _trials(fits, averaged):
@@ -618,12 +623,14 @@ def claim_c1(fits, averaged, settings):
         w = points["deflection_mm"].to_numpy(float)[keep]
         sides = points["n_sides"].to_numpy(float)[keep]
         covariance = _averaged_covariance_mm2(x, sides, w, fit, settings)
+        threshold_mm = fraction * float(fit["depth_mm"])
         extent = deformed_extent_se_mm(x, w, threshold_mm, covariance)
         key = round(float(fit["depth_mm"]), 9)
         extents.setdefault(key, {}).setdefault(str(fit["species"]), []).append(extent)
     rule = (
         "Extent of a trial = distance at which the averaged deflection last falls through "
-        f"2 x the reading noise = {format_fixed(threshold_mm, 3)} mm (linear interpolation "
+        f"{_pct(fraction, 0)} of the depth W₀ (config claims: extent_fraction; a property "
+        "of the profile's shape, the same whatever the noise; linear interpolation "
         "between readings), with its standard error: the error of the interpolated "
         "deflection there (the trial's covariance from the noise table) over the profile's "
         "slope. At every depth measured in both species, every human trial is compared with "
@@ -1337,6 +1344,28 @@ def claim_c7(fits, averaged, settings, deflection=None):
     return _row("C7", our, IDENTITY, reason, rule)
 
 
+def _residual_noise_mm2(fit, x, w, sides, settings):
+    """The mean square the noise alone leaves in the waterbed's residuals over the window.
+
+    Fitting L removes the part of the noise along ``g = dm/dL``: under a covariance
+    ``C`` the expected residual sum of squares of a one-parameter least-squares fit is
+    ``trace(C) - g' C g / g' g`` to first order (``trace((I - H) C)``, ``H`` the fit's
+    hat matrix ``g g' / g' g``); over ``n`` points, that over ``n``.  Without the
+    second term, errors the fit absorbs through L (a depth error scales the profile,
+    much as a change of L does) would be subtracted although they never reach the
+    residuals, and the correction, largest relative to W0² at the smallest depth, would
+    tilt the relative misfit against depth.
+    """
+    covariance = _averaged_covariance_mm2(x, sides, w, fit, settings)
+    depth_mm = float(fit["depth_mm"])
+    below, _, above, step = _around_L(
+        waterbed_deflection_mm, x, depth_mm, float(fit["waterbed_L_mm"])
+    )
+    g = (above - below) / (2 * step)
+    absorbed = float(g @ covariance @ g) / float(g @ g) if float(g @ g) > 0 else 0.0
+    return (float(np.trace(covariance)) - absorbed) / x.size
+
+
 def claim_c8(fits, averaged, settings):
     """C8: the waterbed's misfit relative to the depth grows with depth, tested across
     subjects.
@@ -1351,6 +1380,11 @@ def claim_c8(fits, averaged, settings):
     profile departs further from the waterbed's the deeper the indentation, which is
     what "describes the data less well" means for a model of the deformation.
 
+    The correction ``s**2 / W0**2`` is largest at the smallest depth: a noise level
+    stated too high makes ``q`` rise towards zero with depth and can make the claim
+    hold on a model without misfit (a test shows it), so ``s**2`` comes from the
+    measured noise table, never from a guess.
+
     Each subject with two or more depths gives the least-squares slope of ``q``
     against depth; the slopes are tested across subjects, species a fixed effect, by
     Student's t.  The t-test needs one degree of freedom for the spread between
@@ -1361,7 +1395,8 @@ def claim_c8(fits, averaged, settings):
     rule = (
         "Per trial: the waterbed's relative excess misfit q = (RMSE² − s²) / W₀², with "
         "RMSE over the fit window and s² the mean noise variance of the averaged points "
-        "there (the trial's covariance from the noise table); not truncated at zero, so "
+        "there under the trial's covariance from the noise table, less the part the fit of L "
+        "absorbs (trace(C) − g'Cg/g'g over n, g = dm/dL); not truncated at zero, so "
         "noise averages out. Relative to W₀² because the waterbed is linear in W₀ at a "
         "fixed L: a profile that keeps one shape at every depth has an excess growing as "
         "W₀² but a constant q. Per subject with two or more depths: the least-squares "
@@ -1382,11 +1417,7 @@ def claim_c8(fits, averaged, settings):
         if points.empty or not math.isfinite(rmse_mm) or not depth_mm > 0:
             continue
         x, w, sides = _window_points(fit, points)
-        variance = (
-            float(np.mean(np.diag(_averaged_covariance_mm2(x, sides, w, fit, settings))))
-            if x.size
-            else 0.0
-        )
+        variance = _residual_noise_mm2(fit, x, w, sides, settings) if x.size >= 2 else 0.0
         subject = str(fit["subject"])
         species_of[subject] = str(fit["species"])
         relative.setdefault(subject, []).append((depth_mm, (rmse_mm**2 - variance) / depth_mm**2))
