@@ -56,21 +56,6 @@ rule verdict_calibration:
         "../scripts/run_verdict_calibration.py"
 
 
-def boundary_blocks():
-    """Jobs of the boundary calibration: '{world}.{first}' per world and block of
-    datasets (config calibration: verdict_datasets, block_datasets); the worlds are
-    imported only when the calibration is asked for."""
-    from lineload.calibration import BOUNDARY_WORLDS
-
-    total = config["calibration"]["verdict_datasets"]
-    step = config["calibration"]["block_datasets"]
-    return [
-        f"{world}.{first}"
-        for world in BOUNDARY_WORLDS
-        for first in range(0, total, step)
-    ]
-
-
 rule boundary_block:
     """One boundary world, both sides, read on one block of datasets."""
     input:
