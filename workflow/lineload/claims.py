@@ -2037,7 +2037,8 @@ def claims_markdown(claims, notice="", error_rates=None):
             "Measured by `snakemake calibration` (kept in `docs/calibration/`) on the "
             "synthetic reconstruction's design: its seven fingers and reading grids, read "
             "again and again with fresh digitising errors, in its own world and in worlds "
-            "where a claim only just fails. The rates hold for other data as far as their "
+            "either side of a claim's boundary, where it just holds and where it just "
+            "fails. The rates hold for other data as far as their "
             "design and noise resemble it.\n\n"
         )
         text += "".join(
