@@ -12,6 +12,8 @@ Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
 - the `fits` target on scale datasets of 1,000 and 10,000 subjects x 4 depths made by the
   generator in a temporary folder, with the peak memory of the whole process tree, and a
   rerun of it with nothing changed;
+- with `--calibration 1 2 ...`: the boundary calibration (one job per world and block of
+  datasets) at each core count, and its speed-up over the first;
 - what no workflow can go below: Snakemake's own start-up (`snakemake --version`), a rerun of
   a one-rule workflow with one param (which makes Snakemake import pandas to compare it),
   and the time the jobs of the last clean build took (from their benchmark files).
@@ -81,10 +83,10 @@ def run(command, cwd=REPO):
     return seconds, peak[0] / 1024, output
 
 
-def snakemake(*args, raw, results):
+def snakemake(*args, raw, results, cores=2, config=()):
     return [
-        sys.executable, "-m", "snakemake", "--cores", "2", *args,
-        "--config", f"raw_data={raw}", f"results={results}",
+        sys.executable, "-m", "snakemake", "--cores", str(cores), *args,
+        "--config", f"raw_data={raw}", f"results={results}", *config,
     ]  # fmt: skip
 
 
@@ -116,6 +118,20 @@ def main():
         help="subject counts of the scale runs (half monkeys, half humans)",
     )
     parser.add_argument("--output", type=Path, help="write the Markdown table here too")
+    parser.add_argument(
+        "--calibration",
+        type=int,
+        nargs="*",
+        metavar="CORES",
+        help="also time the boundary calibration (one job per world and block of datasets) "
+        "at these core counts, e.g. --calibration 1 2 4, and give the speed-up over the first",
+    )
+    parser.add_argument(
+        "--calibration-datasets",
+        type=int,
+        default=4,
+        help="verdict_datasets of the timed calibration (blocks of half as many)",
+    )
     args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="lineload-bench-"))
     rows = []
@@ -275,6 +291,34 @@ def main():
                 )
             )
             previous = (n, seconds)
+
+        first = None
+        for cores in args.calibration or ():
+            n = args.calibration_datasets
+            settings = f"calibration={{verdict_datasets: {n}, block_datasets: {max(n // 2, 1)}}}"
+
+            def calibrate(cores=cores, settings=settings):
+                shutil.rmtree(work / "calibration", ignore_errors=True)
+                return run(
+                    snakemake(
+                        "boundary_calibration",
+                        raw=raw,
+                        results=work / "calibration",
+                        cores=cores,
+                        config=(settings,),
+                    )
+                )
+
+            seconds, _ = median_of(1, calibrate)
+            first = first or (cores, seconds)
+            rows.append(
+                (
+                    f"boundary calibration, {n} datasets per world and side, --cores {cores}",
+                    seconds,
+                    "",
+                    f"speed-up {first[1] / seconds:.2f} over --cores {first[0]}",
+                )
+            )
     finally:
         shutil.rmtree(work, ignore_errors=True)
 

@@ -11,7 +11,7 @@ from pypdf import PdfReader
 import pdflayout
 from conftest import REPO, SHARED_NOTICE
 from lineload.article import article_facts, join_words, number_words, shown, span_text
-from lineload.claims import CLAIM_COLUMNS
+from lineload.claims import CLAIM_COLUMNS, CLAIM_KINDS
 from lineload.figures.registry import FIGURES
 from lineload.figures.style import MIN_FONT_PT, SCHEMATIC_MM
 from lineload.fitting import FIT_COLUMNS
@@ -38,7 +38,7 @@ def small_tables():
     fits["boussinesq_rmse_mm"] = [0.05, 0.01, 0.04]
     claims = pd.DataFrame(
         [
-            dict.fromkeys(CLAIM_COLUMNS, "x") | {"claim": c, "verdict": v}
+            dict.fromkeys(CLAIM_COLUMNS, "x") | {"claim": c, "verdict": v, "kind": CLAIM_KINDS[c]}
             for c, v in (("C1", "holds"), ("C2", "does not hold"), ("C7", "identity"))
         ]
     )
@@ -77,7 +77,9 @@ def test_facts_follow_the_tables():
     assert facts["fits"]["L_paper"] == {"monkey": "10.00 to 11.00 mm", "human": "14.00 mm"}
     assert facts["fits"]["waterbed_better"] == "2 of 3"  # the ratio is below 1 in one trial
     assert facts["fits"]["gap_above_noise"] == "1 of 3"
-    assert facts["verdicts"]["evidence"] == 2 and facts["verdicts"]["identity"] == 1
+    assert facts["verdicts"]["evidence"] == 2 and facts["verdicts"]["n_claims"] == 2
+    # C7, an identity of the method, is reported apart: neither a paper claim nor counted
+    assert facts["verdicts"]["checks"] == 1 and facts["verdicts"]["identity"] == 0
     assert [c["evidence"] for c in facts["claims"]] == [True, True, False]
     assert facts["settings"]["sensitivity"]["windows_mm"] == "2, none"
     assert facts["software"]["git"]["commit"] == "unknown"
@@ -93,12 +95,13 @@ def test_facts_follow_the_tables():
         {"claim": "C1", "how": "tuned"},
         {"claim": "C3", "how": "follows"},
         {"claim": "C7", "how": "identity"},
+        {"claim": "C8", "how": "by construction"},
         {"claim": "C9", "how": "tuned"},
     ]
     listed = article_facts(
         fits, claims, checks, subjects, depths, settings, "Made up.", software, built_in=built_in
     )
-    assert listed["built_in"] == {"tuned": "C1 and C9", "follows": "C3"}
+    assert listed["built_in"] == {"tuned": "C1 and C9", "by_construction": "C8", "follows": "C3"}
 
 
 def pdf_text(path):

@@ -17,7 +17,7 @@ import numpy as np
 
 from . import paper
 from .calibration import claim_error_rates
-from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
+from .claims import EVIDENCE_VERDICTS, PAPER_CLAIM, summary_sentence, verdict_counts
 from .tables import format_fixed, join_words, span_text
 
 __all__ = [
@@ -277,7 +277,8 @@ def article_facts(
         "verdicts": {
             **{key.replace(" ", "_"): value for key, value in counts.items()},
             "sentence": summary_sentence(claims),
-            "n_claims": len(claims),
+            # the paper's claims about fingers; the checks of method and model apart
+            "n_claims": counts["paper_claims"],
             "evidence_words": number_words(counts["evidence"]),
             "holds_words": number_words(counts["holds"]),
             "fails_words": number_words(counts["does not hold"]),
@@ -290,7 +291,9 @@ def article_facts(
                 "paper_value": row["paper_value"],
                 "our_value": row["our_value"],
                 "verdict": row["verdict"],
-                "evidence": row["verdict"] in EVIDENCE_VERDICTS,
+                "kind": row.get("kind", PAPER_CLAIM),
+                "evidence": row["verdict"] in EVIDENCE_VERDICTS
+                and row.get("kind", PAPER_CLAIM) == PAPER_CLAIM,
                 "reason": row["reason"],
             }
             for _, row in claims.iterrows()
@@ -311,8 +314,8 @@ def article_facts(
         "built_in": None
         if built_in is None
         else {
-            how: join_words(r["claim"] for r in built_in if r["how"] == how)
-            for how in ("tuned", "follows")
+            how.replace(" ", "_"): join_words(r["claim"] for r in built_in if r["how"] == how)
+            for how in ("tuned", "by construction", "follows")
         },
         "software": {
             # name, version and release date: the citation file's (absent in older callers)
@@ -371,16 +374,27 @@ def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None, bootst
     pooled = coverage[coverage["species"] == "all"]
     at_boundary = []
     if boundary is not None:
-        # only the datasets where the claim is not true: 'holds' there is wrong
-        for _, row in boundary[boundary["truth"] != "holds"].iterrows():
+        # every world, side and truth: wrong 'holds' and wrong 'does not hold'
+        for _, row in boundary.iterrows():
             at_boundary.append(
                 {
                     "claim": str(row["claim"]),
+                    "side": str(row["side"]),
+                    "truth": str(row["truth"]),
                     "n": str(int(row["n_datasets"])),
                     "holds": str(int(row["n_holds"])),
                     "fails": str(int(row["n_fails"])),
                     "untestable": str(int(row["n_untestable"])),
-                    "wrong": _percent(row["wrong_rate"], row["wrong_ci_low"], row["wrong_ci_high"]),
+                    "wrong_holds": _percent(
+                        row["wrong_holds_rate"],
+                        row["wrong_holds_ci_low"],
+                        row["wrong_holds_ci_high"],
+                    ),
+                    "wrong_fails": _percent(
+                        row["wrong_fails_rate"],
+                        row["wrong_fails_ci_low"],
+                        row["wrong_fails_ci_high"],
+                    ),
                 }
             )
     by_claim = claim_error_rates(verdicts, boundary)

@@ -56,19 +56,46 @@ rule verdict_calibration:
         "../scripts/run_verdict_calibration.py"
 
 
-rule boundary_calibration:
-    """The verdict of each claim that has a boundary world, at that boundary, on datasets
-    with fresh errors: how often a rule says "holds" where the claim just fails."""
+rule boundary_block:
+    """One boundary world, both sides, read on one block of datasets."""
     input:
         spec=spec(
-            "boundary_calibration",
+            "boundary_block",
+            block=lambda w: w.block,
             seed=config["calibration"]["seed"],
             datasets=config["calibration"]["verdict_datasets"],
+            block_datasets=config["calibration"]["block_datasets"],
             window_mm=config["fit_window_mm"],
             priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
             max_trials=config["noise"]["max_trials"],
             claims=config["claims"],
         ),
+        code=code("run_boundary_block.py"),
+    output:
+        temp(result("calibration", "boundary_blocks", "{block}.csv")),
+    log:
+        result("logs", "boundary_block", "{block}.log"),
+    benchmark:
+        result("benchmarks", "boundary_block", "{block}.tsv")
+    wildcard_constraints:
+        block=r"[a-z0-9-]+\.[0-9]+",
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/run_boundary_block.py"
+
+
+rule boundary_calibration:
+    """The verdict of each claim that has a boundary world, either side of that boundary,
+    on datasets with fresh errors: how often a rule says "holds" where the claim just
+    fails, and "does not hold" where it just holds. Gathers the blocks."""
+    input:
+        spec=spec(
+            "boundary_calibration",
+            seed=config["calibration"]["seed"],
+            datasets=config["calibration"]["verdict_datasets"],
+        ),
+        blocks=lambda w: expand(rules.boundary_block.output[0], block=boundary_blocks()),
         code=code("run_boundary_calibration.py"),
     output:
         datasets=result("calibration", "boundary_datasets.csv"),

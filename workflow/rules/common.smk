@@ -199,3 +199,18 @@ def crate_files(wildcards):
         for name in SOURCE_FILES
     ]
     return files
+
+
+def boundary_blocks():
+    """Jobs of the boundary calibration: '{world}.{first}' per world and block of
+    datasets (config calibration: verdict_datasets, block_datasets); the worlds are
+    imported only when the calibration is asked for."""
+    from lineload.calibration import BOUNDARY_WORLDS
+
+    total = config["calibration"]["verdict_datasets"]
+    step = config["calibration"]["block_datasets"]
+    return [
+        f"{world}.{first}"
+        for world in BOUNDARY_WORLDS
+        for first in range(0, total, step)
+    ]
