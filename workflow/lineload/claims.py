@@ -57,7 +57,15 @@ from .models import (
 )
 from .noise import NoiseModel
 from .sensitivity import curve_gap_mm
-from .tables import format_fixed, join_words, markdown_table, notice_footer
+from .tables import (
+    counted,
+    every,
+    format_fixed,
+    join_words,
+    markdown_table,
+    notice_footer,
+    percent_text,
+)
 from .tables import span_text as _span
 
 __all__ = [
@@ -259,17 +267,14 @@ def _mm(value, decimals=2):
 
 
 def _pct(fraction, decimals=1):
-    return f"{format_fixed(100.0 * fraction, decimals)} %"
+    return percent_text(fraction, decimals)
 
 
-def _n(count, noun, plural=None):
-    """'1 trial', '3 trials'."""
-    return f"{count} {noun if count == 1 else plural or noun + 's'}"
+#: '1 trial', '3 trials' (:func:`lineload.tables.counted`).
+_n = counted
 
-
-def _every(count, noun, plural=None):
-    """'the one trial' or 'all 3 trials'."""
-    return f"the one {noun}" if count == 1 else f"all {count} {plural or noun + 's'}"
+#: 'the one trial', 'both trials', 'all 3 trials' (:func:`lineload.tables.every`).
+_every = every
 
 
 def _list(labels, limit=12):
@@ -1227,8 +1232,8 @@ def claim_c8(fits, averaged, settings):
     our = (
         f"excess mean square error (µm²), mean per depth: {means}; slope per subject "
         f"(µm² per mm of depth): {per_subject}; mean slope {format_fixed(1e6 * estimate, 1)} "
-        f"± {format_fixed(1e6 * se, 1)} (t = {format_fixed(t_value, 2)}, {df} degrees of "
-        f"freedom, one-sided p {_p_text(p_value)})"
+        f"± {format_fixed(1e6 * se, 1)} (t = {format_fixed(t_value, 2)}, "
+        f"{counted(df, 'degree of freedom', 'degrees of freedom')}, one-sided p {_p_text(p_value)})"
     )
     if p_value < alpha:
         reason = (
