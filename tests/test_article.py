@@ -320,3 +320,18 @@ def test_the_calibration_is_printed_only_for_the_design_it_was_computed_for():
     assert calibration_design(trials) == ours  # replicates are not counted as trials
     assert calibration_design(trials.iloc[[0, 1, 3, 4]]) != ours
     assert design_text(ours) == "3 trials (2 monkey, 1 human) at 1 and 2 mm"
+
+
+def test_the_byline_is_the_citation_files_authors_or_a_placeholder_shown_as_one():
+    from lineload.citation import PLACEHOLDER_AUTHOR, author_names
+
+    assert author_names({"authors": [{"name": PLACEHOLDER_AUTHOR}]}) == (PLACEHOLDER_AUTHOR, True)
+    assert author_names({}) == ("", True)
+    named = {
+        "authors": [
+            {"given-names": "Ada", "family-names": "Lovelace"},
+            {"given-names": "Alan", "family-names": "Turing"},
+            {"name": "A Lab"},
+        ]
+    }
+    assert author_names(named) == ("Ada Lovelace, Alan Turing and A Lab", False)

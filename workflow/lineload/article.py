@@ -409,9 +409,10 @@ def article_facts(
             # name, version and release date: the citation file's (absent in older callers)
             **{
                 key: str(software[key])
-                for key in ("name", "version", "released")
+                for key in ("name", "version", "released", "authors")
                 if software.get(key)
             },
+            "authors_placeholder": bool(software.get("authors_placeholder", True)),
             "python": str(software["python"]),
             "packages": {name: str(v) for name, v in software["packages"].items() if v},
             "git": {

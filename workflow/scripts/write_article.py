@@ -13,7 +13,7 @@ from pathlib import Path
 import typst
 
 from lineload.article import article_facts, calibration_design, photograph_facts
-from lineload.citation import citation_or_default, software_name
+from lineload.citation import author_names, citation_or_default, software_name
 from lineload.figures.choices import figure_settings
 from lineload.io import (
     json_text,
@@ -49,6 +49,9 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
         "name": software_name(citation),
         "version": citation["version"],
         "released": citation.get("date-released", ""),
+        # the byline: a placeholder until a release names the authors, shown as such
+        "authors": author_names(citation)[0],
+        "authors_placeholder": author_names(citation)[1],
         "python": platform.python_version(),
         "packages": package_versions(),
         "git": git_state(repository),
