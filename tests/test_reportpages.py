@@ -51,5 +51,8 @@ def test_headers_carry_words_and_units_and_values_the_articles_digits():
     columns += ["waterbed_rmse_mm", "waterbed_aicc", "n_points"]
     (shown,) = with_supported_digits(columns, [[14.7213, 13.9, 15.6, 0.0123456, -157.72209, 20]])
     assert shown == ["14.72", "13.90", "15.60", "0.0123", "-157.7", 20]
+    # a depth or a window, set with few digits, is shown as it was set
+    (depth,) = with_supported_digits(["depth_mm"], [[0.5]])
+    assert depth == ["0.5"]
     page = table_page("t", columns, [[14.7213, 13.9, 15.6, 0.0123456, -157.72209, 20]])
     assert '<th title="waterbed_rmse_mm">waterbed RMSE (mm)</th>' in page

@@ -202,7 +202,10 @@ def with_supported_digits(columns, rows):
         for column, decimals in plain.items():
             number = cells[index[column]]
             if isinstance(number, float) and math.isfinite(number):
-                cells[index[column]] = _Fixed(f"{number:.{decimals}f}")
+                # a value set with few digits (a depth, a window) is shown as it was set
+                short = f"{number:g}"
+                exact = float(short) == number and len(short.lstrip("-")) <= 5
+                cells[index[column]] = _Fixed(short if exact else f"{number:.{decimals}f}")
         for column, bounds in errors.items():
             value = cells[index[column]]
             decimals = _supported_decimals(value, [cells[index[b]] for b in bounds])
