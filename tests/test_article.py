@@ -288,7 +288,11 @@ def test_counts_and_small_values_are_written_once_and_right():
 
 
 def test_the_text_compares_the_models_as_the_counts_say():
-    from lineload.article import _comparison_text, _coordinates_text
+    from lineload.article import _comparison_text, _coordinates_text, _ratio_decimals
+
+    # a ratio is never printed as 0.0: the smallest keeps two significant digits
+    assert _ratio_decimals([2.5, 9.4]) == 1 and _ratio_decimals([0.02, 0.05]) == 3
+    assert _ratio_decimals([0.5, 5.3]) == 2 and _ratio_decimals([]) == 1
 
     assert "waterbed leaves smaller residuals than the half-space form in all 4" in (
         _comparison_text(4, 4)

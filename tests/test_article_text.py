@@ -18,7 +18,7 @@ OUTPUTS = ["tables/fits.csv", "tables/claims.csv", "article/reproduction.pdf"]
 def write_half_space_dataset(folder, seed=11):
     """Two monkeys whose skin follows the half-space form ``w = A ln(x0 / x)`` (no humans,
     no forces, no outlines): there the Boussinesq form fits better than the waterbed."""
-    raw = folder / "raw"
+    raw = folder  # the shared build's raw folder
     (raw / "profiles").mkdir(parents=True)
     rng = np.random.default_rng(seed)
     lines = ["subject,species,magnification,label"]

@@ -226,8 +226,12 @@ def _fit_facts(fits, checks, noise_mm):
         "L_paper_all": span_text(fits["waterbed_L_mm"]),
         "rmse_waterbed": span_text(fits["waterbed_rmse_mm"], 3),
         "rmse_boussinesq": span_text(fits["boussinesq_rmse_mm"], 3),
-        "ratio_median": format_fixed(np.median(ratio[finite]), 1) if finite.any() else "–",
-        "ratio_range": span_text(ratio[finite], 1, ""),
+        "ratio_median": (
+            format_fixed(np.median(ratio[finite]), _ratio_decimals(ratio[finite]))
+            if finite.any()
+            else "–"
+        ),
+        "ratio_range": span_text(ratio[finite], _ratio_decimals(ratio[finite]), ""),
         "waterbed_better": f"{int((ratio[finite] > 1).sum())} of {int(finite.sum())}",
         "L_change": span_text(change, 2),
         "L_change_deepest": span_text(change[at_deepest], 2),
@@ -236,6 +240,16 @@ def _fit_facts(fits, checks, noise_mm):
         "gap_above_noise": f"{int((gaps > noise_mm).sum())} of {gaps.size}",
         "noise_mm": f"{noise_mm:g}",
     }
+
+
+def _ratio_decimals(ratios):
+    """Decimals that show the smallest ratio to two significant digits (one at least,
+    three at most): a ratio of 0.02 is not printed as 0.0."""
+    ratios = np.abs(np.asarray(ratios, float))
+    ratios = ratios[np.isfinite(ratios) & (ratios > 0)]
+    if not ratios.size:
+        return 1
+    return int(min(3, max(1, 1 - math.floor(math.log10(ratios.min())))))
 
 
 def _comparison_text(n_better, n_compared):
