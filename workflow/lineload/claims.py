@@ -868,8 +868,10 @@ def claim_c4(fits, averaged, settings):
         return _row("C4", our, FAILS, reason, rule)
     if resolvable.any() and refuted[resolvable].all():
         reason = (
-            f"Where the fitted curves predict a bulge of {_span(-f[resolvable], 3)} on "
-            f"average, the readings average {_span(m[resolvable], 3)} of deflection: in "
+            f"In the {int(resolvable.sum())} of {_n(len(f), 'trial')} where the noise could "
+            "show a bulge (a subset of the ranges above), the fitted curves predict one of "
+            f"{_span(-f[resolvable], 3)} on average and the readings average "
+            f"{_span(m[resolvable], 3)} of deflection: in "
             f"{_every(int(resolvable.sum()), 'trial')} where the noise could show it, the "
             "skin stays below the predicted bulge beyond the noise. No bulge."
         )
