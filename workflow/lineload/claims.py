@@ -871,9 +871,8 @@ def claim_c4(fits, averaged, settings):
             f"In the {int(resolvable.sum())} of {_n(len(f), 'trial')} where the noise could "
             "show a bulge (a subset of the ranges above), the fitted curves predict one of "
             f"{_span(-f[resolvable], 3)} on average and the readings average "
-            f"{_span(m[resolvable], 3)} of deflection: in "
-            f"{_every(int(resolvable.sum()), 'trial')} where the noise could show it, the "
-            "skin stays below the predicted bulge beyond the noise. No bulge."
+            f"{_span(m[resolvable], 3)} of deflection: in each of them the skin stays below "
+            "the predicted bulge beyond the noise. No bulge."
         )
         return _row("C4", our, HOLDS, reason, rule)
     open_ = [lab for lab, r_, q in zip(labels, resolvable, refuted, strict=True) if r_ and not q]
