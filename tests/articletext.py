@@ -137,6 +137,7 @@ ALLOWED_NUMBERS = [
     r"SHA-256",  # the name of a hash
     r'"[^"\n]*"',  # strings in code: labels, file names, keys
     r"\bD1\b",  # the numbering pattern of the digitised figures
+    r"continued\(\d+\)",  # the column count of a table's "continued" row
     r"\b\d+(?:\.\d+)?(?:pt|em|cm|mm)\b(?=[,)\s])",  # lengths in code
 ]
 
