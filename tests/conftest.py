@@ -110,6 +110,10 @@ def run_snakemake(*args, raw, results, config=(), cwd=REPO, timeout=600, env=Non
         else str(REPO / "workflow" / "Snakefile"),
         "--directory",
         str(cwd),
+        # the jobs and their files, which the default profile keeps off the console:
+        # tests read which jobs ran
+        "--quiet",
+        "reason",
         "--cores",
         "2",
         *args,

@@ -268,7 +268,77 @@ def test_the_article_places_the_figures_in_the_registry_order_the_report_numbers
     from lineload.figures.registry import report_label
 
     template = (REPO / "workflow" / "article" / "reproduction.typ").read_text()
-    placed = re.findall(r'#fig\("(\w+)"', template)
+    # by-species places a figure, or a sentence in its place that keeps its number
+    placed = re.findall(r'#(?:fig|by-species)\("(\w+)"', template)
     assert placed == [figure.name for figure in FIGURES]
     labels = [" ".join(report_label(figure).split()) for figure in FIGURES]
     assert labels == [f"Figure {n}" for n in range(1, len(FIGURES) + 1)]
+
+
+def test_counts_and_small_values_are_written_once_and_right():
+    from lineload.tables import counted, every, percent_text
+
+    assert counted(1, "degree of freedom", "degrees of freedom") == "1 degree of freedom"
+    assert counted(5, "degree of freedom", "degrees of freedom") == "5 degrees of freedom"
+    assert counted(0, "trial") == "0 trials" and counted(1, "trial") == "1 trial"
+    assert [every(n, "trial") for n in (0, 1, 2, 3)] == [
+        "no trials", "the one trial", "both trials", "all 3 trials",
+    ]  # fmt: skip
+    # a value too small for its decimals is not shown as zero; zero is
+    assert percent_text(0.0003) == "< 0.1 %" and percent_text(-0.0003) == "> -0.1 %"
+    assert percent_text(0.0) == "0 %" and percent_text(0.1234) == "12.3 %"
+    assert percent_text(float("nan")) == "–"
+
+
+def test_the_text_compares_the_models_as_the_counts_say():
+    from lineload.article import _comparison_text, _coordinates_text, _ratio_decimals
+
+    # a ratio is never printed as 0.0: the smallest keeps two significant digits
+    assert _ratio_decimals([2.5, 9.4]) == 1 and _ratio_decimals([0.02, 0.05]) == 3
+    assert _ratio_decimals([0.5, 5.3]) == 2 and _ratio_decimals([]) == 1
+
+    assert "waterbed leaves smaller residuals than the half-space form in all 4" in (
+        _comparison_text(4, 4)
+    )
+    assert "half-space form leaves smaller residuals than the waterbed in both" in (
+        _comparison_text(0, 2)
+    )
+    mixed = _comparison_text(2, 4)
+    assert "neither form" in mixed and "2 of 4 trials" in mixed
+    assert _coordinates_text(0, 3).startswith("less than") and "3" in _coordinates_text(0, 3)
+    assert _coordinates_text(1, 3) == "more than one reading's noise in 1 of 3 trials"
+
+
+def test_the_calibration_is_printed_only_for_the_design_it_was_computed_for():
+    from lineload.article import calibration_design, dataset_design, design_text
+
+    fits, *_ = small_tables()
+    ours = dataset_design(fits)
+    assert ours == {("monkey", 1.0): 1, ("monkey", 2.0): 1, ("human", 1.0): 1}
+    trials = pd.DataFrame(
+        {
+            "dataset": [0, 0, 0, 1, 1, 1],
+            "model": "waterbed",
+            "parameter": "L_mm",
+            "species": ["monkey", "monkey", "human"] * 2,
+            "depth_mm": [1.0, 2.0, 1.0] * 2,
+        }
+    )
+    assert calibration_design(trials) == ours  # replicates are not counted as trials
+    assert calibration_design(trials.iloc[[0, 1, 3, 4]]) != ours
+    assert design_text(ours) == "3 trials (2 monkey, 1 human) at 1 and 2 mm"
+
+
+def test_the_byline_is_the_citation_files_authors_or_a_placeholder_shown_as_one():
+    from lineload.citation import PLACEHOLDER_AUTHOR, author_names
+
+    assert author_names({"authors": [{"name": PLACEHOLDER_AUTHOR}]}) == (PLACEHOLDER_AUTHOR, True)
+    assert author_names({}) == ("", True)
+    named = {
+        "authors": [
+            {"given-names": "Ada", "family-names": "Lovelace"},
+            {"given-names": "Alan", "family-names": "Turing"},
+            {"name": "A Lab"},
+        ]
+    }
+    assert author_names(named) == ("Ada Lovelace, Alan Turing and A Lab", False)

@@ -494,3 +494,22 @@ def test_a_second_build_on_one_results_folder_is_refused_naming_the_first(tmp_pa
     done = run_snakemake("check", raw=raw, results=results)
     assert done.returncode == 0, done.stderr[-2000:]
     assert not (results / ".lineload-build.lock").exists()
+
+
+def test_where_to_look_names_first_what_the_target_built(tmp_path):
+    from lineload import startup
+
+    zipped, article = tmp_path / "b.zip", tmp_path / "a.pdf"
+    article.write_text("%PDF")
+    targets = {"bundle": [("the bundle", str(zipped))]}
+    built = startup.named_targets(["snakemake", "--cores", "2", "bundle"], targets)
+    assert built == [("the bundle", str(zipped))]
+    assert startup.named_targets(["snakemake", "--cores", "2"], targets) == []
+    documents = [("the article", str(article)), ("the claims table", str(tmp_path / "no.md"))]
+    # a bundle not written (the run failed before it) is not named
+    lines = startup.where_to_look(documents, "r.html", built).splitlines()
+    assert lines[2] == f"  the article: {article}" and len(lines) == 4
+    zipped.write_bytes(b"PK")
+    lines = startup.where_to_look(documents, "r.html", built).splitlines()
+    assert lines[2] == f"  this run built the bundle: {zipped}"
+    assert lines[-1] == "  the HTML report: snakemake --report r.html"

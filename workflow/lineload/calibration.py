@@ -908,6 +908,12 @@ def claim_error_rates(verdicts, boundary=None):
         n, wrong = int(group["n_datasets"].sum()), int(group["n_wrong"].sum())
         undecided = int(group["n_untestable"].sum())
         high = binomial_interval(wrong, n)[1]
+        if undecided == n:  # no decided verdict: no rate of wrong ones to give
+            rates[str(claim)] = (
+                f"undecided in every one of {n} reconstructions with fresh errors, so no "
+                "error rate can be given"
+            )
+            continue
         rates[str(claim)] = (
             f"wrong in {wrong} of {n} reconstructions with fresh errors (95 % upper bound "
             f"{100 * high:.1f} %), undecided in {undecided}"

@@ -57,7 +57,15 @@ from .models import (
 )
 from .noise import NoiseModel
 from .sensitivity import curve_gap_mm
-from .tables import format_fixed, join_words, markdown_table, notice_footer
+from .tables import (
+    counted,
+    every,
+    format_fixed,
+    join_words,
+    markdown_table,
+    notice_footer,
+    percent_text,
+)
 from .tables import span_text as _span
 
 __all__ = [
@@ -303,17 +311,14 @@ def _mm(value, decimals=2):
 
 
 def _pct(fraction, decimals=1):
-    return f"{format_fixed(100.0 * fraction, decimals)} %"
+    return percent_text(fraction, decimals)
 
 
-def _n(count, noun, plural=None):
-    """'1 trial', '3 trials'."""
-    return f"{count} {noun if count == 1 else plural or noun + 's'}"
+#: '1 trial', '3 trials' (:func:`lineload.tables.counted`).
+_n = counted
 
-
-def _every(count, noun, plural=None):
-    """'the one trial' or 'all 3 trials'."""
-    return f"the one {noun}" if count == 1 else f"all {count} {plural or noun + 's'}"
+#: 'the one trial', 'both trials', 'all 3 trials' (:func:`lineload.tables.every`).
+_every = every
 
 
 def _list(labels, limit=12):
@@ -1027,10 +1032,11 @@ def claim_c4(fits, averaged, settings):
         return _row("C4", our, FAILS, reason, rule)
     if resolvable.any() and refuted[resolvable].all():
         reason = (
-            f"Where the fitted curves predict a bulge of {_span(-f[resolvable], 3)} on "
-            f"average, the readings average {_span(m[resolvable], 3)} of deflection: in "
-            f"{_every(int(resolvable.sum()), 'trial')} where the noise could show it, the "
-            "skin stays below the predicted bulge beyond the noise. No bulge."
+            f"In the {int(resolvable.sum())} of {_n(len(f), 'trial')} where the noise could "
+            "show a bulge (a subset of the ranges above), the fitted curves predict one of "
+            f"{_span(-f[resolvable], 3)} on average and the readings average "
+            f"{_span(m[resolvable], 3)} of deflection: in each of them the skin stays below "
+            "the predicted bulge beyond the noise. No bulge."
         )
         return _row("C4", our, HOLDS, reason, rule)
     open_ = [lab for lab, r_, q in zip(labels, resolvable, refuted, strict=True) if r_ and not q]
@@ -1461,7 +1467,8 @@ def claim_c8(fits, averaged, settings):
         f"relative excess misfit (RMSE² − s²) / W₀² (%), mean per depth: {means}; slope "
         f"per subject (% per mm of depth): {per_subject}; mean slope "
         f"{format_fixed(100 * estimate, 3)} ± {format_fixed(100 * se, 3)} (t = "
-        f"{format_fixed(t_value, 2)}, {df} degrees of freedom, one-sided p {_p_text(p_value)})"
+        f"{format_fixed(t_value, 2)}, "
+        f"{counted(df, 'degree of freedom', 'degrees of freedom')}, one-sided p {_p_text(p_value)})"
     )
     if p_value < alpha:
         reason = (

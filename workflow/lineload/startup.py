@@ -584,8 +584,8 @@ def remove_written(paths, folders):
             os.rmdir(folder)
 
 
-def where_to_look(documents, report):
-    """After a build: where the reader's documents are.
+def where_to_look(documents, report, built=()):
+    """After a build: what it was asked for, and where the reader's documents are.
 
     Parameters
     ----------
@@ -593,6 +593,8 @@ def where_to_look(documents, report):
         What each is and its path; only those that exist are named.
     report : str
         Path of the HTML report ``snakemake --report`` would write.
+    built : list of (str, str), optional
+        What the run's targets made (:func:`named_targets`), named first.
 
     Returns
     -------
@@ -600,9 +602,35 @@ def where_to_look(documents, report):
         Lines to print.
     """
     lines = ["", "Where to look:"]
-    lines += [f"  {what}: {path}" for what, path in documents if Path(path).is_file()]
+    shown = [(what, path) for what, path in built if Path(path).exists()]
+    lines += [f"  this run built {what}: {path}" for what, path in shown]
+    lines += [
+        f"  {what}: {path}"
+        for what, path in documents
+        if Path(path).is_file() and path not in {p for _, p in shown}
+    ]
     lines.append(f"  the HTML report: snakemake --report {report}")
     return "\n".join(lines)
+
+
+def named_targets(argv, targets):
+    """What the targets named on the command line make, in the order given.
+
+    Parameters
+    ----------
+    argv : list of str
+        The command line (``sys.argv``).
+    targets : dict
+        Target (a rule's name) -> list of (what, path) it makes.
+
+    Returns
+    -------
+    list of (str, str)
+    """
+    built = []
+    for word in argv[1:]:
+        built += targets.get(word, [])
+    return built
 
 
 def report_argument(argv):

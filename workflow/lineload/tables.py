@@ -22,15 +22,18 @@ from .models import MODEL_NAMES
 
 __all__ = [
     "SUMMARY_COLUMNS",
+    "counted",
     "decimals_for",
     "escape_latex",
     "escape_markdown",
+    "every",
     "fits_latex",
     "fits_markdown",
     "format_fixed",
     "latex_table",
     "markdown_table",
     "notice_footer",
+    "percent_text",
     "sensitivity_markdown",
     "span_text",
     "summarise_fits",
@@ -209,6 +212,50 @@ def escape_latex(text):
 
 #: A ``<`` that starts HTML markup: a tag, a closing tag, a comment or a declaration.
 _HTML_OPENING = re.compile(r"<(?=[A-Za-z/!?])")
+
+
+def counted(count, noun, plural=None):
+    """A count with its noun in the right number: ``"1 degree of freedom"``, ``"3 trials"``.
+
+    Parameters
+    ----------
+    count : int
+        How many.
+    noun : str
+        The noun in the singular (``"trial"``; ``"degree of freedom"``).
+    plural : str, optional
+        The plural where it is not ``noun + "s"`` (``"degrees of freedom"``).
+    """
+    count = int(count)
+    return f"{count} {noun if count == 1 else plural or noun + 's'}"
+
+
+def every(count, noun, plural=None):
+    """All of a count, as a sentence says it: ``"the one trial"``, ``"both trials"``,
+    ``"all 3 trials"`` (``"no trials"`` for none)."""
+    count = int(count)
+    many = plural or noun + "s"
+    if count == 0:
+        return f"no {many}"
+    if count == 1:
+        return f"the one {noun}"
+    if count == 2:
+        return f"both {many}"
+    return f"all {count} {many}"
+
+
+def percent_text(fraction, decimals=1):
+    """A fraction in percent, never shown as zero when it is not: ``0.1234 -> "12.3 %"``,
+    ``0.00001 -> "< 0.1 %"``, ``0 -> "0 %"``; NaN gives ``"–"``."""
+    if fraction is None or not math.isfinite(float(fraction)):
+        return "–"
+    value = 100.0 * float(fraction)
+    if value == 0:
+        return "0 %"
+    smallest = 0.5 * 10.0**-decimals
+    if abs(value) < smallest:
+        return f"{'> -' if value < 0 else '< '}{format_fixed(2 * smallest, decimals)} %"
+    return f"{format_fixed(value, decimals)} %"
 
 
 def join_words(items):

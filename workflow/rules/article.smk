@@ -33,6 +33,13 @@ rule article:
         boundary_calibration=COMMITTED_CALIBRATION["boundary"],
         mechanics_coverage=COMMITTED_CALIBRATION["mechanics_coverage"],
         bootstrap=COMMITTED_CALIBRATION["bootstrap"],
+        # its trials: the design the calibration was computed for
+        calibration_design=os.path.relpath(
+            Path(workflow.basedir).parent
+            / "docs"
+            / "calibration"
+            / "bootstrap_trials.csv"
+        ),
         # what the reconstruction's generator built in (read only for its data)
         built_in=os.path.relpath(
             Path(workflow.basedir).parent / "data" / "built_in_verdicts.json"

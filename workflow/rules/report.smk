@@ -178,7 +178,7 @@ rule provenance:
         report_item(
             result("provenance.json"),
             caption="../report/provenance.rst",
-            category="Data",
+            category="Provenance",
             labels={"file": "provenance record"},
         ),
     log:

@@ -612,18 +612,8 @@ def figure_coordinates(fits, checks, noise=None, noise_mm=None, notice=""):
                 gid=f"gap:{model}",
             )
             gaps.extend(values[np.isfinite(values)])
+    # the noise line is named in the legend: a label on the line would sit on the points
     ax_gap.axhline(noise_mm, color="0.5", linestyle=":", linewidth=0.8)
-    ax_gap.annotate(
-        # two significant figures: the measured noise is known to a few per cent
-        f"digitising noise of one reading ({1000 * noise_mm:.2g} µm)",
-        xy=(0.02, noise_mm),
-        xycoords=("axes fraction", "data"),
-        xytext=(0, 2),
-        textcoords="offset points",
-        va="bottom",
-        fontsize=7,
-        color="0.4",
-    )
     if depths:
         ax_gap.set_xticks(depths, [f"{d:g}" for d in depths])
         ax_gap.set_xlim(depths[0] - 0.3, depths[-1] + 0.3)
@@ -653,8 +643,20 @@ def figure_coordinates(fits, checks, noise=None, noise_mm=None, notice=""):
             label=SPECIES_PLURAL[species],
         )
         for species, marker in SPECIES_MARKERS.items()
+        if len(checks) and (checks["species"] == species).any()  # only those drawn
     ]
-    fig.legend(handles=handles, loc="outside upper center", ncols=4)
+    handles.append(
+        Line2D(
+            [],
+            [],
+            color="0.5",
+            linestyle=":",
+            linewidth=0.8,
+            # two significant figures: the measured noise is known to a few per cent
+            label=f"(b) digitising noise of one reading ({1000 * noise_mm:.2g} µm)",
+        )
+    )
+    fig.legend(handles=handles, loc="outside upper center", ncols=3)
     add_footer(fig, notice)
     return fig
 
