@@ -71,11 +71,13 @@ from .models import (
 from .optimize import CHI2_1DOF_95, likelihood_interval, minimize_bounded
 
 __all__ = [
+    "AT_BOUND_RTOL",
     "CHI2_1DOF_95",
     "FIT_COLUMNS",
     "MODELS",
     "BatchFits",
     "FitResult",
+    "at_search_bound",
     "fit_arc",
     "fit_batch",
     "fit_boussinesq",
@@ -153,6 +155,9 @@ class FitResult:
     chi2 : float
         With a covariance ``C`` only: ``r' C^-1 r`` of the residuals at the
         minimum (how far the misfit is beyond the noise); NaN without one.
+    at_bound : bool
+        Whether the fitted L ends on a bound of its search (:func:`at_search_bound`):
+        its interval is then one-sided and the value itself is not a measurement.
     """
 
     model: str
@@ -165,6 +170,7 @@ class FitResult:
     aicc: float
     residual_mm: np.ndarray = field(repr=False)
     chi2: float = np.nan
+    at_bound: bool = False
 
 
 def in_fit_window(distance_mm, window_mm):
@@ -298,7 +304,8 @@ class _Trials:
     def generalised_chi2(self, residual):
         """``r' C^-1 r`` of each trial's residuals: how far the misfit is beyond the noise."""
         eye = np.eye(self.width) * (~self.mask)[:, None, :]
-        r = np.where(np.isfinite(residual), self.masked(residual), np.nan)
+        # NaN for a trial whose own points have no residual (no fit); the padding is not its
+        r = np.where(self.mask & ~np.isfinite(residual), np.nan, self.masked(residual))
         with np.errstate(invalid="ignore"):
             solved = np.linalg.solve(self.covariance + eye, r[..., None])[..., 0]
         return np.sum(r * solved, axis=-1)
@@ -377,10 +384,11 @@ def goodness_of_fit(residual_mm, n_params):
 class _ChunkFit:
     """One model fitted to the trials of a :class:`_Trials` chunk."""
 
-    def __init__(self, model, trials, params, residual_mm, errors=None):
+    def __init__(self, model, trials, params, residual_mm, errors=None, at_bound=None):
         self.model = model
         self.trials = trials
         self.params = params
+        self.at_bound = np.zeros(trials.n.size, dtype=bool) if at_bound is None else at_bound
         self.residual_mm = residual_mm
         self.errors = errors or {}
         self.measures = _measures(residual_mm, trials.mask, MODELS[model][1])
@@ -471,7 +479,7 @@ def _fit_waterbed_chunk(trials, depth_mm):
     def residual_at(rows, L):
         return y[rows] - waterbed_deflection_mm(x[rows], W0[rows], L[:, None])
 
-    low, high = _interval(
+    low, high, at_bound = _interval(
         lambda L, rows: _polyval(quartic[rows], 1.0 / L),
         trials,
         L_mm,
@@ -479,9 +487,11 @@ def _fit_waterbed_chunk(trials, depth_mm):
         np.full(x_max.size, np.inf),
         trials.chi2(residual),
         _sandwich_delta(trials, residual_at, L_mm, residual),
+        residual_at,
+        residual,
     )
     params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
-    return _ChunkFit("waterbed", trials, params, residual)
+    return _ChunkFit("waterbed", trials, params, residual, at_bound=at_bound)
 
 
 def _sandwich_delta(trials, residual_at, L_mm, residual):
@@ -518,19 +528,92 @@ def _sandwich_delta(trials, residual_at, L_mm, residual):
     return delta
 
 
-def _interval(objective, trials, L_best, L_min, L_max, chi2_min, delta=None):
-    """The 95 % interval on L of each trial (NaN where it cannot be had).
+#: Relative distance from a bound of the search within which a fitted L is taken to
+#: lie on it: far above the search's own tolerance (``rtol`` 1e-9 of
+#: :func:`lineload.optimize.minimize_bounded`), far below any interval's width.
+AT_BOUND_RTOL = 1e-6
+
+
+def at_search_bound(L_mm, L_min, L_max):
+    """Whether each fitted L lies on a bound of its admissible range.
+
+    Parameters
+    ----------
+    L_mm, L_min, L_max : array_like
+        Fitted L and the admissible range (mm); ``L_max`` may be infinite.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where ``L`` is within :data:`AT_BOUND_RTOL` of ``L_min`` or of ``L_max``
+        (an infinite L, a flat membrane, is on the upper bound).
+    """
+    L_mm, L_min, L_max = (np.asarray(v, dtype=float) for v in (L_mm, L_min, L_max))
+    with np.errstate(invalid="ignore"):
+        low = np.isfinite(L_mm) & (L_mm <= L_min * (1.0 + AT_BOUND_RTOL))
+        high = np.isinf(L_mm) | (np.isfinite(L_max) & (L_mm >= L_max * (1.0 - AT_BOUND_RTOL)))
+    return low | high
+
+
+def _bound_half_width(trials, residual_at, L_mm, residual, rows):
+    """Half-width ``z_0.975 sqrt(J' C J) / J' J`` of a linearised 95 % interval on L,
+    for fits that end on the lower bound of L.
+
+    There the sum of squares does not have a minimum but a slope, so the likelihood
+    interval (the L whose sum of squares rises by less than a threshold) shrinks with
+    that slope to microns, however noisy the readings.  What the readings allow is
+    how far L moves with them: ``J = df/dL`` from a one-sided difference into the
+    admissible side, and ``C`` the points' covariance (without one, the residual
+    variance times the identity, ``n - 1`` degrees of freedom).  A fit on its bound
+    misfits the readings by construction; where the misfit exceeds the noise
+    (``r' C^-1 r`` above ``n - 1``), the variance is scaled by their ratio, as
+    for independent errors of unknown size, so that the readings' departure from
+    the model widens the interval instead of being read as precision.
+    """
+    L = L_mm[rows]
+    step = 1e-4 * L
+    r0 = trials.masked(residual[rows], rows)
+    with np.errstate(invalid="ignore"):
+        above = trials.masked(residual_at(rows, L + step), rows)
+    J = (r0 - above) / step[:, None]
+    H = np.sum(J * J, axis=-1)
+    if trials.covariance is not None:
+        spread = np.einsum("ti,tij,tj->t", J, trials.covariance[rows], J)
+        misfit = trials.take(rows).generalised_chi2(residual[rows])
+        spread = spread * np.fmax(misfit / np.maximum(trials.n[rows] - 1, 1), 1.0)
+    else:
+        variance = np.sum(r0 * r0, axis=-1) / np.maximum(trials.n[rows] - 1, 1)
+        spread = variance * H
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.sqrt(CHI2_1DOF_95 * spread) / H
+
+
+def _interval(
+    objective, trials, L_best, L_min, L_max, chi2_min, delta=None, residual_at=None, residual=None
+):
+    """The 95 % interval on L of each trial (NaN where it cannot be had), and which
+    fits end on a bound of L.
 
     Without a covariance a fit needs two points for its variance; with one (and
-    ``delta`` from :func:`_sandwich_delta`), one.
+    ``delta`` from :func:`_sandwich_delta`), one.  A fit on the lower bound gets a
+    one-sided interval: from the bound up to the bound plus the linearised
+    half-width (:func:`_bound_half_width`), or the likelihood interval's upper end
+    if that is further; never the microns the sum of squares' slope there would give.
     """
     valid = np.isfinite(L_best) & (trials.n >= (1 if trials.covariance is not None else 2))
     if delta is not None:
         valid &= np.isfinite(delta) & (delta > 0)
     best = np.where(valid, L_best, np.nan)
-    return likelihood_interval(
+    low, high = likelihood_interval(
         objective, best, L_min, L_max, trials.threshold(chi2_min, delta=delta)
     )
+    at_bound = at_search_bound(L_best, L_min, L_max)
+    on_lower = np.flatnonzero(at_bound & np.isfinite(L_best) & np.isfinite(high))
+    if residual_at is not None and on_lower.size:
+        half = _bound_half_width(trials, residual_at, L_best, residual, on_lower)
+        low[on_lower] = L_min[on_lower]
+        high[on_lower] = np.fmax(high[on_lower], L_min[on_lower] + half)
+    return low, high, at_bound
 
 
 def _curve_objective(curve, trials, depth_mm):
@@ -585,13 +668,17 @@ def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None
         delta = _sandwich_delta(trials, residual_at, L_mm, residual)
     else:
         delta = delta_at(L_mm, residual)
-    low, high = _interval(objective, trials, L_mm, L_lo, L_hi, trials.chi2(residual), delta)
+    low, high, at_bound = _interval(
+        objective, trials, L_mm, L_lo, L_hi, trials.chi2(residual), delta, residual_at, residual
+    )
+    if rows.size:
+        residual_at(rows, L_mm[rows])  # restores what residual_at keeps of the best fit (W0)
     errors = {
         int(i): f"no valid {model} curve: no admissible L between {L_lo[i]:g} and {L_hi[i]:g} mm"
         for i in np.flatnonzero(~found)
     }
     params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
-    return _ChunkFit(model, trials, params, residual, errors), L_mm
+    return _ChunkFit(model, trials, params, residual, errors, at_bound), L_mm
 
 
 def _fit_curve_chunk(model, curve, objective, trials, depth_mm, L_lo, lower_bound=None):
@@ -928,6 +1015,9 @@ class BatchFits:
         Points of each trial.
     fitted : numpy.ndarray of bool
         Whether the trial has a fit (enough points, an admissible L).
+    at_bound : numpy.ndarray of bool
+        Whether the fitted L ends on a bound of its search (False for a model
+        without L, and for a trial without a fit).
     errors : dict of int to str
         Why a trial has no fit, by trial index.
     """
@@ -940,6 +1030,7 @@ class BatchFits:
         self.chi2 = np.full(count, np.nan)
         self.n_points = n_points
         self.fitted = np.zeros(count, dtype=bool)
+        self.at_bound = np.zeros(count, dtype=bool)
         self.errors = {}
         self._chunks = []
         self._where = np.full((count, 2), -1)
@@ -955,6 +1046,7 @@ class BatchFits:
         for name, values in chunk.measures.items():
             self.measures[name][fitted] = values[ok]
         self.chi2[fitted] = chunk.chi2[ok]
+        self.at_bound[fitted] = chunk.at_bound[ok]
         self.fitted[fitted] = True
         self._where[trial_index, 0] = len(self._chunks)
         self._where[trial_index, 1] = np.arange(trial_index.size)
@@ -983,6 +1075,7 @@ class BatchFits:
             n_params=MODELS[self.model][1],
             residual_mm=chunk.residual_mm[row, :n].copy(),
             chi2=_python_float(self.chi2[i]),
+            at_bound=bool(self.at_bound[i]),
             **{name: _python_float(values[i]) for name, values in self.measures.items()},
         )
 
@@ -1241,18 +1334,21 @@ FIT_COLUMNS = [
     "waterbed_L_mm",
     "waterbed_L_ci_low_mm",
     "waterbed_L_ci_high_mm",
+    "waterbed_L_at_bound",
     "waterbed_rmse_mm",
     "waterbed_max_abs_residual_mm",
     "waterbed_aicc",
     "shifted_L_mm",
     "shifted_L_ci_low_mm",
     "shifted_L_ci_high_mm",
+    "shifted_L_at_bound",
     "shifted_rmse_mm",
     "shifted_max_abs_residual_mm",
     "shifted_aicc",
     "arc_L_mm",
     "arc_L_ci_low_mm",
     "arc_L_ci_high_mm",
+    "arc_L_at_bound",
     "arc_rmse_mm",
     "arc_max_abs_residual_mm",
     "arc_aicc",
@@ -1400,8 +1496,10 @@ def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_si
         fit = fits[model]
         for name, values in (*fit.params.items(), *list(fit.measures.items())[1:]):
             columns[f"{model}_{name}"] = values.tolist()
+        if "L_mm" in fit.params:
+            columns[f"{model}_L_at_bound"] = fit.at_bound.tolist()
     for name, values in columns.items():
-        if name != "n_points":
+        if name != "n_points" and not name.endswith("_at_bound"):
             columns[name] = [np.nan if v != v else v for v in values]
     names = list(columns)
     return [dict(zip(names, row, strict=True)) for row in zip(*columns.values(), strict=True)]
