@@ -18,7 +18,7 @@ import numpy as np
 from . import paper
 from .calibration import claim_error_rates
 from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
-from .tables import format_fixed, join_words, span_text
+from .tables import AT_BOUND_MARK, at_bound, format_fixed, join_words, span_text
 
 __all__ = [
     "article_facts",
@@ -459,13 +459,23 @@ def _trial_facts(fits):
                         float(row[f"{model}_L_ci_low_mm"]),
                         float(row[f"{model}_L_ci_high_mm"]),
                     )
+                    + (AT_BOUND_MARK if at_bound(row, model) else "")
                     for model in ("waterbed", "arc")
                 },
                 "rmse_waterbed": format_fixed(1000 * float(row["waterbed_rmse_mm"]), 1),
                 "rmse_boussinesq": format_fixed(1000 * float(row["boussinesq_rmse_mm"]), 1),
             }
         )
-    return {"rows": rows, "n": len(fits), "shown": len(rows)}
+    bounded = sum(
+        at_bound(row, model) for _, row in fits.iterrows() for model in ("waterbed", "arc")
+    )
+    return {
+        "rows": rows,
+        "n": len(fits),
+        "shown": len(rows),
+        "bounded": int(bounded),
+        "bound_mark": AT_BOUND_MARK,
+    }
 
 
 def _with_error(value, error, decimals):
