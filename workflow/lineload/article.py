@@ -216,7 +216,16 @@ def _fit_facts(fits, checks, noise_mm):
         "gap_range": span_text(gaps, 4),
         "gap_above_noise": f"{int((gaps > noise_mm).sum())} of {gaps.size}",
         "noise_mm": f"{noise_mm:g}",
+        "prior_share_L": _share_span(fits, "waterbed_L_prior_share"),
+        "prior_share_A": _share_span(fits, "boussinesq_A_prior_share"),
     }
+
+
+def _share_span(fits, column):
+    """The range of a ``*_prior_share`` column in per cent ('–' without one)."""
+    if column not in fits:
+        return "–"
+    return span_text(100 * fits[column].to_numpy(float), 0, " %")
 
 
 def article_facts(

@@ -238,14 +238,30 @@ class _Trials:
     the outline, which the log-singular Boussinesq form feels to second order.
     """
 
-    def __init__(self, x, y, mask, n, x_max, covariance=None, wedge_sd_mm=0.0):
+    def __init__(
+        self, x, y, mask, n, x_max, covariance=None, wedge_sd_mm=0.0, prior_covariance=None
+    ):
         self.x, self.y, self.mask, self.n, self.x_max = x, y, mask, n, x_max
         self.covariance = covariance
         self.wedge_sd_mm = wedge_sd_mm
+        self.prior_covariance = prior_covariance
 
     @classmethod
-    def from_flat(cls, x_mm, y_mm, counts, offsets, covariance_mm2=None, wedge_sd_mm=0.0):
-        """Trials ``i`` = ``x_mm[offsets[i]:offsets[i] + counts[i]]`` (each with a point)."""
+    def from_flat(
+        cls,
+        x_mm,
+        y_mm,
+        counts,
+        offsets,
+        covariance_mm2=None,
+        wedge_sd_mm=0.0,
+        prior_covariance_mm2=None,
+    ):
+        """Trials ``i`` = ``x_mm[offsets[i]:offsets[i] + counts[i]]`` (each with a point).
+
+        ``prior_covariance_mm2``, if given, is the part of each covariance that the
+        stated priors make (shared offset, tilt, depth): what :func:`_prior_share` reads.
+        """
         width = _padded_width(counts.max())
         column = np.arange(width)
         mask = column < counts[:, None]
@@ -255,10 +271,17 @@ class _Trials:
         covariance = (
             None if covariance_mm2 is None else _padded_covariances(covariance_mm2, counts, width)
         )
-        return cls(x, y, mask, counts, np.fmax.reduce(x, axis=1), covariance, wedge_sd_mm)
+        prior = None
+        if covariance is not None and prior_covariance_mm2 is not None:
+            prior = np.zeros_like(covariance)
+            for i, (matrix, n) in enumerate(zip(prior_covariance_mm2, counts, strict=True)):
+                prior[i, :n, :n] = matrix
+        x_max = np.fmax.reduce(x, axis=1)
+        return cls(x, y, mask, counts, x_max, covariance, wedge_sd_mm, prior)
 
     def take(self, rows):
         covariance = None if self.covariance is None else self.covariance[rows]
+        prior = None if self.prior_covariance is None else self.prior_covariance[rows]
         return _Trials(
             self.x[rows],
             self.y[rows],
@@ -267,6 +290,7 @@ class _Trials:
             self.x_max[rows],
             covariance,
             self.wedge_sd_mm,
+            prior,
         )
 
     @property
@@ -384,11 +408,15 @@ def goodness_of_fit(residual_mm, n_params):
 class _ChunkFit:
     """One model fitted to the trials of a :class:`_Trials` chunk."""
 
-    def __init__(self, model, trials, params, residual_mm, errors=None, at_bound=None):
+    def __init__(
+        self, model, trials, params, residual_mm, errors=None, at_bound=None, prior_share=None
+    ):
         self.model = model
         self.trials = trials
         self.params = params
-        self.at_bound = np.zeros(trials.n.size, dtype=bool) if at_bound is None else at_bound
+        count = trials.n.size
+        self.at_bound = np.zeros(count, dtype=bool) if at_bound is None else at_bound
+        self.prior_share = np.full(count, np.nan) if prior_share is None else prior_share
         self.residual_mm = residual_mm
         self.errors = errors or {}
         self.measures = _measures(residual_mm, trials.mask, MODELS[model][1])
@@ -479,6 +507,7 @@ def _fit_waterbed_chunk(trials, depth_mm):
     def residual_at(rows, L):
         return y[rows] - waterbed_deflection_mm(x[rows], W0[rows], L[:, None])
 
+    delta, share = _sandwich_delta(trials, residual_at, L_mm, residual)
     low, high, at_bound = _interval(
         lambda L, rows: _polyval(quartic[rows], 1.0 / L),
         trials,
@@ -486,29 +515,30 @@ def _fit_waterbed_chunk(trials, depth_mm):
         x_max,
         np.full(x_max.size, np.inf),
         trials.chi2(residual),
-        _sandwich_delta(trials, residual_at, L_mm, residual),
+        delta,
         residual_at,
         residual,
     )
     params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
-    return _ChunkFit("waterbed", trials, params, residual, at_bound=at_bound)
+    return _ChunkFit("waterbed", trials, params, residual, at_bound=at_bound, prior_share=share)
 
 
 def _sandwich_delta(trials, residual_at, L_mm, residual):
     """How far the sum of squares rises at the ends of the 95 % interval on L, given
-    the points' covariance: ``chi2 J' C J / H`` (see the module's notes); None
-    without a covariance.
+    the points' covariance: ``chi2 J' C J / H`` (see the module's notes), and the
+    share of that variance the stated priors make (:func:`_prior_share`); None and
+    NaN without a covariance.
 
     ``J`` and the curve's second derivative come from central differences of
     ``residual_at(rows, L)`` at ``L (1 +- 1e-4)``; where a side is not defined (a
     bound of the model) one-sided, with the misfit term left out of ``H``.
     """
     if trials.covariance is None:
-        return None
-    delta = np.full(L_mm.size, np.nan)
+        return None, np.full(L_mm.size, np.nan)
+    delta, share = np.full(L_mm.size, np.nan), np.full(L_mm.size, np.nan)
     rows = np.flatnonzero(np.isfinite(L_mm))
     if not rows.size:
-        return delta
+        return delta, share
     L = L_mm[rows]
     step = 1e-4 * L
     r0 = trials.masked(residual[rows], rows)
@@ -525,7 +555,19 @@ def _sandwich_delta(trials, residual_at, L_mm, residual):
     spread = np.einsum("ti,tij,tj->t", J, trials.covariance[rows], J)
     with np.errstate(divide="ignore", invalid="ignore"):
         delta[rows] = CHI2_1DOF_95 * spread / H
-    return delta
+    share[rows] = _prior_share(trials.take(rows), J, spread)
+    return delta, share
+
+
+def _prior_share(trials, J, spread):
+    """Share ``J' C_prior J / J' C J`` of a one-parameter fit's variance that the stated
+    priors make (``C_prior`` the covariance of the shared offset, tilt and depth error
+    alone, which enter ``C`` linearly in their variances); NaN without that split."""
+    if trials.prior_covariance is None:
+        return np.full(J.shape[0], np.nan)
+    prior = np.einsum("ti,tij,tj->t", J, trials.prior_covariance, J)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.clip(prior / spread, 0.0, 1.0)
 
 
 #: Relative distance from a bound of the search within which a fitted L is taken to
@@ -665,9 +707,9 @@ def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None
     rows = np.flatnonzero(found)
     residual[rows] = residual_at(rows, L_mm[rows])
     if delta_at is None:
-        delta = _sandwich_delta(trials, residual_at, L_mm, residual)
+        delta, share = _sandwich_delta(trials, residual_at, L_mm, residual)
     else:
-        delta = delta_at(L_mm, residual)
+        delta, share = delta_at(L_mm, residual), None
     low, high, at_bound = _interval(
         objective, trials, L_mm, L_lo, L_hi, trials.chi2(residual), delta, residual_at, residual
     )
@@ -678,7 +720,7 @@ def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None
         for i in np.flatnonzero(~found)
     }
     params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
-    return _ChunkFit(model, trials, params, residual, errors, at_bound), L_mm
+    return _ChunkFit(model, trials, params, residual, errors, at_bound, share), L_mm
 
 
 def _fit_curve_chunk(model, curve, objective, trials, depth_mm, L_lo, lower_bound=None):
@@ -890,7 +932,8 @@ def _wedge_moments(x_mm, mask, wedge_sd_mm):
 
 
 def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
-    """95 % intervals on A and x0 given the points' covariance ``C`` (the sandwich).
+    """95 % intervals on A and x0 given the points' covariance ``C`` (the sandwich), and
+    the share of A's variance that the stated priors make (NaN without their split).
 
     The least-squares line ``a - A ln x`` has covariance ``V = (X'X)^-1 X'CX
     (X'X)^-1`` (``X = [1, -ln x]``); A's interval is ``A +- 1.96 sqrt(V_AA)``,
@@ -911,15 +954,15 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
     ``A**2 S``; the fitted A and x0 stay the least-squares values.  The
     correction assumes the logarithm holds down to the first reading, as the
     model says; for a profile that is smoother there it widens the intervals
-    a little (in simulation of the reconstruction's shapes, A covered 97.8 %
-    with it and 95.9 % without), and it rests on the prior: with the wedge's
-    true SD 1.5 times the prior, A covered 82 %.
+    a little, and it rests on the prior (its share of A's variance is reported
+    with the others', :func:`_prior_share`).
     """
     X = np.stack([np.ones(trials.x.shape), -np.log(trials.x)], axis=-1)
     X = np.where(trials.mask[:, :, None], X, 0.0)
     z = np.sqrt(CHI2_1DOF_95)
     count = A_mm.size
     ends = {name: np.full(count, np.nan) for name in ("A_low", "A_high", "x0_low", "x0_high")}
+    share = np.full(count, np.nan)
     information = np.einsum("tik,til->tkl", X, X)
     ok = np.isfinite(A_mm) & (np.abs(np.linalg.det(information)) > 0)
     if ok.any():
@@ -935,8 +978,16 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
         stretch = 1.0 + k[:, 1]
         A = A / stretch
         a = a - A * k[:, 0]
-        V = V + (A**2)[:, None, None] * np.einsum("tkn,tln->tkl", h, h)
+        wedge = (A**2)[:, None, None] * np.einsum("tkn,tln->tkl", h, h)
+        V = V + wedge
         sd_A = np.sqrt(np.maximum(V[:, 1, 1], 0.0)) / stretch
+        part = trials.take(rows)
+        if part.prior_covariance is not None:
+            # the priors' share of A's variance: shared offset, tilt, depth and the wedge
+            prior = np.einsum("tik,tij,tjl->tkl", Xr, part.prior_covariance, Xr)
+            prior = (inverse @ prior @ inverse)[:, 1, 1] + wedge[:, 1, 1]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                share[rows] = np.clip(prior / V[:, 1, 1], 0.0, 1.0)
         ends["A_low"][rows], ends["A_high"][rows] = A - z * sd_A, A + z * sd_A
         with np.errstate(divide="ignore", invalid="ignore"):
             # ln x0 = a / A of the corrected line, as a function of the fitted (a, A)
@@ -947,12 +998,13 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
             rising = A > 0
             ends["x0_low"][rows] = np.where(rising, np.exp(a / A - z * sd_log), np.nan)
             ends["x0_high"][rows] = np.where(rising, np.exp(a / A + z * sd_log), np.nan)
-    return {
+    intervals = {
         "A_ci_low_mm": ends["A_low"],
         "A_ci_high_mm": ends["A_high"],
         "x0_ci_low_mm": ends["x0_low"],
         "x0_ci_high_mm": ends["x0_high"],
     }
+    return intervals, share
 
 
 def _fit_boussinesq_chunk(trials, depth_mm=None):
@@ -976,11 +1028,13 @@ def _fit_boussinesq_chunk(trials, depth_mm=None):
         x[rising], A_mm[rising, None], x0_mm[rising, None]
     )
     params = {"A_mm": A_mm, "x0_mm": x0_mm}
+    share = None
     if trials.covariance is None:
         params.update(_boussinesq_intervals(trials, intercept, A_mm))
     else:
-        params.update(_boussinesq_sandwich_intervals(trials, intercept, A_mm))
-    return _ChunkFit("boussinesq", trials, params, residual)
+        intervals, share = _boussinesq_sandwich_intervals(trials, intercept, A_mm)
+        params.update(intervals)
+    return _ChunkFit("boussinesq", trials, params, residual, prior_share=share)
 
 
 _CHUNK_FITS = {
@@ -1018,6 +1072,10 @@ class BatchFits:
     at_bound : numpy.ndarray of bool
         Whether the fitted L ends on a bound of its search (False for a model
         without L, and for a trial without a fit).
+    prior_share : numpy.ndarray
+        Share of the variance of the model's first parameter (L, or A) that the
+        stated priors make (shared offset, tilt and depth error; for A also the
+        wedge's position); NaN without a noise model.
     errors : dict of int to str
         Why a trial has no fit, by trial index.
     """
@@ -1031,6 +1089,7 @@ class BatchFits:
         self.n_points = n_points
         self.fitted = np.zeros(count, dtype=bool)
         self.at_bound = np.zeros(count, dtype=bool)
+        self.prior_share = np.full(count, np.nan)
         self.errors = {}
         self._chunks = []
         self._where = np.full((count, 2), -1)
@@ -1047,6 +1106,7 @@ class BatchFits:
             self.measures[name][fitted] = values[ok]
         self.chi2[fitted] = chunk.chi2[ok]
         self.at_bound[fitted] = chunk.at_bound[ok]
+        self.prior_share[fitted] = chunk.prior_share[ok]
         self.fitted[fitted] = True
         self._where[trial_index, 0] = len(self._chunks)
         self._where[trial_index, 1] = np.arange(trial_index.size)
@@ -1097,8 +1157,18 @@ def _as_trials(distance_mm, deflection_mm):
     return np.concatenate(distance_mm), np.concatenate(deflection_mm), counts
 
 
-def _fit_flat(x_mm, y_mm, counts, depth_mm, models, covariance_mm2=None, wedge_sd_mm=0.0):
-    """Fit ``models`` to trials given as concatenated points and counts."""
+def _fit_flat(
+    x_mm,
+    y_mm,
+    counts,
+    depth_mm,
+    models,
+    covariance_mm2=None,
+    wedge_sd_mm=0.0,
+    prior_covariance_mm2=None,
+):
+    """Fit ``models`` to trials given as concatenated points and counts (``prior_covariance_mm2``:
+    the priors' part of each covariance, for the fits' ``prior_share``)."""
     offsets = np.cumsum(counts) - counts
     fits = {model: BatchFits(model, counts) for model in models}
     for model in models:
@@ -1112,8 +1182,11 @@ def _fit_flat(x_mm, y_mm, counts, depth_mm, models, covariance_mm2=None, wedge_s
     for start in range(0, order.size, CHUNK_TRIALS):
         chunk = order[start : start + CHUNK_TRIALS]
         covariance = None if covariance_mm2 is None else [covariance_mm2[i] for i in chunk]
+        prior = None
+        if prior_covariance_mm2 is not None:
+            prior = [prior_covariance_mm2[i] for i in chunk]
         trials = _Trials.from_flat(
-            x_mm, y_mm, counts[chunk], offsets[chunk], covariance, wedge_sd_mm
+            x_mm, y_mm, counts[chunk], offsets[chunk], covariance, wedge_sd_mm, prior
         )
         for model in models:
             enough = counts[chunk] >= MODELS[model][2]
@@ -1335,6 +1408,7 @@ FIT_COLUMNS = [
     "waterbed_L_ci_low_mm",
     "waterbed_L_ci_high_mm",
     "waterbed_L_at_bound",
+    "waterbed_L_prior_share",
     "waterbed_rmse_mm",
     "waterbed_max_abs_residual_mm",
     "waterbed_aicc",
@@ -1342,6 +1416,7 @@ FIT_COLUMNS = [
     "shifted_L_ci_low_mm",
     "shifted_L_ci_high_mm",
     "shifted_L_at_bound",
+    "shifted_L_prior_share",
     "shifted_rmse_mm",
     "shifted_max_abs_residual_mm",
     "shifted_aicc",
@@ -1349,6 +1424,7 @@ FIT_COLUMNS = [
     "arc_L_ci_low_mm",
     "arc_L_ci_high_mm",
     "arc_L_at_bound",
+    "arc_L_prior_share",
     "arc_rmse_mm",
     "arc_max_abs_residual_mm",
     "arc_aicc",
@@ -1356,6 +1432,7 @@ FIT_COLUMNS = [
     "boussinesq_x0_mm",
     "boussinesq_A_ci_low_mm",
     "boussinesq_A_ci_high_mm",
+    "boussinesq_A_prior_share",
     "boussinesq_x0_ci_low_mm",
     "boussinesq_x0_ci_high_mm",
     "boussinesq_rmse_mm",
@@ -1438,7 +1515,7 @@ def fit_windowed(
     """
     x_mm, y_mm, counts = window_points(distance_mm, deflection_mm, window_mm)
     depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), counts.shape)
-    covariance_mm2, wedge_sd_mm = None, 0.0
+    covariance_mm2, wedge_sd_mm, prior_covariance_mm2 = None, 0.0, None
     if noise is not None:
         if not isinstance(noise, (list, tuple)):
             noise = [noise] * counts.size
@@ -1452,7 +1529,20 @@ def fit_windowed(
         covariance_mm2 = _window_covariances(
             distance_mm, deflection_mm, depth_mm, window, noise, n_sides
         )
-    fits = _fit_flat(x_mm, y_mm, counts, depth_mm, tuple(models), covariance_mm2, wedge_sd_mm)
+        priors_only = [n.priors_only() for n in noise]
+        prior_covariance_mm2 = _window_covariances(
+            distance_mm, deflection_mm, depth_mm, window, priors_only, n_sides
+        )
+    fits = _fit_flat(
+        x_mm,
+        y_mm,
+        counts,
+        depth_mm,
+        tuple(models),
+        covariance_mm2,
+        wedge_sd_mm,
+        prior_covariance_mm2,
+    )
     max_distance_mm = np.full(counts.size, np.nan)
     some = counts > 0
     if some.any():
@@ -1496,6 +1586,8 @@ def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_si
         fit = fits[model]
         for name, values in (*fit.params.items(), *list(fit.measures.items())[1:]):
             columns[f"{model}_{name}"] = values.tolist()
+        first = next(iter(fit.params))
+        columns[f"{model}_{first.removesuffix('_mm')}_prior_share"] = fit.prior_share.tolist()
         if "L_mm" in fit.params:
             columns[f"{model}_L_at_bound"] = fit.at_bound.tolist()
     for name, values in columns.items():
