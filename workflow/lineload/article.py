@@ -18,6 +18,7 @@ import numpy as np
 from . import paper
 from .calibration import claim_error_rates
 from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
+from .priors import changed_claims
 from .tables import AT_BOUND_MARK, at_bound, format_fixed, join_words, span_text
 
 __all__ = [
@@ -221,6 +222,27 @@ def _fit_facts(fits, checks, noise_mm):
     }
 
 
+def _prior_facts(claims):
+    """Which verdicts change with the noise priors scaled (the claims table's
+    ``verdict_prior_x*`` columns): by multiple, and below twice the stated sizes."""
+    columns = [c for c in claims.columns if c.startswith("verdict_prior_x")]
+    multiples = [float(c.removeprefix("verdict_prior_x")) for c in columns]
+    by_multiple = [
+        {
+            "multiple": f"{m:g}",
+            "changed": join_words(claims.loc[claims[c] != claims["verdict"], "claim"]) or "none",
+        }
+        for m, c in zip(multiples, columns, strict=True)
+    ]
+    below = changed_claims(claims, below=2.0)
+    return {
+        "checked": bool(columns),
+        "multiples": join_words(f"{m:g}" for m in multiples),
+        "by_multiple": by_multiple,
+        "changed_below_2": join_words(below) if below else "none",
+    }
+
+
 def _share_span(fits, column):
     """The range of a ``*_prior_share`` column in per cent ('–' without one)."""
     if column not in fits:
@@ -304,6 +326,7 @@ def article_facts(
             }
             for _, row in claims.iterrows()
         ],
+        "priors": _prior_facts(claims),
         "settings": shown(settings),
         "figures": {
             "example_depth": f"{figures['example_depth_mm']:g} mm",

@@ -230,6 +230,9 @@ class ClaimSettings:
         ``(subject, depth_mm)`` -> the NoiseModel of a trial with rows of its own
         in the noise table (a digitised trial's registration error); the others
         take ``noise_model``.
+    prior_multiples : tuple of float
+        Multiples of the noise priors at which the claims are computed again
+        (:mod:`lineload.priors`); config ``claims: prior_multiples``.
     """
 
     noise_mm: float | None = _DEFAULTS["noise_mm"]
@@ -239,6 +242,7 @@ class ClaimSettings:
     zero_crossing_rtol: float = 1e-6
     noise_model: NoiseModel | None = None
     trial_noise: dict | None = None
+    prior_multiples: tuple = tuple(_DEFAULTS["prior_multiples"])
 
     @property
     def reading_noise_mm(self):

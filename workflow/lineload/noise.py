@@ -219,6 +219,10 @@ class NoiseModel:
             self, reading_sd_mm=0.0, tracing_sd_mm=0.0, side_offset_sd_mm=0.0, rotation_sd=0.0
         )
 
+    def scaled_priors(self, multiple):
+        """A copy with every prior's standard deviation (:data:`PRIORS`) times ``multiple``."""
+        return replace(self, **{name: multiple * getattr(self, name) for name in PRIORS})
+
     def with_priors(self, **priors):
         """A copy with the prior standard deviations replaced."""
         return replace(self, **priors)
