@@ -893,6 +893,16 @@ def _scaled_interval(fit, model, z):
     return L_mm - scale * (L_mm - low), L_mm + scale * (high - L_mm)
 
 
+def _crosses_between_windows(fit, model, low_mm, high_mm):
+    """Whether the fit's L, found again in the other configured windows, lies on both
+    sides of an end of the range (False where the table has no such columns)."""
+    smallest = float(fit.get(f"{model}_L_window_min_mm", math.nan))
+    largest = float(fit.get(f"{model}_L_window_max_mm", math.nan))
+    if not (math.isfinite(smallest) and math.isfinite(largest)):
+        return False
+    return any(smallest < end < largest for end in (low_mm, high_mm))
+
+
 def claim_c5(fits, averaged, settings):
     """C5: the true L between 10 and 15 mm, under the paper's procedure: a range test
     with each trial's interval (shifted fit beside)."""
@@ -908,20 +918,28 @@ def claim_c5(fits, averaged, settings):
         "above or below it. Holds if every trial is inside; does not hold if some trial is "
         "outside; cannot be checked otherwise (the readings cannot place L relative to the "
         "range's ends). A trial whose fit ended on a bound of its search is undecided: its L "
-        "is a bound, not a measurement. The same for the shifted parabola (the small-slope "
-        "solution in measured coordinates) is given beside it, not deciding."
+        "is a bound, not a measurement. L is the half-width for the fit window: a trial whose "
+        "L crosses an end of the range between the configured windows (the fit table's "
+        "L_window_min_mm and L_window_max_mm) is undecided too. The same for the shifted "
+        "parabola (the small-slope solution in measured coordinates) is given beside it, "
+        "not deciding."
     )
     z_inside = norm.ppf(1.0 - alpha)
     outcomes = {}
     for model in (PAPER_FIT, "shifted"):
         rows = [f for f in fits.to_dict("records") if _finite_L(f, model)]
         z_outside = norm.ppf(1.0 - alpha / (2 * max(len(rows), 1)))
-        inside, outside, unsure, L_mm, bounded = [], [], [], [], []
+        inside, outside, unsure, L_mm, bounded, windowed = [], [], [], [], [], []
         for fit in rows:
             L_mm.append(float(fit[f"{model}_L_mm"]))
             if at_bound(fit, model):
                 # a bound of the search, not a measurement: no side of the range is shown
                 bounded.append(_label(fit))
+                unsure.append(_label(fit))
+                continue
+            if _crosses_between_windows(fit, model, low, high):
+                # L is the half-width for a window; another window puts it across an end
+                windowed.append(_label(fit))
                 unsure.append(_label(fit))
                 continue
             in_low, in_high = _scaled_interval(fit, model, z_inside)
@@ -932,15 +950,20 @@ def claim_c5(fits, averaged, settings):
                 outside.append(_label(fit))
             else:
                 unsure.append(_label(fit))
-        outcomes[model] = (np.array(L_mm), inside, outside, unsure, bounded)
-    L_paper, inside, outside, unsure, bounded = outcomes[PAPER_FIT]
-    L_shift, inside_s, outside_s, unsure_s, _ = outcomes["shifted"]
+        outcomes[model] = (np.array(L_mm), inside, outside, unsure, bounded, windowed)
+    L_paper, inside, outside, unsure, bounded, windowed = outcomes[PAPER_FIT]
+    L_shift, inside_s, outside_s, unsure_s, _, _ = outcomes["shifted"]
     if L_paper.size == 0:
         return _row("C5", "no waterbed fit", UNTESTABLE, "No trial has a waterbed fit.", rule)
     our = (
         f"paper's procedure: L = {_span(L_paper)}; of {_n(L_paper.size, 'trial')} "
         f"{len(inside)} inside, {len(outside)} outside, {len(unsure)} undecided"
         + (f" ({len(bounded)} of them with L on a bound of its search)" if bounded else "")
+        + (
+            f" ({len(windowed)} of them with L across an end of the range in another window)"
+            if windowed
+            else ""
+        )
         + "; "
         f"shifted parabola: L = {_span(L_shift)}, {len(inside_s)} inside, "
         f"{len(outside_s)} outside, {len(unsure_s)} undecided"
@@ -960,7 +983,7 @@ def claim_c5(fits, averaged, settings):
     else:
         verdict = UNTESTABLE
         reason = f"No trial's L is outside {low:g}-{high:g} mm beyond its uncertainty, but"
-        reaching = [label for label in unsure if label not in bounded]
+        reaching = [label for label in unsure if label not in bounded and label not in windowed]
         if reaching:
             reason += f" in {_list(reaching)} the interval reaches past an end of the range"
         if bounded:
@@ -968,6 +991,12 @@ def claim_c5(fits, averaged, settings):
                 f"{' and' if reaching else ''} in {_list(bounded)} the fit ended on a bound of "
                 "its search (the readings want a membrane the model does not allow), so L "
                 "there is not a measurement"
+            )
+        if windowed:
+            reason += (
+                f"{' and' if reaching or bounded else ''} in {_list(windowed)} L, the "
+                "half-width for the fit window, falls on the other side of an end of the "
+                "range in another of the configured windows"
             )
     if L_shift.size == 0:
         reason += "; there is no fit in measured coordinates to compare."

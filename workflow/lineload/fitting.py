@@ -55,6 +55,7 @@ depend on its batch beyond rounding: two batchings agree to the tolerance of
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -1409,6 +1410,8 @@ FIT_COLUMNS = [
     "waterbed_L_ci_high_mm",
     "waterbed_L_at_bound",
     "waterbed_L_prior_share",
+    "waterbed_L_window_min_mm",
+    "waterbed_L_window_max_mm",
     "waterbed_rmse_mm",
     "waterbed_max_abs_residual_mm",
     "waterbed_aicc",
@@ -1417,6 +1420,8 @@ FIT_COLUMNS = [
     "shifted_L_ci_high_mm",
     "shifted_L_at_bound",
     "shifted_L_prior_share",
+    "shifted_L_window_min_mm",
+    "shifted_L_window_max_mm",
     "shifted_rmse_mm",
     "shifted_max_abs_residual_mm",
     "shifted_aicc",
@@ -1425,6 +1430,8 @@ FIT_COLUMNS = [
     "arc_L_ci_high_mm",
     "arc_L_at_bound",
     "arc_L_prior_share",
+    "arc_L_window_min_mm",
+    "arc_L_window_max_mm",
     "arc_rmse_mm",
     "arc_max_abs_residual_mm",
     "arc_aicc",
@@ -1550,7 +1557,19 @@ def fit_windowed(
     return {"n_points": counts, "max_distance_mm": max_distance_mm, **fits}
 
 
-def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_sides=None):
+#: The fits whose L the fit table follows across other windows (:func:`fit_trials`).
+WINDOW_MODELS = ("waterbed", "shifted", "arc")
+
+
+def fit_trials(
+    distance_mm,
+    deflection_mm,
+    depth_mm,
+    window_mm,
+    noise=None,
+    n_sides=None,
+    other_windows_mm=(),
+):
     """Fit every model of the fit table to many trials, each on its windowed points.
 
     Parameters
@@ -1566,6 +1585,12 @@ def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_si
         see :func:`fit_windowed`).
     n_sides : sequence of array_like, optional
         Sides read at each point of each trial (with ``noise``).
+    other_windows_mm : sequence of float or None, optional
+        Further windows (None or infinity: the whole profile) in which the waterbed
+        fits' L is found again: ``{model}_L_window_min_mm`` and ``_max_mm`` give
+        the smallest and largest L over these and ``window_mm`` (L is the
+        half-width *for a window*; the spread is a sensitivity, not part of the
+        95 % interval).  Without any, those columns equal L.
 
     Returns
     -------
@@ -1590,6 +1615,18 @@ def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_si
         columns[f"{model}_{first.removesuffix('_mm')}_prior_share"] = fit.prior_share.tolist()
         if "L_mm" in fit.params:
             columns[f"{model}_L_at_bound"] = fit.at_bound.tolist()
+    spread = {model: [fits[model].params["L_mm"]] for model in WINDOW_MODELS}
+    for other in other_windows_mm:
+        other = np.inf if other is None else float(other)
+        refit = fit_windowed(distance_mm, deflection_mm, depth_mm, other, WINDOW_MODELS)
+        for model in WINDOW_MODELS:
+            spread[model].append(refit[model].params["L_mm"])
+    for model, values in spread.items():
+        values = np.array(values)
+        with np.errstate(invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a trial without any fit
+            columns[f"{model}_L_window_min_mm"] = np.nanmin(values, axis=0).tolist()
+            columns[f"{model}_L_window_max_mm"] = np.nanmax(values, axis=0).tolist()
     for name, values in columns.items():
         if name != "n_points" and not name.endswith("_at_bound"):
             columns[name] = [np.nan if v != v else v for v in values]

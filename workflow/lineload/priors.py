@@ -52,7 +52,8 @@ def refit_at_priors(fits, averaged, noise_models):
     Returns
     -------
     pandas.DataFrame
-        Columns :data:`lineload.fitting.FIT_COLUMNS`, rows as in ``fits``.
+        Columns :data:`lineload.fitting.FIT_COLUMNS`, rows as in ``fits``; L's range
+        across the other windows (least squares, free of the noise) copied from ``fits``.
     """
     points = {
         (str(subject), float(depth)): group
@@ -77,6 +78,9 @@ def refit_at_priors(fits, averaged, noise_models):
     table = pd.DataFrame(rows)
     table.insert(0, "species", fits["species"].to_numpy())
     table.insert(0, "subject", fits["subject"].to_numpy())
+    # L across other windows is a least-squares L, free of the noise model: kept
+    for column in [c for c in FIT_COLUMNS if "_L_window_" in c and c in fits]:
+        table[column] = fits[column].to_numpy()
     return table.reindex(columns=FIT_COLUMNS)
 
 
