@@ -18,7 +18,17 @@ import numpy as np
 from . import paper
 from .calibration import claim_error_rates
 from .claims import EVIDENCE_VERDICTS, PAPER_CLAIM, summary_sentence, verdict_counts
-from .tables import counted, every, format_fixed, join_words, percent_text, span_text
+from .priors import changed_claims
+from .tables import (
+    AT_BOUND_MARK,
+    at_bound,
+    counted,
+    every,
+    format_fixed,
+    join_words,
+    percent_text,
+    span_text,
+)
 
 __all__ = [
     "article_facts",
@@ -239,6 +249,8 @@ def _fit_facts(fits, checks, noise_mm):
         "gap_range": span_text(gaps, 4),
         "gap_above_noise": f"{int((gaps > noise_mm).sum())} of {gaps.size}",
         "noise_mm": f"{noise_mm:g}",
+        "prior_share_L": _share_span(fits, "waterbed_L_prior_share"),
+        "prior_share_A": _share_span(fits, "boussinesq_A_prior_share"),
     }
 
 
@@ -315,6 +327,34 @@ def design_text(design):
     order += sorted(set(per_species) - set(paper.SPECIES))
     parts = ", ".join(f"{per_species[species]} {species}" for species in order)
     return f"{counted(sum(design.values()), 'trial')} ({parts}) at {_depths_text(depths)}"
+
+
+def _prior_facts(claims):
+    """Which verdicts change with the noise priors scaled (the claims table's
+    ``verdict_prior_x*`` columns): by multiple, and below twice the stated sizes."""
+    columns = [c for c in claims.columns if c.startswith("verdict_prior_x")]
+    multiples = [float(c.removeprefix("verdict_prior_x")) for c in columns]
+    by_multiple = [
+        {
+            "multiple": f"{m:g}",
+            "changed": join_words(claims.loc[claims[c] != claims["verdict"], "claim"]) or "none",
+        }
+        for m, c in zip(multiples, columns, strict=True)
+    ]
+    below = changed_claims(claims, below=2.0)
+    return {
+        "checked": bool(columns),
+        "multiples": join_words(f"{m:g}" for m in multiples),
+        "by_multiple": by_multiple,
+        "changed_below_2": join_words(below) if below else "none",
+    }
+
+
+def _share_span(fits, column):
+    """The range of a ``*_prior_share`` column in per cent ('–' without one)."""
+    if column not in fits:
+        return "–"
+    return span_text(100 * fits[column].to_numpy(float), 0, " %")
 
 
 def article_facts(
@@ -401,6 +441,7 @@ def article_facts(
             }
             for _, row in claims.iterrows()
         ],
+        "priors": _prior_facts(claims),
         "settings": shown(settings),
         "figures": {
             "example_depth": f"{figures['example_depth_mm']:g} mm",
@@ -603,13 +644,23 @@ def _trial_facts(fits):
                         float(row[f"{model}_L_ci_low_mm"]),
                         float(row[f"{model}_L_ci_high_mm"]),
                     )
+                    + (AT_BOUND_MARK if at_bound(row, model) else "")
                     for model in ("waterbed", "arc")
                 },
                 "rmse_waterbed": format_fixed(1000 * float(row["waterbed_rmse_mm"]), 1),
                 "rmse_boussinesq": format_fixed(1000 * float(row["boussinesq_rmse_mm"]), 1),
             }
         )
-    return {"rows": rows, "n": len(fits), "shown": len(rows)}
+    bounded = sum(
+        at_bound(row, model) for _, row in fits.iterrows() for model in ("waterbed", "arc")
+    )
+    return {
+        "rows": rows,
+        "n": len(fits),
+        "shown": len(rows),
+        "bounded": int(bounded),
+        "bound_mark": AT_BOUND_MARK,
+    }
 
 
 def _with_error(value, error, decimals):

@@ -58,6 +58,7 @@ from .models import (
 from .noise import NoiseModel
 from .sensitivity import curve_gap_mm
 from .tables import (
+    at_bound,
     counted,
     every,
     format_fixed,
@@ -278,6 +279,9 @@ class ClaimSettings:
         ``(subject, depth_mm)`` -> the NoiseModel of a trial with rows of its own
         in the noise table (a digitised trial's registration error); the others
         take ``noise_model``.
+    prior_multiples : tuple of float
+        Multiples of the noise priors at which the claims are computed again
+        (:mod:`lineload.priors`); config ``claims: prior_multiples``.
     """
 
     noise_mm: float | None = _DEFAULTS["noise_mm"]
@@ -291,6 +295,7 @@ class ClaimSettings:
     zero_crossing_rtol: float = 1e-6
     noise_model: NoiseModel | None = None
     trial_noise: dict | None = None
+    prior_multiples: tuple = tuple(_DEFAULTS["prior_multiples"])
 
     @property
     def reading_noise_mm(self):
@@ -1059,6 +1064,16 @@ def _scaled_interval(fit, model, z):
     return L_mm - scale * (L_mm - low), L_mm + scale * (high - L_mm)
 
 
+def _crosses_between_windows(fit, model, low_mm, high_mm):
+    """Whether the fit's L, found again in the other configured windows, lies on both
+    sides of an end of the range (False where the table has no such columns)."""
+    smallest = float(fit.get(f"{model}_L_window_min_mm", math.nan))
+    largest = float(fit.get(f"{model}_L_window_max_mm", math.nan))
+    if not (math.isfinite(smallest) and math.isfinite(largest)):
+        return False
+    return any(smallest < end < largest for end in (low_mm, high_mm))
+
+
 def claim_c5(fits, averaged, settings):
     """C5: the true L between 10 and 15 mm, under the paper's procedure: a range test
     with each trial's interval (shifted fit beside)."""
@@ -1073,17 +1088,31 @@ def claim_c5(fits, averaged, settings):
         f"{format_fixed(100 * (1 - alpha), 0)} %, Bonferroni over the trials, lies wholly "
         "above or below it. Holds if every trial is inside; does not hold if some trial is "
         "outside; cannot be checked otherwise (the readings cannot place L relative to the "
-        "range's ends). The same for the shifted parabola (the small-slope solution in "
-        "measured coordinates) is given beside it, not deciding."
+        "range's ends). A trial whose fit ended on a bound of its search is undecided: its L "
+        "is a bound, not a measurement. L is the half-width for the fit window: a trial whose "
+        "L crosses an end of the range between the configured windows (the fit table's "
+        "L_window_min_mm and L_window_max_mm) is undecided too. The same for the shifted "
+        "parabola (the small-slope solution in measured coordinates) is given beside it, "
+        "not deciding."
     )
     z_inside = norm.ppf(1.0 - alpha)
     outcomes = {}
     for model in (PAPER_FIT, "shifted"):
         rows = [f for f in fits.to_dict("records") if _finite_L(f, model)]
         z_outside = norm.ppf(1.0 - alpha / (2 * max(len(rows), 1)))
-        inside, outside, unsure, L_mm = [], [], [], []
+        inside, outside, unsure, L_mm, bounded, windowed = [], [], [], [], [], []
         for fit in rows:
             L_mm.append(float(fit[f"{model}_L_mm"]))
+            if at_bound(fit, model):
+                # a bound of the search, not a measurement: no side of the range is shown
+                bounded.append(_label(fit))
+                unsure.append(_label(fit))
+                continue
+            if _crosses_between_windows(fit, model, low, high):
+                # L is the half-width for a window; another window puts it across an end
+                windowed.append(_label(fit))
+                unsure.append(_label(fit))
+                continue
             in_low, in_high = _scaled_interval(fit, model, z_inside)
             out_low, out_high = _scaled_interval(fit, model, z_outside)
             if in_low >= low and in_high <= high:
@@ -1092,14 +1121,21 @@ def claim_c5(fits, averaged, settings):
                 outside.append(_label(fit))
             else:
                 unsure.append(_label(fit))
-        outcomes[model] = (np.array(L_mm), inside, outside, unsure)
-    L_paper, inside, outside, unsure = outcomes[PAPER_FIT]
-    L_shift, inside_s, outside_s, unsure_s = outcomes["shifted"]
+        outcomes[model] = (np.array(L_mm), inside, outside, unsure, bounded, windowed)
+    L_paper, inside, outside, unsure, bounded, windowed = outcomes[PAPER_FIT]
+    L_shift, inside_s, outside_s, unsure_s, _, _ = outcomes["shifted"]
     if L_paper.size == 0:
         return _row("C5", "no waterbed fit", UNTESTABLE, "No trial has a waterbed fit.", rule)
     our = (
         f"paper's procedure: L = {_span(L_paper)}; of {_n(L_paper.size, 'trial')} "
-        f"{len(inside)} inside, {len(outside)} outside, {len(unsure)} undecided; "
+        f"{len(inside)} inside, {len(outside)} outside, {len(unsure)} undecided"
+        + (f" ({len(bounded)} of them with L on a bound of its search)" if bounded else "")
+        + (
+            f" ({len(windowed)} of them with L across an end of the range in another window)"
+            if windowed
+            else ""
+        )
+        + "; "
         f"shifted parabola: L = {_span(L_shift)}, {len(inside_s)} inside, "
         f"{len(outside_s)} outside, {len(unsure_s)} undecided"
     )
@@ -1117,10 +1153,22 @@ def claim_c5(fits, averaged, settings):
         )
     else:
         verdict = UNTESTABLE
-        reason = (
-            f"No trial's L is outside {low:g}-{high:g} mm beyond its uncertainty, but in "
-            f"{_list(unsure)} the interval reaches past an end of the range"
-        )
+        reason = f"No trial's L is outside {low:g}-{high:g} mm beyond its uncertainty, but"
+        reaching = [label for label in unsure if label not in bounded and label not in windowed]
+        if reaching:
+            reason += f" in {_list(reaching)} the interval reaches past an end of the range"
+        if bounded:
+            reason += (
+                f"{' and' if reaching else ''} in {_list(bounded)} the fit ended on a bound of "
+                "its search (the readings want a membrane the model does not allow), so L "
+                "there is not a measurement"
+            )
+        if windowed:
+            reason += (
+                f"{' and' if reaching or bounded else ''} in {_list(windowed)} L, the "
+                "half-width for the fit window, falls on the other side of an end of the "
+                "range in another of the configured windows"
+            )
     if L_shift.size == 0:
         reason += "; there is no fit in measured coordinates to compare."
     elif outside_s == outside and unsure_s == unsure:
@@ -1207,15 +1255,21 @@ def claim_c6(fits, averaged, settings):
         f"d lies inside ±{_pct(margin, 0)} (two one-sided tests at significance = "
         f"{alpha:g}); different if its {format_fixed(100 * (1 - 2 * alpha / 2), 0)} % "
         "interval, Bonferroni over the trials, lies outside. Holds if every trial is "
-        "equivalent; does not hold if some trial is different; cannot be checked otherwise. "
-        "Beside it, not deciding: the largest gap between the two fitted curves against "
-        "the reading noise, the paper's own bound |U(L/3)| / (L/3) from eq. 20, and the shifted "
+        "equivalent; does not hold if some trial is different; cannot be checked otherwise "
+        "(so also where a trial's paper or arc fit ended on a bound of its search: there L is "
+        "a bound, not a measurement, and the trial is left out, counted). Beside it, not "
+        "deciding: the largest gap between the two fitted curves against the reading noise, "
+        "the paper's own bound |U(L/3)| / (L/3) from eq. 20, the shifted "
         "parabola (eq. 19 placed at x = X + U) as a sensitivity, and the smallest margin of "
         "1-20 % at which the claim holds."
     )
-    rows = []
+    rows, bounded = [], []
     for fit, points in _trials(fits, averaged):
         if not (_finite_L(fit) and _finite_L(fit, "arc")) or points.empty:
+            continue
+        if at_bound(fit, PAPER_FIT) or at_bound(fit, "arc"):
+            # a bound's L does not move with the readings as a minimum's does: no error
+            bounded.append(_label(fit))
             continue
         x, y, sides = _window_points(fit, points)
         if x.size < 2:
@@ -1242,12 +1296,18 @@ def claim_c6(fits, averaged, settings):
                 else math.nan,
             }
         )
+    bounded_text = (
+        f"; left out: {_list(bounded)}, where the paper's or the arc's L ended on a bound "
+        "of its search (a bound, not a measurement)"
+        if bounded
+        else ""
+    )
     if not rows:
         return _row(
             "C6",
-            "no trial with both the paper's and the exact-arc fit",
+            "no trial with both the paper's and the exact-arc fit" + bounded_text,
             UNTESTABLE,
-            "No trial has both the paper's fit and the exact arc's.",
+            "No trial has both the paper's fit and the exact arc's off the bounds of their search.",
             rule,
             NO_MARGIN,
         )
@@ -1276,7 +1336,7 @@ def claim_c6(fits, averaged, settings):
         f"(reading noise {format_fixed(settings.reading_noise_mm, 3)} mm); "
         "paper's bound |U(L/3)| / (L/3) "
         f"{_span(100 * fractions, 1, ' %')}; shifted parabola against the arc "
-        f"{_span(100 * shifted[np.isfinite(shifted)], 1, ' %')}"
+        f"{_span(100 * shifted[np.isfinite(shifted)], 1, ' %')}" + bounded_text
     )
     labels = [r["label"] for r in rows]
     if different.any():
@@ -1287,13 +1347,21 @@ def claim_c6(fits, averaged, settings):
             "is not negligible there."
         )
         return _row("C6", our, FAILS, reason, rule, smallest)
-    if equivalent.all():
+    if equivalent.all() and not bounded:
         reason = (
             f"In {_every(d.size, 'trial')} the paper's L is within {_pct(margin, 0)} of the "
             f"exact arc's ({_span(100 * d, 1, ' %')}), interval included: neglecting U costs "
             "less than the margin."
         )
         return _row("C6", our, HOLDS, reason, rule, smallest)
+    if equivalent.all():
+        reason = (
+            f"In {_every(d.size, 'trial')} with both fits off their bounds the paper's L is "
+            f"within {_pct(margin, 0)} of the exact arc's, interval included, but in "
+            f"{_list(bounded)} a fit ended on a bound of its search: there the difference "
+            "is not measured."
+        )
+        return _row("C6", our, UNTESTABLE, reason, rule, smallest)
     open_ = [lab for lab, e in zip(labels, equivalent, strict=True) if not e]
     reason = (
         f"In {_list(open_)} the interval of the difference reaches past {_pct(margin, 0)}: "

@@ -37,7 +37,10 @@ rule fit_models:
     """Fit the waterbed (paper's, shifted, exact arc) and Boussinesq to each trial of a batch."""
     input:
         spec=spec(
-            "fit_models", subjects=batch_subjects, window_mm=config["fit_window_mm"]
+            "fit_models",
+            subjects=batch_subjects,
+            window_mm=config["fit_window_mm"],
+            other_windows_mm=config["sensitivity"]["windows_mm"],
         ),
         averaged=rules.prepare_profiles.output.averaged,
         noise=rules.noise.output[0],

@@ -193,6 +193,15 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
 # ---------------------------------------------------------------- parabola against arc
 
 
+def _shifted_largest_text(shifted_diff, depth_mm):
+    """'shifted 1.2%', the shifted parabola's largest gap to eq. 19 over W0; where the
+    shifted curve does not exist (``L <= sqrt(6) W0``, no point of it finite) says so."""
+    finite = np.abs(shifted_diff[np.isfinite(shifted_diff)])
+    if not finite.size:
+        return "shifted: none (L ≤ √6 W₀)"
+    return f"shifted {100 * float(finite.max()) / depth_mm:.1f}%"
+
+
 @styled
 def figure_arc_vs_parabola(fits, notice=""):
     """Supplement: the small-slope parabola (eq. 19) against the exact arc, per depth.
@@ -302,7 +311,7 @@ def figure_arc_vs_parabola(fits, notice=""):
             0.04,
             0.96,
             f"largest / W₀:\narc {100 * largest:.1f}%\n"
-            f"shifted {100 * float(np.nanmax(np.abs(shifted_diff))) / depth_mm:.1f}%",
+            + _shifted_largest_text(shifted_diff, depth_mm),
             transform=bottom.transAxes,
             ha="left",
             va="top",
