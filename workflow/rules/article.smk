@@ -18,8 +18,8 @@ rule article:
             subjects=SUBJECTS,
             notice=NOTICE,
         ),
-        source=os.path.relpath(Path(workflow.basedir, "article", "reproduction.typ")),
-        references=os.path.relpath(Path(workflow.basedir, "article", "references.yml")),
+        source=os.path.relpath(WORKFLOW_DIR / "article" / "reproduction.typ"),
+        references=os.path.relpath(WORKFLOW_DIR / "article" / "references.yml"),
         # the workflow's name, version and release date, printed in the title block
         citation=CITATION_FILES,
         checked=checked_raw_data,
@@ -34,9 +34,7 @@ rule article:
         mechanics_coverage=COMMITTED_CALIBRATION["mechanics_coverage"],
         bootstrap=COMMITTED_CALIBRATION["bootstrap"],
         # what the reconstruction's generator built in (read only for its data)
-        built_in=os.path.relpath(
-            Path(workflow.basedir).parent / "data" / "built_in_verdicts.json"
-        ),
+        built_in=os.path.relpath(REPOSITORY / "data" / "built_in_verdicts.json"),
         figures=[f for f in FIGURE_FILES if f.endswith(".pdf")],
         # the photographed subjects' quality records and figures (none without photographs)
         digitised=expand(rules.digitise.output.quality, subject=list(PHOTOGRAPHS)),

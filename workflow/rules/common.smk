@@ -32,16 +32,13 @@ try:
     validate(config, "../schemas/config.schema.yaml")  # fills in the defaults
 except WorkflowError as error:
     startup.abort(startup.schema_message(error, "config"))
-RAW = config["raw_data"] = startup.data_folder(
-    config["raw_data"], Path(workflow.basedir).parent
-)
+RAW = config["raw_data"] = startup.data_folder(config["raw_data"], REPOSITORY)
 RES = config["results"]
 if problem := startup.folder_problem(RAW, RES):
     startup.abort(problem)
 
 # The checkout the workflow runs from, and its citation file where this copy has one (a
 # deployed workflow/ and config/ alone do not: then the package's name and version stand in)
-REPOSITORY = Path(workflow.basedir).parent
 CITATION_FILES = [
     os.path.relpath(path) for path in [REPOSITORY / "CITATION.cff"] if path.is_file()
 ]
@@ -150,7 +147,7 @@ def code(script, modules=()):
     return [
         os.path.relpath(path)
         for path in codedeps.script_dependencies(
-            Path(workflow.basedir, "scripts", script), modules
+            WORKFLOW_DIR / "scripts" / script, modules
         )
     ]
 

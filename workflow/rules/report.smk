@@ -94,7 +94,7 @@ rule report_pages:
         tables=[table for _, table, _ in REPORT_TABLES.values()],
         figures=[f for f in FIGURE_FILES if f.endswith(".png")],
         captions=[
-            os.path.relpath(Path(workflow.basedir, "report", f"{name}.rst"))
+            os.path.relpath(WORKFLOW_DIR / "report" / f"{name}.rst")
             for name in [
                 *REPORT_TABLES,
                 *(f.name for f in registry.FIGURES),

@@ -2,9 +2,7 @@
 
 # The calibration tables kept in the repository (snakemake calibration remakes them).
 COMMITTED_CALIBRATION = {
-    name: os.path.relpath(
-        Path(workflow.basedir).parent / "docs" / "calibration" / f"{name}.csv"
-    )
+    name: os.path.relpath(REPOSITORY / "docs" / "calibration" / f"{name}.csv")
     for name in ("verdicts", "coverage", "boundary", "mechanics_coverage", "bootstrap")
 }
 
