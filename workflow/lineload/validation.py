@@ -38,7 +38,11 @@ import math
 import os
 import re
 
-import numpy as np
+from .lazy import lazy_import
+
+# numpy when first used: Snakemake reads the subject sheet at start-up with this module
+# (lineload.startup), where numpy may not be installed (snakemake --lint; lazy.py)
+np = lazy_import("numpy")
 
 __all__ = [
     "MAX_REPORTED",
