@@ -60,6 +60,11 @@ def snakemake_in(folder, *args):
 @pytest.mark.e2e
 def test_a_lab_builds_the_fits_through_a_module(tmp_path, snakemake_available):
     lab = write_lab(tmp_path / "lab")
+    # a dry run first: it plans every job and writes nothing, not even the results folder
+    dry = snakemake_in(lab, "--dry-run", "fits")
+    assert dry.returncode == 0, dry.stderr[-3000:]
+    assert "fit_models" in dry.stdout + dry.stderr
+    assert not (lab / "out").exists()
     run = snakemake_in(lab, "fits")
     assert run.returncode == 0, run.stderr[-3000:]
     with open(lab / "out" / "tables" / "fits.csv", newline="") as table:

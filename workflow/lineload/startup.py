@@ -9,7 +9,7 @@ the rule ``check_raw_data`` (``workflow/scripts/check_raw_data.py``).
 It also says how a folder is named in what the workflow writes: relative to the
 working folder when it lies inside it, else by its name alone
 (:func:`portable_path`), so that moving or re-cloning the checkout changes no
-job spec and no output.
+job's params and no output.
 """
 
 from __future__ import annotations
@@ -431,7 +431,7 @@ def portable_path(path, workdir="."):
 
 
 def portable_config(config, workdir="."):
-    """The config with its folders named by :func:`portable_path`, for specs and outputs.
+    """The config with its folders named by :func:`portable_path`, for params and outputs.
 
     Parameters
     ----------
@@ -460,7 +460,7 @@ def planned_folders(paths, root):
     Parameters
     ----------
     paths : iterable of str
-        File paths or patterns (outputs, logs, benchmarks, job specs).
+        File paths or patterns (outputs, logs, benchmarks).
     root : str or os.PathLike
         The results folder.
 
@@ -500,7 +500,7 @@ def remove_written(paths, folders):
     Parameters
     ----------
     paths : iterable of str
-        Files written by this run (the job specs it created).
+        Files written by this run (none now: the jobs' values are params, not files).
     folders : iterable of pathlib.Path
         Folders that did not exist when this run started.
     """

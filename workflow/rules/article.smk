@@ -4,20 +4,6 @@
 rule article:
     """Typeset the reproduction article (Typst) from the results tables and figures."""
     input:
-        spec=spec(
-            "article",
-            settings={
-                "fit_window_mm": config["fit_window_mm"],
-                "claims": config["claims"],
-                "noise": config["noise"],
-                "sensitivity": config["sensitivity"],
-                "digitise": config["digitise"],
-                # as configured; the job chooses those left unset, as the figure jobs do
-                "figures": {key: config["figures"][key] for key in CHOICE_KEYS},
-            },
-            subjects=SUBJECTS,
-            notice=NOTICE,
-        ),
         source=os.path.relpath(WORKFLOW_DIR / "article" / "reproduction.typ"),
         references=os.path.relpath(WORKFLOW_DIR / "article" / "references.yml"),
         # the workflow's name, version and release date, printed in the title block
@@ -56,5 +42,17 @@ rule article:
         result("benchmarks", "article.tsv")
     conda:
         ENVIRONMENT
+    params:
+        settings={
+            "fit_window_mm": config["fit_window_mm"],
+            "claims": config["claims"],
+            "noise": config["noise"],
+            "sensitivity": config["sensitivity"],
+            "digitise": config["digitise"],
+            # as configured; the job chooses those left unset, as the figure jobs do
+            "figures": {key: config["figures"][key] for key in CHOICE_KEYS},
+        },
+        subjects=SUBJECTS,
+        notice=lambda wildcards: NOTICE,
     script:
         "../scripts/write_article.py"

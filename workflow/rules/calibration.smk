@@ -8,11 +8,6 @@
 rule coverage:
     """Coverage of the fits' 95 % intervals on simulated datasets, per model and error kind."""
     input:
-        spec=spec(
-            "coverage",
-            seed=config["calibration"]["seed"],
-            datasets=config["calibration"]["datasets"],
-        ),
         code=code("run_coverage.py"),
     output:
         trials=result("calibration", "coverage_trials.csv"),
@@ -24,6 +19,9 @@ rule coverage:
         result("benchmarks", "coverage.tsv")
     conda:
         ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["datasets"],
     script:
         "../scripts/run_coverage.py"
 
@@ -32,15 +30,6 @@ rule verdict_calibration:
     """How often each claim's rule says holds, does not hold or cannot be checked, against
     the truth, on reconstructions with fresh digitising errors."""
     input:
-        spec=spec(
-            "verdict_calibration",
-            seed=config["calibration"]["seed"],
-            datasets=config["calibration"]["verdict_datasets"],
-            window_mm=config["fit_window_mm"],
-            priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
-            max_trials=config["noise"]["max_trials"],
-            claims=config["claims"],
-        ),
         code=code("run_verdict_calibration.py"),
     output:
         datasets=result("calibration", "verdicts_datasets.csv"),
@@ -52,6 +41,13 @@ rule verdict_calibration:
         result("benchmarks", "verdict_calibration.tsv")
     conda:
         ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["verdict_datasets"],
+        window_mm=config["fit_window_mm"],
+        priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+        max_trials=config["noise"]["max_trials"],
+        claims=config["claims"],
     script:
         "../scripts/run_verdict_calibration.py"
 
@@ -60,15 +56,6 @@ rule boundary_calibration:
     """The verdict of each claim that has a boundary world, at that boundary, on datasets
     with fresh errors: how often a rule says "holds" where the claim just fails."""
     input:
-        spec=spec(
-            "boundary_calibration",
-            seed=config["calibration"]["seed"],
-            datasets=config["calibration"]["verdict_datasets"],
-            window_mm=config["fit_window_mm"],
-            priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
-            max_trials=config["noise"]["max_trials"],
-            claims=config["claims"],
-        ),
         code=code("run_boundary_calibration.py"),
     output:
         datasets=result("calibration", "boundary_datasets.csv"),
@@ -80,6 +67,13 @@ rule boundary_calibration:
         result("benchmarks", "boundary_calibration.tsv")
     conda:
         ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["verdict_datasets"],
+        window_mm=config["fit_window_mm"],
+        priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+        max_trials=config["noise"]["max_trials"],
+        claims=config["claims"],
     script:
         "../scripts/run_boundary_calibration.py"
 
@@ -87,15 +81,6 @@ rule boundary_calibration:
 rule mechanics_coverage:
     """Coverage of the membrane's N0, E and pre-strain on reconstructions with fresh errors."""
     input:
-        spec=spec(
-            "mechanics_coverage",
-            seed=config["calibration"]["seed"],
-            datasets=config["calibration"]["verdict_datasets"],
-            window_mm=config["fit_window_mm"],
-            priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
-            max_trials=config["noise"]["max_trials"],
-            force_sd_N=config["mechanics"]["force_sd_N"],
-        ),
         code=code("run_mechanics_coverage.py"),
     output:
         subjects=result("calibration", "mechanics_coverage_subjects.csv"),
@@ -107,6 +92,13 @@ rule mechanics_coverage:
         result("benchmarks", "mechanics_coverage.tsv")
     conda:
         ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["verdict_datasets"],
+        window_mm=config["fit_window_mm"],
+        priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+        max_trials=config["noise"]["max_trials"],
+        force_sd_N=config["mechanics"]["force_sd_N"],
     script:
         "../scripts/run_mechanics_coverage.py"
 
@@ -114,13 +106,6 @@ rule mechanics_coverage:
 rule bootstrap:
     """A parametric bootstrap of the data's own fits: do their intervals cover there?"""
     input:
-        spec=spec(
-            "bootstrap",
-            seed=config["calibration"]["seed"],
-            replicates=config["calibration"]["bootstrap_replicates"],
-            window_mm=config["fit_window_mm"],
-            notice=NOTICE,
-        ),
         fits=rules.fits_table.output[0],
         noise=rules.noise.output[0],
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
@@ -135,6 +120,11 @@ rule bootstrap:
         result("benchmarks", "bootstrap.tsv")
     conda:
         ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        replicates=config["calibration"]["bootstrap_replicates"],
+        window_mm=config["fit_window_mm"],
+        notice=lambda wildcards: NOTICE,
     script:
         "../scripts/run_bootstrap.py"
 

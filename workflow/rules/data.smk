@@ -6,14 +6,6 @@
 checkpoint check_raw_data:
     """Check every raw file against the data contract: every problem at once, one line each."""
     input:
-        spec=spec(
-            "check_raw_data",
-            input_checks=config["input_checks"],
-            window_mm=config["fit_window_mm"],
-            min_points=config["min_points_in_window"],
-            # photographs are read once by the check: one that cannot be is refused here
-            digitise=config["digitise"],
-        ),
         sheet=f"{RAW}/subjects.csv",
         # every file of the folder, a stray one too (the check warns about it)
         files=RAW_FILES["all"],
@@ -26,6 +18,12 @@ checkpoint check_raw_data:
         result("benchmarks", "check_raw_data.tsv")
     conda:
         ENVIRONMENT
+    params:
+        input_checks=config["input_checks"],
+        window_mm=config["fit_window_mm"],
+        min_points=config["min_points_in_window"],
+        # photographs are read once by the check: one that cannot be is refused here
+        digitise=config["digitise"],
     script:
         "../scripts/check_raw_data.py"
 
@@ -51,17 +49,6 @@ rule digitise:
     """Read a photographed subject's profiles from its rest and loaded photographs."""
     input:
         checked=checked_raw_data,
-        spec=spec(
-            "digitise",
-            subject=lambda wildcards: wildcards.subject,
-            label=lambda wildcards: SUBJECTS[wildcards.subject]["label"],
-            magnification=lambda wildcards: SUBJECTS[wildcards.subject][
-                "magnification"
-            ],
-            settings=config["digitise"],
-            window_mm=config["fit_window_mm"],
-            notice=NOTICE,
-        ),
         sheet=f"{RAW}/images/images.csv",
         photographs=lambda wildcards: PHOTOGRAPHS[wildcards.subject],
         # the truth, where the folder gives it (images/truth.csv): for the quality record
@@ -88,6 +75,13 @@ rule digitise:
         result("benchmarks", "digitise", "{subject}.tsv")
     conda:
         ENVIRONMENT
+    params:
+        subject=lambda wildcards: wildcards.subject,
+        label=lambda wildcards: SUBJECTS[wildcards.subject]["label"],
+        magnification=lambda wildcards: SUBJECTS[wildcards.subject]["magnification"],
+        settings=config["digitise"],
+        window_mm=config["fit_window_mm"],
+        notice=lambda wildcards: NOTICE,
     script:
         "../scripts/digitise.py"
 
@@ -96,7 +90,6 @@ rule prepare_profiles:
     """Convert a batch of subjects' readings to tissue mm and average the two sides."""
     input:
         checked=checked_raw_data,
-        spec=spec("prepare_profiles", subjects=batch_subjects),
         profiles=profile_files,
         code=code("prepare_profiles.py"),
     output:
@@ -120,6 +113,8 @@ rule prepare_profiles:
         result("benchmarks", "prepare_profiles", "{batch}.tsv")
     conda:
         ENVIRONMENT
+    params:
+        subjects=batch_subjects,
     script:
         "../scripts/prepare_profiles.py"
 
@@ -128,13 +123,6 @@ rule prepare_outline:
     """Convert one subject's traced outlines (Figure 1) to tissue mm."""
     input:
         checked=checked_raw_data,
-        spec=spec(
-            "prepare_outline",
-            subject=lambda wildcards: wildcards.subject,
-            magnification=lambda wildcards: SUBJECTS[wildcards.subject][
-                "magnification"
-            ],
-        ),
         outline=f"{RAW}/outlines/{{subject}}.csv",
         code=code("prepare_outline.py"),
     output:
@@ -145,5 +133,8 @@ rule prepare_outline:
         result("benchmarks", "prepare_outline", "{subject}.tsv")
     conda:
         ENVIRONMENT
+    params:
+        subject=lambda wildcards: wildcards.subject,
+        magnification=lambda wildcards: SUBJECTS[wildcards.subject]["magnification"],
     script:
         "../scripts/prepare_outline.py"

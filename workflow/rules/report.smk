@@ -82,14 +82,6 @@ REPORT_PAGES = [
 rule report_pages:
     """The report's pages: each table and figure shown with its caption; data; software."""
     input:
-        spec=spec(
-            "report_pages",
-            # [name, title] of each table, in the order of the input `tables`
-            tables=[[name, title] for name, (title, _, _) in REPORT_TABLES.items()],
-            config=startup.portable_config(config),
-            notice=NOTICE,
-            subjects=SUBJECTS,
-        ),
         checked=checked_raw_data,
         tables=[table for _, table, _ in REPORT_TABLES.values()],
         figures=[f for f in FIGURE_FILES if f.endswith(".png")],
@@ -110,6 +102,12 @@ rule report_pages:
         result("benchmarks", "report_pages.tsv")
     conda:
         ENVIRONMENT
+    params:
+        # [name, title] of each table, in the order of the input `tables`
+        tables=[[name, title] for name, (title, _, _) in REPORT_TABLES.items()],
+        config=startup.portable_config(config),
+        notice=lambda wildcards: NOTICE,
+        subjects=SUBJECTS,
     script:
         "../scripts/write_report_pages.py"
 
@@ -153,7 +151,6 @@ OUTPUTS_BY_RULE = {
 rule provenance:
     """Hash every raw input and record config, software versions and git commit."""
     input:
-        spec=spec("provenance", config=startup.portable_config(config)),
         # every raw file the build read: subject sheet, forces, profiles, outlines, notice
         raw=[
             f"{RAW}/subjects.csv",
@@ -187,6 +184,8 @@ rule provenance:
         result("benchmarks", "provenance.tsv")
     conda:
         ENVIRONMENT
+    params:
+        config=startup.portable_config(config),
     script:
         "../scripts/write_provenance.py"
 
@@ -220,7 +219,6 @@ rule crate:
     the software; the raw inputs and the source copied in, so results/ is a whole run.
     """
     input:
-        spec=spec("crate", files=crate_files, rules=CRATE_RULES),
         provenance=rules.provenance.output[0],
         citation=CITATION_FILES,
         # the raw inputs, the subject sheet first (the raw folder is its folder)
@@ -238,6 +236,9 @@ rule crate:
         result("benchmarks", "crate.tsv")
     conda:
         ENVIRONMENT
+    params:
+        files=crate_files,
+        rules=CRATE_RULES,
     script:
         "../scripts/write_crate.py"
 
@@ -249,8 +250,6 @@ rule bundle:
     """On request: the run crate (results, raw inputs, source) as one reproducible zip
     with SHA256SUMS; every file the crate lists, and nothing else."""
     input:
-        spec=spec("bundle", date=str(CITATION.get("date-released") or "1980-01-01")),
-        crate_spec=rules.crate.input.spec,
         crate=rules.crate.output.metadata,
         folders=[rules.crate.output.inputs, rules.crate.output.source],
         provenance=rules.provenance.output[0],
@@ -269,5 +268,10 @@ rule bundle:
         result("logs", "bundle.log"),
     conda:
         ENVIRONMENT
+    params:
+        # the crate's list of files and rules, as the crate job was given it
+        files=crate_files,
+        rules=CRATE_RULES,
+        date=str(CITATION.get("date-released") or "1980-01-01"),
     script:
         "../scripts/write_bundle.py"

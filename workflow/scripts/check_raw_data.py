@@ -10,7 +10,8 @@ waits for this one.
 import os
 import sys
 
-from lineload.io import json_text, load_schema, output_to, read_json, write_text
+from lineload.io import json_text, load_schema, output_to, write_text
+from lineload.jobparams import given
 from lineload.startup import check_record, file_metadata, portable_path
 from lineload.validation import InputError, check_dataset, report_lines
 
@@ -68,7 +69,7 @@ if __name__ == "__main__":
             snakemake.input.files,
             snakemake.output[0],
             snakemake.log[0],
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
         )
     sys.stderr.write("".join(f"{line}\n" for line in said))  # the user sees them too
     sys.exit(status)

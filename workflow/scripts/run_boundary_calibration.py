@@ -9,7 +9,8 @@ from lineload.calibration import (
     summarise_boundary,
 )
 from lineload.coverage import calibration_command
-from lineload.io import output_to, read_json, write_rows, write_text
+from lineload.io import output_to, write_rows, write_text
+from lineload.jobparams import given
 
 
 def boundary_calibration(outputs, seed, datasets, window_mm, priors, max_trials, claims):
@@ -33,4 +34,4 @@ def boundary_calibration(outputs, seed, datasets, window_mm, priors, max_trials,
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        boundary_calibration(snakemake.output, **read_json(snakemake.input.spec))
+        boundary_calibration(snakemake.output, **given(snakemake.params))
