@@ -121,31 +121,22 @@ JOB_WILDCARDS = {
     "fit_models": {"batch": BATCH_IDS},
     "fit_sensitivity": {"batch": BATCH_IDS},
 }
-#: Every output of the default build by the rule that writes it, in the order the rules
-#: run: the provenance record depends on them all, and the run crate names each file's rule.
+#: Every output of the default build by the rule that writes it, from the rules defined
+#: so far (every stage before the records below; the calibration and the targets come
+#: later), in the order they are defined: the provenance record depends on them all,
+#: and the run crate names each file's rule.
 OUTPUTS_BY_RULE = {
-    "check_raw_data": list(rules.check_raw_data.output),
-    "digitise": expand(rules.digitise.output, **JOB_WILDCARDS["digitise"]),
-    "prepare_profiles": expand(
-        rules.prepare_profiles.output, **JOB_WILDCARDS["prepare_profiles"]
-    ),
-    "prepare_outline": expand(
-        rules.prepare_outline.output, **JOB_WILDCARDS["prepare_outline"]
-    ),
-    "noise": list(rules.noise.output),
-    "fit_models": expand(rules.fit_models.output, **JOB_WILDCARDS["fit_models"]),
-    "fits_table": list(rules.fits_table.output),
-    "fit_sensitivity": expand(
-        rules.fit_sensitivity.output, **JOB_WILDCARDS["fit_sensitivity"]
-    ),
-    "sensitivity_tables": list(rules.sensitivity_tables.output),
-    "fit_tables": list(rules.fit_tables.output),
-    "mechanics": list(rules.mechanics.output),
-    "claims_table": list(rules.claims_table.output),
-    **{f"figure_{group}": GROUP_FILES[group] for group in registry.GROUPS},
-    "article": list(rules.article.output),
-    "report_pages": list(rules.report_pages.output),
+    stage.name: expand(
+        getattr(rules, stage.name).output, **JOB_WILDCARDS.get(stage.name, {})
+    )
+    for stage in workflow.rules
 }
+# a rule that runs per batch or subject lists its jobs' wildcards above
+for stage in workflow.rules:
+    if stage.has_wildcards() and stage.name not in JOB_WILDCARDS:
+        raise WorkflowError(
+            f"rule {stage.name}: its jobs' wildcards are not in JOB_WILDCARDS"
+        )
 
 
 rule provenance:
