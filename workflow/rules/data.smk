@@ -3,10 +3,46 @@
 # (checked_raw_data, common.smk), so a refused folder leaves nothing but its log.
 
 
-checkpoint check_raw_data:
-    """Check every raw file against the data contract: every problem at once, one line each."""
+rule check_profiles:
+    """Check a batch of subjects' profile and outline files (the large part of the check)."""
     input:
         sheet=f"{RAW}/subjects.csv",
+        profiles=lambda wildcards: [
+            RAW_FILES["profiles"][f"{s}.csv"]
+            for s in BATCHES[wildcards.batch]
+            if f"{s}.csv" in RAW_FILES["profiles"]
+        ],
+        outlines=lambda wildcards: [
+            RAW_FILES["outlines"][f"{s}.csv"]
+            for s in BATCHES[wildcards.batch]
+            if f"{s}.csv" in RAW_FILES["outlines"]
+        ],
+        code=code("check_profiles.py"),
+    output:
+        result("data", "checked", "{batch}.json"),
+    log:
+        result("logs", "check_profiles", "{batch}.log"),
+    benchmark:
+        result("benchmarks", "check_profiles", "{batch}.tsv")
+    conda:
+        ENVIRONMENT
+    params:
+        subjects=batch_subjects,
+        input_checks=config["input_checks"],
+        window_mm=config["fit_window_mm"],
+        min_points=config["min_points_in_window"],
+    script:
+        "../scripts/check_profiles.py"
+
+
+checkpoint check_raw_data:
+    """Check every raw file against the data contract: every problem at once, one line each.
+
+    The profiles and outlines are read batch by batch (check_profiles); this job checks
+    the rest of the folder and gathers their findings."""
+    input:
+        sheet=f"{RAW}/subjects.csv",
+        batches=expand(rules.check_profiles.output[0], batch=BATCH_IDS),
         # every file of the folder, a stray one too (the check warns about it)
         files=RAW_FILES["all"],
         code=code("check_raw_data.py"),

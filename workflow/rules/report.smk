@@ -115,6 +115,7 @@ rule report_pages:
 #: The jobs of the rules that run once per batch or subject: their wildcards' values
 #: (their outputs and their logs are expanded with these).
 JOB_WILDCARDS = {
+    "check_profiles": {"batch": BATCH_IDS},
     "digitise": {"subject": list(PHOTOGRAPHS)},
     "prepare_profiles": {"batch": BATCH_IDS},
     "prepare_outline": {"subject": OUTLINED},
