@@ -116,9 +116,9 @@ if __name__ == "__main__":
                 snakemake.input.sheet,
                 values["subject"],
                 values["label"],
-                float(spec.magnification),
+                float(values["magnification"]),
                 values["settings"],
-                float(spec.window_mm),
+                float(values["window_mm"]),
                 values["notice"],
                 snakemake.output,
             )
