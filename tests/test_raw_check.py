@@ -203,7 +203,14 @@ def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_avail
     assert edited.returncode == 0, edited.stderr[-3000:]
     ran = re.findall(r"^local(?:rule|checkpoint) (\w+):", edited.stderr, re.M)
     # the noise is measured from every trial, so every batch's fits take the new noise
-    expected = ["check_raw_data", "prepare_profiles", "noise", "fit_models", "fit_models"]
+    expected = [
+        "check_profiles",  # MK's batch only: HU's files are as they were
+        "check_raw_data",
+        "prepare_profiles",
+        "noise",
+        "fit_models",
+        "fit_models",
+    ]
     assert ran == [*expected, "fits_table", "fits"], ran
     # the batches are one subject each here: of the two, only MK's profiles were redone
     prepared = re.findall(
@@ -227,8 +234,17 @@ def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_avail
     assert len(errors) == 1 and f"{raw}/profiles/MK.csv, line 3" in errors[0], broken.stderr
     after = files_under(results)
     # the failed check's output is removed (the next run checks again); nothing else changed
+    # but the record of MK's batch check, which holds the problem it found
     changed = {k for k in before.keys() | after.keys() if before.get(k) != after.get(k)}
-    assert changed == {"data/raw_check.json", "/".join(CHECK_LOG)}, changed
+    batch_check = {
+        "data/checked/MK.json",
+        "logs/check_profiles/MK.log",
+        "benchmarks/check_profiles/MK.tsv",
+    }
+    assert changed == {"data/raw_check.json", "/".join(CHECK_LOG)} | batch_check, changed
+    assert (
+        "line 3" in json.loads((results / "data" / "checked" / "MK.json").read_text())["errors"][0]
+    )
 
 
 # Run Snakemake in this process with an audit hook: which raw files does start-up open?

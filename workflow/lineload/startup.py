@@ -9,7 +9,7 @@ the rule ``check_raw_data`` (``workflow/scripts/check_raw_data.py``).
 It also says how a folder is named in what the workflow writes: relative to the
 working folder when it lies inside it, else by its name alone
 (:func:`portable_path`), so that moving or re-cloning the checkout changes no
-job spec and no output.
+job's params and no output.
 """
 
 from __future__ import annotations
@@ -297,7 +297,15 @@ def read_subject_sheet(raw_dir, schema):
     from .validation import read_columns
 
     path = f"{raw_dir.rstrip('/')}/subjects.csv"
-    columns, _ = read_columns(path, schema)
+    try:
+        columns, _ = read_columns(path, schema)
+    except ModuleNotFoundError as missing:
+        if missing.name != "numpy":
+            raise
+        # Snakemake without the workflow's environment (snakemake --lint where only
+        # Snakemake is installed): the sheet as written; no job can run there, and the
+        # raw-data check, which every job waits for, checks it in full
+        columns = _plain_columns(path)
     rows = len(columns["subject"])
     labels = columns.get("label", [None] * rows)
     contact = columns.get("contact_length_mm", [None] * rows)
@@ -321,6 +329,15 @@ def read_subject_sheet(raw_dir, schema):
             },
         )
     return subjects
+
+
+def _plain_columns(path):
+    """Column name -> its cells as written (standard library only; nothing checked)."""
+    import csv
+
+    with open(path, newline="", encoding="utf-8-sig") as handle:
+        rows = list(csv.DictReader(handle))
+    return {name: [row[name] for row in rows] for name in (rows[0] if rows else {})}
 
 
 def list_raw_files(raw_dir):
@@ -504,7 +521,7 @@ def portable_path(path, workdir="."):
 
 
 def portable_config(config, workdir="."):
-    """The config with its folders named by :func:`portable_path`, for specs and outputs.
+    """The config with its folders named by :func:`portable_path`, for params and outputs.
 
     Parameters
     ----------
@@ -533,7 +550,7 @@ def planned_folders(paths, root):
     Parameters
     ----------
     paths : iterable of str
-        File paths or patterns (outputs, logs, benchmarks, job specs).
+        File paths or patterns (outputs, logs, benchmarks).
     root : str or os.PathLike
         The results folder.
 
@@ -573,7 +590,7 @@ def remove_written(paths, folders):
     Parameters
     ----------
     paths : iterable of str
-        Files written by this run (the job specs it created).
+        Files written by this run (none now: the jobs' values are params, not files).
     folders : iterable of pathlib.Path
         Folders that did not exist when this run started.
     """

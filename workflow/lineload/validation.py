@@ -39,7 +39,11 @@ import math
 import os
 import re
 
-import numpy as np
+from .lazy import lazy_import
+
+# numpy when first used: Snakemake reads the subject sheet at start-up with this module
+# (lineload.startup), where numpy may not be installed (snakemake --lint; lazy.py)
+np = lazy_import("numpy")
 
 __all__ = [
     "MAX_REPORTED",
@@ -51,6 +55,7 @@ __all__ = [
     "check_forces",
     "check_no_duplicate_readings",
     "check_reach",
+    "check_subject_files",
     "check_subjects",
     "check_thin_trials",
     "collecting",
@@ -1628,88 +1633,45 @@ def _check_contact_lengths(subjects, path, reach_max_mm, problems):
 # ---------------------------------------------------------------- a whole raw folder
 
 
-def check_dataset(
-    raw_dir, schemas, raw_dir_shown=None, plausibility=None, window=None, digitise=None
+def check_subject_files(
+    raw_dir, schemas, subjects, magnifications, found, limits, window=None, raw_dir_shown=None
 ):
-    """Validate a whole raw-data folder before anything is computed.
-
-    Every file is checked, and every problem found is reported together.
+    """Check the profile and outline files of some subjects (all, or one batch's).
 
     Parameters
     ----------
     raw_dir : str
-        Folder with ``subjects.csv``, ``profiles/`` and optionally ``outlines/``
-        and ``forces.csv``.
+        The raw-data folder.
     schemas : dict
-        Row schemas keyed ``subjects``, ``profiles``, ``outlines`` and
-        (optionally) ``forces``.
+        Row schemas keyed ``profiles`` and ``outlines``.
+    subjects : list of str
+        Subjects with a profile file, in sheet order.
+    magnifications : dict
+        Subject -> magnification of the subject sheet.
+    found : Problems
+        Collector the problems are added to.
+    limits : dict
+        The plausibility limits (:func:`plausibility_defaults` with the config's).
+    window : tuple, optional
+        ``(fit_window_mm, min_points_in_window)``; thin trials not checked if None.
     raw_dir_shown : str, optional
         How to name the folder in messages (defaults to ``raw_dir``).
-    plausibility : dict, optional
-        The config's ``input_checks`` (:func:`plausibility_defaults` for any not
-        given).
-    window : tuple, optional
-        ``(fit_window_mm, min_points_in_window)`` of the config: a trial with
-        fewer distinct distances within the window is refused
-        (:func:`check_thin_trials`); not checked if None.
-    digitise : dict, optional
-        The config's ``digitise`` settings: each photograph pair is read once here
-        (:func:`check_images`); not if None.
 
     Returns
     -------
-    dict
-        ``subjects`` (the typed subject sheet), ``depths_mm`` (subject -> sorted
-        list of depths), ``outlines`` (subject -> sorted list of depths with
-        an outline file, for listed subjects that have one) and ``warnings``
-        (lines about files that are not read).
-
-    Raises
-    ------
-    InputError
-        Holding every problem found (``problems``, one line each, naming file,
-        line and column) and the warnings.
+    tuple
+        ``depths_mm`` (subject -> sorted depths of its profile), ``outlines``
+        (subject -> sorted depths of its outline, where it has one) and ``refused``
+        (the set of subjects whose profile has a problem).
     """
     shown = raw_dir_shown or raw_dir
-    limits = {**plausibility_defaults(), **(plausibility or {})}
-    found = Problems()
-    found.errors += links_outside(raw_dir, shown)  # refused before anything is opened
-    found.raise_if_any()
-    found.errors += near_miss_names(raw_dir, shown)
 
     def here(*parts):
         return os.path.join(raw_dir, *parts), "/".join([shown.rstrip("/"), *parts])
 
-    sheet_path, sheet_shown = here("subjects.csv")
-    subjects = read_table(sheet_path, schemas["subjects"], sheet_shown, found)
-    if subjects is None:
-        found.raise_if_any()
-    profile_dir, profile_dir_shown = here("profiles")
-    id_pattern = re.compile(schemas["subjects"]["properties"]["subject"]["pattern"])
-    photographed = photographed_subjects(raw_dir)
-    image_depths = {}
-    if os.path.isfile(os.path.join(raw_dir, "images", "images.csv")):  # however it is saved
-        image_depths = check_images(
-            raw_dir,
-            schemas.get("images") or _images_schema(),
-            subjects["subject"],
-            shown,
-            found,
-            digitise,
-            limits,
-        )
-    check_subjects(
-        subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern, photographed
-    )
-    magnifications = dict(zip(subjects["subject"], subjects["magnification"], strict=True))
-    listed = [
-        s
-        for s in dict.fromkeys(subjects["subject"])
-        if id_pattern.search(s) and os.path.isfile(os.path.join(profile_dir, f"{s}.csv"))
-    ]
     depths_mm, outlines = {}, {}
     refused = set()  # subjects whose profile has a problem: their depths are not known
-    for subject in listed:
+    for subject in subjects:
         magnification = float(magnifications[subject])
         if not magnification > 0:  # refused on the sheet already
             magnification = None
@@ -1764,6 +1726,108 @@ def check_dataset(
                         outline, path_shown, magnification, limits["reach_max_mm"], None, found
                     )
                 outlines[subject] = sorted(float(d) for d in set(outline[0]["depth_mm"]) if d == d)
+    return depths_mm, outlines, refused
+
+
+def check_dataset(
+    raw_dir,
+    schemas,
+    raw_dir_shown=None,
+    plausibility=None,
+    window=None,
+    digitise=None,
+    checked=None,
+):
+    """Validate a whole raw-data folder before anything is computed.
+
+    Every file is checked, and every problem found is reported together.
+
+    Parameters
+    ----------
+    raw_dir : str
+        Folder with ``subjects.csv``, ``profiles/`` and optionally ``outlines/``
+        and ``forces.csv``.
+    schemas : dict
+        Row schemas keyed ``subjects``, ``profiles``, ``outlines`` and
+        (optionally) ``forces``.
+    raw_dir_shown : str, optional
+        How to name the folder in messages (defaults to ``raw_dir``).
+    plausibility : dict, optional
+        The config's ``input_checks`` (:func:`plausibility_defaults` for any not
+        given).
+    window : tuple, optional
+        ``(fit_window_mm, min_points_in_window)`` of the config: a trial with
+        fewer distinct distances within the window is refused
+        (:func:`check_thin_trials`); not checked if None.
+    digitise : dict, optional
+        The config's ``digitise`` settings: each photograph pair is read once here
+        (:func:`check_images`); not if None.
+    checked : dict, optional
+        The profiles and outlines already checked, batch by batch
+        (:func:`check_subject_files` on every listed subject, in sheet order, merged):
+        ``depths_mm``, ``outlines``, ``refused`` and their ``errors`` and
+        ``warnings``, taken as they are instead of reading those files here.
+
+    Returns
+    -------
+    dict
+        ``subjects`` (the typed subject sheet), ``depths_mm`` (subject -> sorted
+        list of depths), ``outlines`` (subject -> sorted list of depths with
+        an outline file, for listed subjects that have one) and ``warnings``
+        (lines about files that are not read).
+
+    Raises
+    ------
+    InputError
+        Holding every problem found (``problems``, one line each, naming file,
+        line and column) and the warnings.
+    """
+    shown = raw_dir_shown or raw_dir
+    limits = {**plausibility_defaults(), **(plausibility or {})}
+    found = Problems()
+    found.errors += links_outside(raw_dir, shown)  # refused before anything is opened
+    found.raise_if_any()
+    found.errors += near_miss_names(raw_dir, shown)
+
+    def here(*parts):
+        return os.path.join(raw_dir, *parts), "/".join([shown.rstrip("/"), *parts])
+
+    sheet_path, sheet_shown = here("subjects.csv")
+    subjects = read_table(sheet_path, schemas["subjects"], sheet_shown, found)
+    if subjects is None:
+        found.raise_if_any()
+    profile_dir, profile_dir_shown = here("profiles")
+    id_pattern = re.compile(schemas["subjects"]["properties"]["subject"]["pattern"])
+    photographed = photographed_subjects(raw_dir)
+    image_depths = {}
+    if os.path.isfile(os.path.join(raw_dir, "images", "images.csv")):  # however it is saved
+        image_depths = check_images(
+            raw_dir,
+            schemas.get("images") or _images_schema(),
+            subjects["subject"],
+            shown,
+            found,
+            digitise,
+            limits,
+        )
+    check_subjects(
+        subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern, photographed
+    )
+    magnifications = dict(zip(subjects["subject"], subjects["magnification"], strict=True))
+    listed = [
+        s
+        for s in dict.fromkeys(subjects["subject"])
+        if id_pattern.search(s) and os.path.isfile(os.path.join(profile_dir, f"{s}.csv"))
+    ]
+    if checked is None:
+        depths_mm, outlines, refused = check_subject_files(
+            raw_dir, schemas, listed, magnifications, found, limits, window, shown
+        )
+    else:  # checked batch by batch (the same function), in the same order
+        depths_mm, outlines = dict(checked["depths_mm"]), dict(checked["outlines"])
+        refused = set(checked["refused"])
+        found.errors.extend(checked["errors"])
+        found.warnings.extend(checked["warnings"])
     depths_mm.update(image_depths)  # photographed subjects: the depths of their pairs
     _check_contact_lengths(subjects, sheet_shown, limits["reach_max_mm"], found)
     forces_schema = schemas.get("forces") or _forces_schema()

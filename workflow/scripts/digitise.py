@@ -12,7 +12,8 @@ import sys
 
 from lineload.figures.data import figure_digitised
 from lineload.figures.style import save_figure
-from lineload.io import json_text, load_schema, output_to, read_json, write_text
+from lineload.io import json_text, load_schema, output_to, write_text
+from lineload.jobparams import given
 from lineload.photographs import (
     ImageError,
     digitise_photographs,
@@ -108,16 +109,16 @@ def trial_counts(trial):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        spec = read_json(snakemake.input.spec)
+        values = given(snakemake.params)
         try:
             digitise(
                 snakemake.input.sheet,
-                spec["subject"],
-                spec["label"],
-                float(spec["magnification"]),
-                spec["settings"],
-                float(spec["window_mm"]),
-                spec["notice"],
+                values["subject"],
+                values["label"],
+                float(values["magnification"]),
+                values["settings"],
+                float(values["window_mm"]),
+                values["notice"],
                 snakemake.output,
             )
         except (ImageError, InputError) as error:

@@ -1,7 +1,8 @@
 """Rule fit_models: every model for each subject and depth of a batch, all trials at once."""
 
 from lineload.fitting import FIT_COLUMNS, fit_trials
-from lineload.io import output_to, read_json, read_rows, read_trials, write_rows
+from lineload.io import output_to, read_rows, read_trials, write_rows
+from lineload.jobparams import given
 from lineload.noise import trial_models
 
 
@@ -45,5 +46,5 @@ if __name__ == "__main__":
             snakemake.input.averaged,
             snakemake.input.noise,
             snakemake.output[0],
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
         )

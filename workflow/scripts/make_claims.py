@@ -14,7 +14,8 @@ from lineload.claims import (
     compute_claims,
     trial_key,
 )
-from lineload.io import output_to, read_json, read_results_csv, read_rows, write_csv, write_text
+from lineload.io import output_to, read_results_csv, read_rows, write_csv, write_text
+from lineload.jobparams import given
 from lineload.noise import model_from_rows, trial_models
 from lineload.priors import CHANGED_COLUMN, prior_column, refit_at_priors, with_prior_verdicts
 from lineload.validation import read_forces
@@ -62,7 +63,7 @@ def make_claims(inputs, outputs, settings, notice):
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
         try:
-            make_claims(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
+            make_claims(snakemake.input, snakemake.output, **given(snakemake.params))
         except InternalError as error:
             # a bug, not a finding: one sentence where the user looks, no claims written
             print(f"Error: {error}")

@@ -1,7 +1,8 @@
 """Rule boundary_block: one boundary world, both sides, on one block of datasets."""
 
 from lineload.calibration import BOUNDARY_COLUMNS, boundary_study
-from lineload.io import output_to, read_json, write_rows
+from lineload.io import output_to, write_rows
+from lineload.jobparams import given
 
 
 def boundary_block(
@@ -19,4 +20,4 @@ def boundary_block(
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        boundary_block(snakemake.output[0], **read_json(snakemake.input.spec))
+        boundary_block(snakemake.output[0], **given(snakemake.params))

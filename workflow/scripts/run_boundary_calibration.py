@@ -9,7 +9,8 @@ from lineload.calibration import (
     summarise_boundary,
 )
 from lineload.coverage import calibration_command
-from lineload.io import output_to, read_json, write_rows, write_text
+from lineload.io import output_to, write_rows, write_text
+from lineload.jobparams import given
 
 #: How the gathered rows' columns are read back (the rest are text).
 _TYPES = {"effect": float, "dataset": int}
@@ -49,5 +50,5 @@ def boundary_calibration(outputs, blocks, seed, datasets):
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
         boundary_calibration(
-            snakemake.output, list(snakemake.input.blocks), **read_json(snakemake.input.spec)
+            snakemake.output, list(snakemake.input.blocks), **given(snakemake.params)
         )

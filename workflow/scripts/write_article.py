@@ -24,6 +24,7 @@ from lineload.io import (
     replaced_atomically,
     write_text,
 )
+from lineload.jobparams import given
 from lineload.noise import reading_noise_mm
 from lineload.provenance import git_state, package_versions
 from lineload.synthetic import DATA_NOTICE
@@ -112,6 +113,6 @@ if __name__ == "__main__":
         write_article(
             snakemake.input,
             snakemake.output,
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
             repository=Path(snakemake.scriptdir).parents[1],  # for its git commit
         )
