@@ -87,7 +87,8 @@ def test_nested_settings_reach_the_jobs_as_numbers(tmp_path, setting, snakemake_
 
 
 def snakemake_in(folder, *args):
-    command = [sys.executable, "-m", "snakemake", "--cores", "1", *args]
+    # the jobs printed (the default profile keeps the console quiet about them)
+    command = [sys.executable, "-m", "snakemake", "--quiet", "reason", "--cores", "1", *args]
     env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
     return subprocess.run(command, cwd=folder, capture_output=True, text=True, env=env)
 
