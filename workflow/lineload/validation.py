@@ -1267,7 +1267,7 @@ def _digitising_problem(
     The pair is read as its job reads it, over the same distances, and its readings held
     to the profile files' bounds (:func:`lineload.photographs.trial_problem`)."""
     from .photographs import ImageError, digitise_photographs, read_photograph, trial_problem
-    from .synthetic import reading_distances_mm
+    from .readings import reading_distances_mm
 
     paths = (rest_path, loaded_path)
     names = [path.replace(raw_dir.rstrip("/"), shown, 1) for path in paths]

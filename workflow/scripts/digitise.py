@@ -21,7 +21,7 @@ from lineload.photographs import (
     quality_record,
     read_photograph,
 )
-from lineload.synthetic import reading_distances_mm
+from lineload.readings import reading_distances_mm
 from lineload.validation import (
     InputError,
     check_thin_trials,
