@@ -2,6 +2,7 @@
 
     python benchmarks/run.py                  # everything, 3 repeats (about 15 minutes)
     python benchmarks/run.py --repeats 3 --output benchmarks/results.md
+    python benchmarks/run.py --against /path/to/old/checkout     # side by side, alternating
 
 Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
 
@@ -12,9 +13,18 @@ Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
 - the `fits` target on scale datasets of 1,000 and 10,000 subjects x 4 depths made by the
   generator in a temporary folder, with the peak memory of the whole process tree, and a
   rerun of it with nothing changed;
+- with `--calibration 1 2 ...`: the boundary calibration (one job per world and block of
+  datasets) at each core count, and its speed-up over the first;
 - what no workflow can go below: Snakemake's own start-up (`snakemake --version`), a rerun of
   a one-rule workflow with one param (which makes Snakemake import pandas to compare it),
   and the time the jobs of the last clean build took (from their benchmark files).
+
+With ``--against CHECKOUT`` (another checkout of the project, e.g. an older commit in a
+temporary ``git worktree``) only the rerun with nothing changed and the ``fits`` target at
+each scale are measured, for both checkouts in turn (this one, that one, this one, ...),
+so that a change in the machine's load falls on both alike; each runs its own code
+(``PYTHONPATH`` is set to its ``workflow/``).  ``--python`` runs Snakemake with another
+interpreter (e.g. a venv of ``requirements.txt`` alone, as a user has it).
 
 Nothing here is a test: timings depend on the machine and what else it is doing.
 """
@@ -81,11 +91,86 @@ def run(command, cwd=REPO):
     return seconds, peak[0] / 1024, output
 
 
-def snakemake(*args, raw, results):
+def snakemake(*args, raw, results, cores=2, config=(), python=sys.executable):
     return [
-        sys.executable, "-m", "snakemake", "--cores", "2", *args,
-        "--config", f"raw_data={raw}", f"results={results}",
+        python, "-m", "snakemake", "--cores", str(cores), *args,
+        "--config", f"raw_data={raw}", f"results={results}", *config,
     ]  # fmt: skip
+
+
+def run_in(checkout, command):
+    """:func:`run` in a checkout, with that checkout's package first on the path."""
+    previous = os.environ.get("PYTHONPATH")
+    os.environ["PYTHONPATH"] = str(Path(checkout) / "workflow")
+    try:
+        return run(command, cwd=checkout)
+    finally:
+        if previous is None:
+            del os.environ["PYTHONPATH"]
+        else:
+            os.environ["PYTHONPATH"] = previous
+
+
+def make_scale_data(folder, n):
+    """The generator's dataset of ``n`` subjects (half monkeys, half humans), 4 depths."""
+    subprocess.run(
+        [
+            sys.executable,
+            str(REPO / "workflow/scripts/make_synthetic_data.py"),
+            "--out",
+            str(folder),
+            "--monkeys",
+            str(n // 2),
+            "--humans",
+            str(n - n // 2),
+            "--clean",
+        ],
+        check=True,
+        capture_output=True,
+    )
+
+
+def side_by_side(against, repeats, scales, python, work):
+    """Rows (what, this checkout's median, the other's, both runs) measured alternately."""
+    checkouts = {"this": REPO, "other": Path(against).resolve()}
+    rows = []
+
+    def alternate(what, prepare, command_for, n):
+        times = {name: [] for name in checkouts}
+        for _ in range(n):
+            for name, checkout in checkouts.items():
+                prepare(name)
+                times[name].append(run_in(checkout, command_for(name))[0])
+        rows.append((what, *(statistics.median(times[k]) for k in checkouts), times))
+
+    raw = work / "raw"
+    shutil.copytree(REPO / "data" / "raw", raw)
+    for name, checkout in checkouts.items():  # each its own results, built once
+        run_in(checkout, snakemake(raw=raw, results=work / f"results-{name}", python=python))
+    alternate(
+        "rerun, nothing changed (shipped data)",
+        lambda name: None,
+        lambda name: snakemake(raw=raw, results=work / f"results-{name}", python=python),
+        max(repeats, 5),
+    )
+    for n in scales:
+        scale_raw = work / f"raw{n}"
+        make_scale_data(scale_raw, n)
+
+        def clean(name, n=n):
+            shutil.rmtree(work / f"results{n}-{name}", ignore_errors=True)
+
+        alternate(
+            f"`fits` target, {n} subjects x 4 depths",
+            clean,
+            lambda name, n=n, scale_raw=scale_raw: snakemake(
+                "fits", raw=scale_raw, results=work / f"results{n}-{name}", python=python
+            ),
+            repeats,
+        )
+        for name in checkouts:
+            shutil.rmtree(work / f"results{n}-{name}", ignore_errors=True)
+    return rows
 
 
 def jobs_run(output):
@@ -116,8 +201,50 @@ def main():
         help="subject counts of the scale runs (half monkeys, half humans)",
     )
     parser.add_argument("--output", type=Path, help="write the Markdown table here too")
+    parser.add_argument(
+        "--calibration",
+        type=int,
+        nargs="*",
+        metavar="CORES",
+        help="also time the boundary calibration (one job per world and block of datasets) "
+        "at these core counts, e.g. --calibration 1 2 4, and give the speed-up over the first",
+    )
+    parser.add_argument(
+        "--calibration-datasets",
+        type=int,
+        default=4,
+        help="verdict_datasets of the timed calibration (blocks of half as many)",
+    )
+    parser.add_argument("--against", type=Path, help="another checkout, measured alternately")
+    parser.add_argument("--python", default=sys.executable, help="the Python that runs Snakemake")
     args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="lineload-bench-"))
+    if args.against:
+        try:
+            rows = side_by_side(args.against, args.repeats, args.scale, args.python, work)
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
+        load = os.getloadavg()
+        lines = [
+            f"This checkout ({REPO}) against {args.against}, alternating; medians of "
+            f"{args.repeats} runs (at least 5 for the rerun), wall-clock seconds, "
+            f"{os.cpu_count()} cores, Snakemake run by {args.python}; load average at the "
+            f"end {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} (1 / 5 / 15 min).",
+            "",
+            "| what | this | other | every run (this; other) |",
+            "|---|--:|--:|---|",
+            *[
+                f"| {what} | {this:.2f} | {other:.2f} | "
+                + "; ".join(" ".join(f"{t:.2f}" for t in ts) for ts in times.values())
+                + " |"
+                for what, this, other, times in rows
+            ],
+        ]
+        table = "\n".join(lines) + "\n"
+        print(table)
+        if args.output:
+            args.output.write_text(table)
+        return
     rows = []
     try:
         baseline, _ = median_of(
@@ -275,6 +402,34 @@ def main():
                 )
             )
             previous = (n, seconds)
+
+        first = None
+        for cores in args.calibration or ():
+            n = args.calibration_datasets
+            settings = f"calibration={{verdict_datasets: {n}, block_datasets: {max(n // 2, 1)}}}"
+
+            def calibrate(cores=cores, settings=settings):
+                shutil.rmtree(work / "calibration", ignore_errors=True)
+                return run(
+                    snakemake(
+                        "boundary_calibration",
+                        raw=raw,
+                        results=work / "calibration",
+                        cores=cores,
+                        config=(settings,),
+                    )
+                )
+
+            seconds, _ = median_of(1, calibrate)
+            first = first or (cores, seconds)
+            rows.append(
+                (
+                    f"boundary calibration, {n} datasets per world and side, --cores {cores}",
+                    seconds,
+                    "",
+                    f"speed-up {first[1] / seconds:.2f} over --cores {first[0]}",
+                )
+            )
     finally:
         shutil.rmtree(work, ignore_errors=True)
 

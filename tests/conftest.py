@@ -110,6 +110,10 @@ def run_snakemake(*args, raw, results, config=(), cwd=REPO, timeout=600, env=Non
         else str(REPO / "workflow" / "Snakefile"),
         "--directory",
         str(cwd),
+        # the jobs and their files, which the default profile keeps off the console:
+        # tests read which jobs ran
+        "--quiet",
+        "reason",
         "--cores",
         "2",
         *args,
@@ -170,7 +174,7 @@ def refused_run(raw, results, config=()):
 
 def build_outputs(results):
     """Every output of a build but logs and timings, by path, with the folder's own name
-    (which the provenance record and the specs hold, as a results folder outside the
+    (which the provenance record and the jobs' params hold, as a results folder outside the
     working folder is named, never given by its path) written as <results>, so builds
     in two folders compare byte for byte.  The run crate states each log's size and
     hash; logs name the folders as the build was given them, and are left out here: so
@@ -359,3 +363,11 @@ def checkout_build(tmp_path_factory):
 
     raw, results = shared(tmp_path_factory, "checkout", make)
     return raw.parent, results
+
+
+def job_params(log):
+    """The values a job was given (its ``params``), from the first line of its log."""
+    for line in Path(log).read_text().splitlines():
+        if line.startswith("params: "):
+            return json.loads(line.removeprefix("params: "))
+    raise AssertionError(f"{log}: no params line")

@@ -314,6 +314,17 @@ def fit_row_tolerances(row, x_mm, y_mm, sandwich=False):
         model_mm = curve(x, depth, L_mm)
         rounding = fit_rounding_mm2(y, model_mm, L_mm**2 / depth)
         tolerances.update(_one_parameter_tolerances(row, model, x, y, rounding, sandwich))
+        tol_L = tolerances[f"{model}_L_mm"]
+        for end in ("min", "max"):
+            # L refitted in other windows: the same search, stopped at the same relative
+            # tolerance; its rounding part taken as this window's
+            name = f"{model}_L_window_{end}_mm"
+            if name in row and np.isfinite(row[name]):
+                tolerances[name] = tol_L + 2.0 * SEARCH_RTOL * abs(row[name])
+        # a ratio of two quadratic forms in the curve's slope at L, which moves by tol_L
+        # (relative 1e-8 or less): far below this
+        tolerances[f"{model}_L_prior_share"] = 1e-6
+    tolerances["boussinesq_A_prior_share"] = 1e-6
     if np.isfinite(row["boussinesq_A_mm"]):
         A, x0 = row["boussinesq_A_mm"], row["boussinesq_x0_mm"]
         # without a zero crossing (A <= 0) the row has no intercept: size from the data

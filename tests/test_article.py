@@ -11,7 +11,7 @@ from pypdf import PdfReader
 import pdflayout
 from conftest import REPO, SHARED_NOTICE
 from lineload.article import article_facts, join_words, number_words, shown, span_text
-from lineload.claims import CLAIM_COLUMNS
+from lineload.claims import CLAIM_COLUMNS, CLAIM_KINDS
 from lineload.figures.registry import FIGURES
 from lineload.figures.style import MIN_FONT_PT, SCHEMATIC_MM
 from lineload.fitting import FIT_COLUMNS
@@ -38,7 +38,7 @@ def small_tables():
     fits["boussinesq_rmse_mm"] = [0.05, 0.01, 0.04]
     claims = pd.DataFrame(
         [
-            dict.fromkeys(CLAIM_COLUMNS, "x") | {"claim": c, "verdict": v}
+            dict.fromkeys(CLAIM_COLUMNS, "x") | {"claim": c, "verdict": v, "kind": CLAIM_KINDS[c]}
             for c, v in (("C1", "holds"), ("C2", "does not hold"), ("C7", "identity"))
         ]
     )
@@ -77,7 +77,9 @@ def test_facts_follow_the_tables():
     assert facts["fits"]["L_paper"] == {"monkey": "10.00 to 11.00 mm", "human": "14.00 mm"}
     assert facts["fits"]["waterbed_better"] == "2 of 3"  # the ratio is below 1 in one trial
     assert facts["fits"]["gap_above_noise"] == "1 of 3"
-    assert facts["verdicts"]["evidence"] == 2 and facts["verdicts"]["identity"] == 1
+    assert facts["verdicts"]["evidence"] == 2 and facts["verdicts"]["n_claims"] == 2
+    # C7, an identity of the method, is reported apart: neither a paper claim nor counted
+    assert facts["verdicts"]["checks"] == 1 and facts["verdicts"]["identity"] == 0
     assert [c["evidence"] for c in facts["claims"]] == [True, True, False]
     assert facts["settings"]["sensitivity"]["windows_mm"] == "2, none"
     assert facts["software"]["git"]["commit"] == "unknown"
@@ -93,12 +95,13 @@ def test_facts_follow_the_tables():
         {"claim": "C1", "how": "tuned"},
         {"claim": "C3", "how": "follows"},
         {"claim": "C7", "how": "identity"},
+        {"claim": "C8", "how": "by construction"},
         {"claim": "C9", "how": "tuned"},
     ]
     listed = article_facts(
         fits, claims, checks, subjects, depths, settings, "Made up.", software, built_in=built_in
     )
-    assert listed["built_in"] == {"tuned": "C1 and C9", "follows": "C3"}
+    assert listed["built_in"] == {"tuned": "C1 and C9", "by_construction": "C8", "follows": "C3"}
 
 
 def pdf_text(path):
@@ -265,7 +268,77 @@ def test_the_article_places_the_figures_in_the_registry_order_the_report_numbers
     from lineload.figures.registry import report_label
 
     template = (REPO / "workflow" / "article" / "reproduction.typ").read_text()
-    placed = re.findall(r'#fig\("(\w+)"', template)
+    # by-species places a figure, or a sentence in its place that keeps its number
+    placed = re.findall(r'#(?:fig|by-species)\("(\w+)"', template)
     assert placed == [figure.name for figure in FIGURES]
     labels = [" ".join(report_label(figure).split()) for figure in FIGURES]
     assert labels == [f"Figure {n}" for n in range(1, len(FIGURES) + 1)]
+
+
+def test_counts_and_small_values_are_written_once_and_right():
+    from lineload.tables import counted, every, percent_text
+
+    assert counted(1, "degree of freedom", "degrees of freedom") == "1 degree of freedom"
+    assert counted(5, "degree of freedom", "degrees of freedom") == "5 degrees of freedom"
+    assert counted(0, "trial") == "0 trials" and counted(1, "trial") == "1 trial"
+    assert [every(n, "trial") for n in (0, 1, 2, 3)] == [
+        "no trials", "the one trial", "both trials", "all 3 trials",
+    ]  # fmt: skip
+    # a value too small for its decimals is not shown as zero; zero is
+    assert percent_text(0.0003) == "< 0.1 %" and percent_text(-0.0003) == "> -0.1 %"
+    assert percent_text(0.0) == "0 %" and percent_text(0.1234) == "12.3 %"
+    assert percent_text(float("nan")) == "–"
+
+
+def test_the_text_compares_the_models_as_the_counts_say():
+    from lineload.article import _comparison_text, _coordinates_text, _ratio_decimals
+
+    # a ratio is never printed as 0.0: the smallest keeps two significant digits
+    assert _ratio_decimals([2.5, 9.4]) == 1 and _ratio_decimals([0.02, 0.05]) == 3
+    assert _ratio_decimals([0.5, 5.3]) == 2 and _ratio_decimals([]) == 1
+
+    assert "waterbed leaves smaller residuals than the half-space form in all 4" in (
+        _comparison_text(4, 4)
+    )
+    assert "half-space form leaves smaller residuals than the waterbed in both" in (
+        _comparison_text(0, 2)
+    )
+    mixed = _comparison_text(2, 4)
+    assert "neither form" in mixed and "2 of 4 trials" in mixed
+    assert _coordinates_text(0, 3).startswith("less than") and "3" in _coordinates_text(0, 3)
+    assert _coordinates_text(1, 3) == "more than one reading's noise in 1 of 3 trials"
+
+
+def test_the_calibration_is_printed_only_for_the_design_it_was_computed_for():
+    from lineload.article import calibration_design, dataset_design, design_text
+
+    fits, *_ = small_tables()
+    ours = dataset_design(fits)
+    assert ours == {("monkey", 1.0): 1, ("monkey", 2.0): 1, ("human", 1.0): 1}
+    trials = pd.DataFrame(
+        {
+            "dataset": [0, 0, 0, 1, 1, 1],
+            "model": "waterbed",
+            "parameter": "L_mm",
+            "species": ["monkey", "monkey", "human"] * 2,
+            "depth_mm": [1.0, 2.0, 1.0] * 2,
+        }
+    )
+    assert calibration_design(trials) == ours  # replicates are not counted as trials
+    assert calibration_design(trials.iloc[[0, 1, 3, 4]]) != ours
+    assert design_text(ours) == "3 trials (2 monkey, 1 human) at 1 and 2 mm"
+
+
+def test_the_byline_is_the_citation_files_authors_or_a_placeholder_shown_as_one():
+    from lineload.citation import PLACEHOLDER_AUTHOR, author_names
+
+    assert author_names({"authors": [{"name": PLACEHOLDER_AUTHOR}]}) == (PLACEHOLDER_AUTHOR, True)
+    assert author_names({}) == ("", True)
+    named = {
+        "authors": [
+            {"given-names": "Ada", "family-names": "Lovelace"},
+            {"given-names": "Alan", "family-names": "Turing"},
+            {"name": "A Lab"},
+        ]
+    }
+    assert author_names(named) == ("Ada Lovelace, Alan Turing and A Lab", False)

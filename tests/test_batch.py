@@ -195,14 +195,19 @@ def test_edge_cases_take_the_documented_paths():
     # the AICc needs n >= k + 2 (k counts the noise variance): 4 for a parabola, 5 for a line
     assert np.isfinite(four["waterbed_aicc"]) and np.isnan(four["boussinesq_aicc"])
     assert none["n_points"] == 0
-    numbers = [v for k, v in none.items() if k not in ("depth_mm", "fit_window_mm", "n_points")]
+    flags = [k for k in none if k.endswith("_at_bound")]
+    assert flags and not any(none[k] for k in flags)  # no fit is not a fit on a bound
+    skip = ("depth_mm", "fit_window_mm", "n_points", *flags)
+    numbers = [v for k, v in none.items() if k not in skip]
     assert all(np.isnan(v) for v in numbers)
     # a flat profile is a straight line in ln x: the regression fits it exactly
     assert abs(flat["boussinesq_A_mm"]) < 1e-12 and flat["boussinesq_rmse_mm"] < 1e-12
     assert flat["waterbed_L_mm"] == np.inf and np.isnan(flat["waterbed_L_ci_high_mm"])
+    assert flat["waterbed_L_at_bound"]  # a flat membrane is the search's upper bound
     fold_mm = math.sqrt(6.0) * 2.0
     assert steep["shifted_L_mm"] == pytest.approx(fold_mm, rel=1e-6)
     assert steep["shifted_L_ci_low_mm"] == pytest.approx(fold_mm, rel=1e-6)
+    assert steep["shifted_L_at_bound"]
     assert narrow["waterbed_L_mm"] == pytest.approx(GRID_MM.max())
     assert exact["arc_L_mm"] == pytest.approx(10.0, rel=1e-7)
     assert with_nan["n_points"] == GRID_MM.size

@@ -138,15 +138,19 @@ def true_verdict(world, effect, seed):
 
 
 def test_each_boundary_world_crosses_its_claims_boundary_where_the_study_says():
-    # the committed effect of each world: on its failing side the claim's error-free verdict
-    # is not 'holds', one bisection step towards the holding end it is
-    summary = pd.read_csv(COMMITTED / "boundary.csv").drop_duplicates("world")
-    assert list(summary["world"]) == list(calibration.BOUNDARY_WORLDS)
-    for world, effect in zip(summary["world"], summary["effect"], strict=True):
+    # the committed effects of each world: on its failing side the claim's error-free
+    # verdict is not 'holds', on its holding side, one bisection step away, it is
+    summary = pd.read_csv(COMMITTED / "boundary.csv").drop_duplicates(["world", "side"])
+    assert list(summary["world"].drop_duplicates()) == list(calibration.BOUNDARY_WORLDS)
+    for world, group in summary.groupby("world", sort=False):
+        effects = dict(zip(group["side"], group["effect"], strict=True))
+        assert set(effects) == {"holding", "failing"}, world  # both directions planned
         _, _, _, (holds_at, fails_at), _ = calibration.BOUNDARY_WORLDS[world]
         step = (holds_at - fails_at) * 2.0**-12
-        assert true_verdict(world, effect, (2026, 0)) != HOLDS, world
-        assert true_verdict(world, effect + step, (2026, 0)) == HOLDS, world
+        # one bisection step apart, to the 10 significant digits the table keeps
+        assert effects["holding"] - effects["failing"] == pytest.approx(step, abs=1e-8)
+        assert true_verdict(world, effects["failing"], (2026, 0)) != HOLDS, world
+        assert true_verdict(world, effects["holding"], (2026, 0)) == HOLDS, world
 
 
 def test_a_world_that_does_not_bracket_its_boundary_is_refused(monkeypatch):
@@ -170,18 +174,30 @@ def test_a_slice_of_the_committed_boundary_calibration_reproduces():
             if row["world"] == "sides-unequal" and row["dataset"] == "0"
         ]
     rerun = calibration.boundary_study("sides-unequal", 2026, 1, WINDOW_MM, PRIORS, MAX_TRIALS)
-    assert [(r["claim"], r["truth"], r["verdict"]) for r in rerun] == [
-        (r["claim"], r["truth"], r["verdict"]) for r in committed
+    assert [(r["side"], r["claim"], r["truth"], r["verdict"]) for r in rerun] == [
+        (r["side"], r["claim"], r["truth"], r["verdict"]) for r in committed
     ]
-    assert rerun[0]["effect"] == pytest.approx(float(committed[0]["effect"]), abs=1e-9)
-    # the committed summary counts the committed datasets
+    for new, old in zip(rerun, committed, strict=True):
+        assert new["effect"] == pytest.approx(float(old["effect"]), abs=1e-9)
+    # the committed summary counts the committed datasets, both errors
     datasets = pd.read_csv(COMMITTED / "boundary_datasets.csv")
     summary = pd.read_csv(COMMITTED / "boundary.csv")
     for _, row in summary.iterrows():
-        group = datasets[(datasets["world"] == row["world"]) & (datasets["truth"] == row["truth"])]
+        group = datasets[
+            (datasets["world"] == row["world"])
+            & (datasets["side"] == row["side"])
+            & (datasets["truth"] == row["truth"])
+        ]
         assert row["n_datasets"] == len(group)
         assert row["n_holds"] == (group["verdict"] == HOLDS).sum()
-        assert row["n_wrong"] == group["wrong"].sum()
+        assert (
+            row["n_wrong_holds"] == ((group["verdict"] == HOLDS) & (group["truth"] != HOLDS)).sum()
+        )
+        assert (
+            row["n_wrong_fails"] == ((group["verdict"] == FAILS) & (group["truth"] != FAILS)).sum()
+        )
+        low, high = binomial_interval(row["n_wrong_fails"], row["n_datasets"])
+        assert (row["wrong_fails_ci_low"], row["wrong_fails_ci_high"]) == pytest.approx((low, high))
 
 
 def test_error_rates_name_each_claims_calibration_and_its_boundary():
@@ -193,23 +209,37 @@ def test_error_rates_name_each_claims_calibration_and_its_boundary():
     )
     verdicts = pd.DataFrame(calibration.summarise_verdicts(study))
     at_boundary = [
-        {"world": "sides-unequal", "effect": -0.1, **row}
-        for row in rows(
-            (0, "C2", FAILS, HOLDS),
-            (1, "C2", FAILS, FAILS),
-            (2, "C2", UNTESTABLE, HOLDS),
-            (3, "C2", HOLDS, HOLDS),  # this dataset's grid keeps the claim true: not counted
+        {"world": "sides-unequal", "side": side, "effect": -0.1, **row}
+        for side, row in zip(
+            ("failing", "failing", "failing", "failing", "holding", "holding"),
+            rows(
+                (0, "C2", FAILS, HOLDS),
+                (1, "C2", FAILS, FAILS),
+                (2, "C2", UNTESTABLE, HOLDS),
+                (3, "C2", HOLDS, HOLDS),  # this grid keeps the claim true: 'holds' is right
+                (0, "C2", HOLDS, FAILS),  # wrong the other way
+                (1, "C2", HOLDS, UNTESTABLE),
+            ),
+            strict=True,
         )
     ]
     for row in at_boundary:
-        row["wrong"] = row["verdict"] == HOLDS and row["truth"] != HOLDS
+        row["wrong_holds"] = row["verdict"] == HOLDS and row["truth"] != HOLDS
+        row["wrong_fails"] = row["verdict"] == FAILS and row["truth"] != FAILS
     boundary = pd.DataFrame(calibration.summarise_boundary(at_boundary))
+    assert list(boundary["side"]) == ["holding", "failing", "failing", "failing"]
     rates = calibration.claim_error_rates(verdicts, boundary)
     assert list(rates) == ["C2"]  # the identity is not evidence
     assert rates["C2"].startswith("wrong in 1 of 2 reconstructions")
-    assert rates["C2"].endswith(
+    assert (
         "where the claim only just fails, 'holds' in 2 of 3 (95 % upper bound "
         f"{100 * binomial_interval(2, 3)[1]:.1f} %)"
+    ) in rates["C2"]
+    # the 'does not hold' of the holding-side world is counted too: 1 wrong of the 4
+    # datasets whose truth is not 'does not hold'
+    assert rates["C2"].endswith(
+        "where the claim only just holds, 'does not hold' in 1 of 4 (95 % upper bound "
+        f"{100 * binomial_interval(1, 4)[1]:.1f} %)"
     )
     # claims.md gets a section with them, and none without
     claims = pd.DataFrame(

@@ -1,10 +1,8 @@
 """Figures 1 and 2 show what was measured: subjects and depths chosen from the data."""
 
-import json
-
 import pytest
 
-from conftest import run_snakemake, write_small_dataset
+from conftest import job_params, run_snakemake, write_small_dataset
 from lineload.figures.choices import ChoiceError, example_choice, nearest_depth, outline_choice
 
 PAPER = {
@@ -124,7 +122,7 @@ def test_a_labs_figure2_follows_its_depths_and_says_so(tmp_path, snakemake_avail
     assert "figure2: S-01, S-03 (the first monkey and the first human of subjects.csv" in log
     assert "at 1.25 mm: the measured depth nearest the paper's 1 mm" in log
     assert "note: Shown at 1.25 mm" in log
-    # the spec holds the config's values (unset); the job made the choice from the data
-    spec = json.loads((out / "specs" / "figure_fits" / "all.json").read_text())
+    # the job was given the config's values (unset); it made the choice from the data
+    spec = job_params(out / "logs" / "figure_fits.log")
     assert spec["settings"]["example_depth_mm"] is None
     assert spec["settings"]["example_subjects"] == []

@@ -305,13 +305,13 @@ def test_the_builds_crate_validates_offline_and_holds_every_file(small_build, of
     for entity in files:
         assert entity["sha256"] == sha256(results / entity["@id"]), entity["@id"]
     names = {e["@id"] for e in files}
-    # outputs, logs, the raw inputs' copies and the source; no job timings, no specs
+    # outputs, logs, the raw inputs' copies and the source; no job timings
     assert {"article/reproduction.pdf", "tables/claims.csv", "provenance.json"} <= names
     assert {"logs/article.log", "inputs/subjects.csv", MAIN_WORKFLOW} <= names
     # the logs of the rules that run per batch or subject too
     assert {"logs/fit_models/MK.log", "logs/prepare_outline/MK.log"} <= names
     assert "source/workflow/rules/report.smk" in names and "source/CITATION.cff" in names
-    assert not any(n.startswith(("benchmarks/", "specs/")) for n in names)
+    assert not any(n.startswith("benchmarks/") for n in names)
     # the article was written by the article rule, the claims by claims_table
     assert {"@id": "article/reproduction.pdf"} in graph["#run/article"]["result"]
     assert {"@id": "tables/claims.csv"} in graph["#run/claims_table"]["result"]

@@ -2,6 +2,7 @@
 uneven light, texture, glare), digitised, and compared with the truth they came from."""
 
 import json
+import os
 import time
 
 import numpy as np
@@ -387,3 +388,384 @@ def test_one_dataset_mixes_readings_and_photographs(tmp_path):
     assert sorted(fits["subject"].unique()) == ["M1", "M2", "M3"]
     assert len(fits[fits["subject"] == "M3"]) == 4  # its four depths, from its readings
     assert not (tmp_path / "results" / "digitised" / "M3.csv").exists()
+
+
+# ------------------------------------------------------------ the check, file by file
+# (check_dataset called directly: the same lines the raw-data check prints, in a second)
+
+DIGITISE = {"reach_mm": 6.5, "first_mm": 0.05, "smoothing_px": 1.5, "window_mm": 0.02}
+
+
+def example_copy(folder):
+    """A copy of the shipped photograph example (data/photographs) in ``folder``."""
+    import shutil
+
+    shutil.copytree(REPO / "data" / "photographs", folder)
+    return folder
+
+
+def problems_of(raw, digitise=None, **settings):
+    """The raw-data check's lines for a folder (empty when it passes)."""
+    from lineload.io import load_schema
+    from lineload.validation import InputError, check_dataset
+
+    schemas = {n: load_schema(n) for n in ("subjects", "profiles", "outlines", "forces", "images")}
+    try:
+        check_dataset(
+            str(raw),
+            schemas,
+            plausibility=settings.get("plausibility"),
+            digitise={**DIGITISE, **(digitise or {})},
+        )
+    except InputError as error:
+        return error.problems
+    return []
+
+
+def one_line_each(problems):
+    assert problems, "expected a refusal"
+    for line in problems:
+        assert "\n" not in line and "Traceback" not in line, line
+    return problems
+
+
+def png_claiming(path, width, height):
+    """Rewrite a PNG's header to claim another size (the pixels stay as they are)."""
+    import struct
+    import zlib
+
+    data = bytearray(path.read_bytes())
+    data[16:24] = struct.pack(">II", width, height)  # IHDR's width and height
+    data[29:33] = struct.pack(">I", zlib.crc32(bytes(data[12:29])))
+    path.write_bytes(bytes(data))
+
+
+def test_the_example_passes_the_check(tmp_path):
+    assert problems_of(example_copy(tmp_path / "raw")) == []
+
+
+def test_both_photographs_of_a_pair_refused_each_have_their_line(tmp_path):
+    """Both files of a pair failing (missing, a name in the wrong case) gave StopIteration."""
+    raw = example_copy(tmp_path / "raw")
+    (raw / "images" / "M1_1mm_rest.png").unlink()
+    sheet = raw / "images" / "images.csv"
+    sheet.write_text(sheet.read_text().replace("M1_1mm_loaded.png", "M1_1mm_loaded.PNG"))
+    problems = one_line_each(problems_of(raw))
+    assert any("line 2, column 'file': no file" in p and "M1_1mm_rest.png" in p for p in problems)
+    assert any(
+        "line 3, column 'file'" in p and "'M1_1mm_loaded.png': names differ in case" in p
+        for p in problems
+    ), problems
+
+
+@pytest.mark.parametrize(
+    ("kind", "words"),
+    [
+        ("LA", "greyscale with an alpha channel (LA)"),
+        ("1-bit", "1-bit black and white"),
+        ("float", "32-bit floating point"),
+        ("palette", "palette colours"),
+        ("truncated", "is the file truncated or damaged?"),
+        ("bomb", "claims 1,600,000,000 pixels; expected at most 40,000,000"),
+        ("large", "is 10000 x 5000 pixels (50,000,000); expected at most 40,000,000"),
+        ("12-bit", "levels reach only"),
+        ("text", "cannot be read as an image"),
+    ],
+)
+def test_each_kind_of_bad_photograph_is_named(tmp_path, kind, words):
+    import imageio.v3 as iio
+    from PIL import Image
+
+    raw = example_copy(tmp_path / "raw")
+    path = raw / "images" / "M2_1mm_loaded.png"
+    picture = iio.imread(path)
+    grey = picture if picture.ndim == 2 else picture[..., 0]
+    if kind == "LA":
+        Image.fromarray(grey.astype(np.uint8)).convert("LA").save(path)
+    elif kind == "1-bit":
+        Image.fromarray(grey.astype(np.uint8)).convert("1").save(path)
+    elif kind == "float":
+        path.unlink()
+        path = path.with_suffix(".tif")
+        iio.imwrite(path, grey.astype(np.float32))
+        sheet = raw / "images" / "images.csv"
+        sheet.write_text(sheet.read_text().replace("M2_1mm_loaded.png", "M2_1mm_loaded.tif"))
+    elif kind == "palette":
+        Image.fromarray(grey.astype(np.uint8)).convert("P").save(path)
+    elif kind == "truncated":
+        data = path.read_bytes()
+        path.write_bytes(data[: len(data) // 2])
+    elif kind == "bomb":
+        png_claiming(path, 40000, 40000)
+    elif kind == "large":
+        png_claiming(path, 10000, 5000)
+    elif kind == "12-bit":
+        levels = grey.astype(np.float64) / (255.0 if grey.dtype == np.uint8 else 65535.0)
+        iio.imwrite(path, np.rint(levels * 4095).astype(np.uint16))
+    elif kind == "text":
+        path.write_text("not a picture\n")
+    started = time.perf_counter()
+    problems = one_line_each(problems_of(raw))
+    assert time.perf_counter() - started < 30  # a bomb is refused from its header
+    assert any(
+        words in p and "M2_1mm_loaded." in p and "images.csv, line 7, column 'file'" in p
+        for p in problems
+    ), problems
+
+
+def test_a_256_character_file_name_is_one_line(tmp_path):
+    raw = example_copy(tmp_path / "raw")
+    sheet = raw / "images" / "images.csv"
+    sheet.write_text(sheet.read_text().replace("M1_1mm_rest.png", "x" * 256 + ".png"))
+    problems = one_line_each(problems_of(raw))
+    assert any("line 2, column 'file'" in p and "260 bytes long" in p for p in problems), problems
+
+
+# ------------------------------------------------------ nothing read from outside
+
+
+@pytest.mark.parametrize(
+    ("entry", "target"),
+    [
+        ("images/M1_1mm_rest.png", "/dev/zero"),
+        ("images/M1_1mm_rest.png", "/etc/passwd"),
+        ("images/images.csv", "/etc/passwd"),
+        ("subjects.csv", "/etc/passwd"),
+        ("images/M2_2mm_loaded.png", "elsewhere"),  # a real photograph, outside the folder
+    ],
+)
+def test_a_link_out_of_the_dataset_is_refused_before_it_is_opened(
+    tmp_path, monkeypatch, entry, target
+):
+    import builtins
+
+    raw = example_copy(tmp_path / "raw")
+    if target == "elsewhere":
+        target = tmp_path / "elsewhere.png"
+        (raw / entry).rename(target)
+    else:
+        (raw / entry).unlink()
+    (raw / entry).symlink_to(target)
+    opened = []
+    real_open = builtins.open
+
+    def watched(file, *args, **kwargs):
+        opened.append(os.path.realpath(file) if isinstance(file, str | os.PathLike) else file)
+        return real_open(file, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "open", watched)
+    problems = one_line_each(problems_of(raw))
+    assert any(
+        p.startswith(f"{raw}/{entry} leads to {os.path.realpath(target)}, outside the raw-data")
+        for p in problems
+    ), problems
+    assert os.path.realpath(target) not in opened
+
+
+def test_a_dataset_that_is_itself_a_link_is_read(tmp_path):
+    """Labs and clusters link data folders: the folder is resolved once, and its own
+    files are inside it."""
+    example_copy(tmp_path / "store" / "raw")
+    (tmp_path / "raw").symlink_to(tmp_path / "store" / "raw")
+    assert problems_of(tmp_path / "raw") == []
+
+
+def test_a_sheet_naming_a_file_outside_is_refused(tmp_path):
+    raw = example_copy(tmp_path / "raw")
+    sheet = raw / "images" / "images.csv"
+    sheet.write_text(sheet.read_text().replace("M1_1mm_rest.png", "../../../../etc/passwd"))
+    from lineload.validation import photograph_files
+
+    assert all("passwd" not in f for f in photograph_files(str(raw))["M1"])
+    problems = one_line_each(problems_of(raw))
+    assert any("line 2, column 'file'" in p and "'../../../../etc/passwd'" in p for p in problems)
+
+
+# --------------------------------------------------------- sheets as labs save them
+
+
+def sheet_saved(raw, how):
+    sheet = raw / "images" / "images.csv"
+    text = sheet.read_text()
+    if how == "BOM":
+        sheet.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    elif how == "semicolons":
+        sheet.write_text(text.replace(",", ";"))
+    elif how == "tabs":
+        sheet.write_text(text.replace(",", "\t"))
+    elif how == "UTF-16":
+        sheet.write_bytes(text.encode("utf-16"))
+    elif how == "File":
+        sheet.write_text(text.replace(",file,", ",File,", 1))
+    elif how == "trailing":
+        sheet.write_text("".join(line + ",,\n" for line in text.splitlines()))
+    elif how == "nameless":
+        lines = text.splitlines()
+        sheet.write_text(
+            "".join(f"{line},,{'x' if i == 3 else ''}\n" for i, line in enumerate(lines))
+        )
+    elif how == "Images":
+        (raw / "images").rename(raw / "Images")
+
+
+@pytest.mark.parametrize(
+    ("how", "words"),
+    [
+        ("BOM", None),
+        ("trailing", None),
+        ("semicolons", "found semicolons (';') between the column names"),
+        ("tabs", "found tabs between the column names"),
+        ("UTF-16", "is UTF-16 text"),
+        ("File", "column 'file': missing from the header; found 'File', expected 'file'"),
+        ("nameless", "line 1: column 7 has no name in the header but holds values"),
+        ("Images", "Images: expected the name 'images'"),
+    ],
+)
+def test_a_sheet_as_a_lab_saves_it_is_read_or_named(tmp_path, how, words):
+    raw = example_copy(tmp_path / "raw")
+    sheet_saved(raw, how)
+    problems = problems_of(raw)
+    if words is None:
+        assert problems == []
+        return
+    one_line_each(problems)
+    assert any(words in p for p in problems), problems
+    # never the misleading line: a photographed subject has no profile file to miss
+    if how != "Images":
+        assert not any("no profile file" in p for p in problems), problems
+
+
+# ------------------------------------- photographs held to the profiles' plausibility
+
+
+def photograph_mistake(raw, mistake):
+    """Make one of a lab's mistakes in the example; returns the config's digitise changes."""
+    import shutil
+
+    import imageio.v3 as iio
+    from skimage.transform import rescale
+
+    images = raw / "images"
+    sheet = images / "images.csv"
+    text = sheet.read_text()
+    if mistake == "rest copied over":
+        shutil.copy(images / "M1_1mm_loaded.png", images / "M1_1mm_rest.png")
+    elif mistake == "loaded copied over":
+        shutil.copy(images / "M1_1mm_rest.png", images / "M1_1mm_loaded.png")
+    elif mistake == "loaded copied over, tip given":
+        shutil.copy(images / "M1_1mm_rest.png", images / "M1_1mm_loaded.png")
+        sheet.write_text(
+            "".join(
+                line + (",tip_x_px\n" if i == 0 else ",480\n")
+                for i, line in enumerate(text.splitlines())
+            )
+        )
+    elif mistake.startswith("tip at"):  # "tip at 470": the sheet's tip for M1 at 1 mm
+        sheet.write_text(
+            "".join(
+                line + (",tip_x_px\n" if i == 0 else f",{mistake.split()[-1] if i == 2 else 480}\n")
+                for i, line in enumerate(text.splitlines())
+            )
+        )
+    elif mistake == "swapped":
+        sheet.write_text(
+            text.replace("M1,1,rest", "M1,1,tmp")
+            .replace("M1,1,loaded", "M1,1,rest")
+            .replace("M1,1,tmp", "M1,1,loaded")
+        )
+    elif mistake == "micrometres":
+        sheet.write_text(text.replace("M2,1,", "M2,1000,").replace("M2,2,", "M2,2000,"))
+    elif mistake == "scale on the 1 mm rows":
+        sheet.write_text(
+            text.replace("mm_rest.png,60", "mm_rest.png,15", 1).replace(
+                "M1_1mm_loaded.png,60", "M1_1mm_loaded.png,15"
+            )
+        )
+    elif mistake in ("resting zoomed", "resting zoomed, its scale given"):
+        path = images / "M2_2mm_rest.png"
+        picture = iio.imread(path)
+        zoomed = rescale(picture.astype(float), 1.03, preserve_range=True)
+        iio.imwrite(
+            path, np.rint(zoomed[: picture.shape[0], : picture.shape[1]]).astype(picture.dtype)
+        )
+        if mistake.endswith("given"):
+            sheet.write_text(text.replace("M2_2mm_rest.png,60", "M2_2mm_rest.png,61.8"))
+    elif mistake == "reach too short":
+        return {"reach_mm": 2.0}
+    return {}
+
+
+@pytest.mark.parametrize(
+    ("mistake", "line", "words"),
+    [
+        ("rest copied over", 3, "M1_1mm_loaded.png: no deflection"),
+        ("loaded copied over", 3, "is the loaded photograph the resting one (copied over it)?"),
+        ("loaded copied over, tip given", 3, "copied over the other?"),
+        ("swapped", 2, "the resting photograph shows it: are rest and loaded swapped?"),
+        ("micrometres", 6, "column 'depth_mm'"),
+        ("scale on the 1 mm rows", 3, "the two photographs at different scales"),
+        ("resting zoomed", 9, "the two photographs at different scales (zoom"),
+        ("resting zoomed, its scale given", 8, "at 61.8 pixels per mm, the loaded one"),
+        ("reach too short", 3, "reach_mm too short"),
+        ("tip at 470", 3, "puts the wedge's tip 10.1 pixels left of its apex"),
+    ],
+)
+def test_a_photograph_mistake_is_refused_with_its_likely_cause(tmp_path, mistake, line, words):
+    raw = example_copy(tmp_path / "raw")
+    digitise = photograph_mistake(raw, mistake)
+    problems = one_line_each(problems_of(raw, digitise))
+    assert any(f"images.csv, line {line}," in p and words in p for p in problems), problems
+
+
+def test_readings_past_the_deflection_bound_are_refused_as_a_profile_file_is():
+    """The bounds of trial_problem, on readings made to break each one."""
+    from lineload.photographs import DigitisedTrial, trial_problem
+
+    def trial(near, far, residual_mm=0.002):
+        distances = np.array([0.05, 1.0])
+        readings = {side: (distances, np.array([near, far])) for side in ("left", "right")}
+        return DigitisedTrial(readings, 8.0, (0.0, 0.0), residual_mm, 0.001, 0.001)
+
+    assert trial_problem(trial(0.97, 0.5), 1.0, 3.0) is None
+    assert "more than 3 times it" in trial_problem(trial(3.5, 0.5), 1.0, 3.0)
+    assert "more than 3 times it" in trial_problem(trial(0.97, 3.2), 1.0, 3.0)
+    assert "less than 1/3 of it" in trial_problem(trial(0.2, 0.1), 1.0, 3.0)
+    assert "no deflection" in trial_problem(trial(0.0, 0.0), 1.0, 3.0)
+    assert "swapped" in trial_problem(trial(-0.9, -0.5), 1.0, 3.0)
+    assert "times the outlines' own roughness" in trial_problem(trial(0.97, 0.5, 0.011), 1.0, 3.0)
+    assert trial_problem(trial(0.97, 0.5, 0.009), 1.0, 3.0) is None
+
+
+def test_a_tip_given_where_the_image_shows_it_is_read():
+    """The sheet's tip, where the photograph shows it (the example's tip is pixel 480),
+    passes; the check of the tip against the apex can fail only on a wrong one."""
+    import tempfile
+    from pathlib import Path
+
+    with tempfile.TemporaryDirectory() as folder:
+        raw = example_copy(Path(folder) / "raw")
+        photograph_mistake(raw, "tip at 480")
+        assert problems_of(raw) == []
+
+
+@pytest.mark.e2e
+@pytest.mark.parametrize(
+    ("mistake", "words"),
+    [
+        ("rest copied over", "M1_1mm_loaded.png: no deflection"),
+        ("micrometres", "line 6, column 'depth_mm'"),
+        ("truncated", "is the file truncated or damaged?"),
+    ],
+)
+def test_a_photograph_mistake_stops_the_build_with_one_line_and_nothing_written(
+    tmp_path, mistake, words
+):
+    def change(raw):
+        if mistake == "truncated":
+            path = raw / "images" / "M2_2mm_rest.png"
+            path.write_bytes(path.read_bytes()[:5000])
+        else:
+            photograph_mistake(raw, mistake)
+
+    _, output, errors = refuse(tmp_path, change)  # no traceback, nothing but the log
+    assert any(words in e and "images/images.csv, line" in e for e in errors), output

@@ -1,4 +1,4 @@
-"""A checkout can move: specs and outputs hold values, never the checkout's absolute path."""
+"""A checkout can move: params and outputs hold values, never the checkout's absolute path."""
 
 import os
 import shutil
@@ -63,7 +63,11 @@ def test_lint_writes_nothing(tmp_path, snakemake_available):
     lint = snakemake_in(fresh, "--lint")
     assert lint.returncode == 0, lint.stdout + lint.stderr
     assert files() == before
-    # a dry run, by contrast, writes the job specs: the check above could see them
+    # nor does a dry run (the jobs' values are params, no files); a file the run wrote
+    # would be seen, as one planted here is
     dry = snakemake_in(fresh, "--dry-run")
     assert dry.returncode == 0, dry.stderr[-3000:]
-    assert any(name.startswith("results/specs/") for name in files() - before)
+    assert files() == before
+    (fresh / "results").mkdir(exist_ok=True)
+    (fresh / "results" / "planted.json").write_text("{}")
+    assert files() - before == {"results", "results/planted.json"} - before

@@ -4,6 +4,7 @@ import json
 import re
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -20,20 +21,26 @@ BIN = Path(sys.executable).parent
 EDITABLE = "-e ."  # the project's own package, installed editable by both routes
 
 
-def requirement_lines():
-    lines = (REPO / "requirements.txt").read_text().splitlines()
+def requirement_lines(name="requirements.txt"):
+    lines = (REPO / name).read_text().splitlines()
     return [line for line in (ln.split("#")[0].strip() for ln in lines) if line]
 
 
+def pins(lines):
+    return dict(line.split("==") for line in lines if "==" in line)
+
+
 def pins_from_requirements():
-    return dict(line.split("==") for line in requirement_lines() if line != EDITABLE)
+    return pins(requirement_lines())
 
 
 def test_requirements_are_all_pinned_and_install_the_package():
     lines = requirement_lines()
     assert EDITABLE in lines
-    pins = [ln for ln in lines if ln != EDITABLE]
-    assert all(re.fullmatch(r"[A-Za-z0-9_.\-\[\]]+==[0-9][A-Za-z0-9.]*", ln) for ln in pins)
+    dev = requirement_lines("requirements-dev.txt")
+    assert dev[0] == "-r requirements.txt"
+    for pinned in ([ln for ln in lines if ln != EDITABLE], dev[1:]):
+        assert all(re.fullmatch(r"[A-Za-z0-9_.\-\[\]]+==[0-9][A-Za-z0-9.]*", ln) for ln in pinned)
 
 
 def test_environment_pins_match_requirements():
@@ -43,6 +50,18 @@ def test_environment_pins_match_requirements():
     conda_pins = dict(item.split("==") for item in pip_section if item != EDITABLE)
     assert conda_pins == pins_from_requirements()
     assert "python=3.11" in environment["dependencies"]
+
+
+def test_package_pins_match_requirements():
+    # pip install . installs what requirements.txt pins; its extras what requirements-dev.txt adds
+    project = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]
+    assert pins(project["dependencies"]) == pins_from_requirements()
+    extras = project["optional-dependencies"]
+    assert "lineload[test]" in extras["dev"]
+    assert pins(extras["test"] + extras["dev"]) == pins(requirement_lines("requirements-dev.txt"))
+    # a run needs none of the development tools
+    development = {"pytest", "ruff", "snakefmt", "playwright", "roc-validator", "zizmor"}
+    assert not development & set(pins_from_requirements())
 
 
 def readme_block_after(marker):
@@ -56,7 +75,8 @@ def test_ci_runs_the_readme_test_command():
     command = test_command.split("&&")[-1].strip()
     ci = (REPO / ".ci" / "run").read_text().splitlines()
     assert command in [line.strip() for line in ci]
-    assert "-r requirements.txt" in (REPO / ".ci" / "run").read_text()
+    # CI runs the whole suite: it installs what development needs (the run's pins with it)
+    assert "-r requirements-dev.txt" in (REPO / ".ci" / "run").read_text()
 
 
 def test_readme_main_command_installs_and_builds():

@@ -203,7 +203,14 @@ def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_avail
     assert edited.returncode == 0, edited.stderr[-3000:]
     ran = re.findall(r"^local(?:rule|checkpoint) (\w+):", edited.stderr, re.M)
     # the noise is measured from every trial, so every batch's fits take the new noise
-    expected = ["check_raw_data", "prepare_profiles", "noise", "fit_models", "fit_models"]
+    expected = [
+        "check_profiles",  # MK's batch only: HU's files are as they were
+        "check_raw_data",
+        "prepare_profiles",
+        "noise",
+        "fit_models",
+        "fit_models",
+    ]
     assert ran == [*expected, "fits_table", "fits"], ran
     # the batches are one subject each here: of the two, only MK's profiles were redone
     prepared = re.findall(
@@ -227,8 +234,17 @@ def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_avail
     assert len(errors) == 1 and f"{raw}/profiles/MK.csv, line 3" in errors[0], broken.stderr
     after = files_under(results)
     # the failed check's output is removed (the next run checks again); nothing else changed
+    # but the record of MK's batch check, which holds the problem it found
     changed = {k for k in before.keys() | after.keys() if before.get(k) != after.get(k)}
-    assert changed == {"data/raw_check.json", "/".join(CHECK_LOG)}, changed
+    batch_check = {
+        "data/checked/MK.json",
+        "logs/check_profiles/MK.log",
+        "benchmarks/check_profiles/MK.tsv",
+    }
+    assert changed == {"data/raw_check.json", "/".join(CHECK_LOG)} | batch_check, changed
+    assert (
+        "line 3" in json.loads((results / "data" / "checked" / "MK.json").read_text())["errors"][0]
+    )
 
 
 # Run Snakemake in this process with an audit hook: which raw files does start-up open?
@@ -271,8 +287,8 @@ def test_start_up_reads_the_sheet_and_no_profile(tmp_path, snakemake_available):
 
 
 def test_what_start_up_imports_leaves_pandas_out(tmp_path):
-    """Every lineload import of the Snakefile and rules, and the start-up reading, in a
-    fresh interpreter: pandas stays unimported (Snakemake's plugins may import it)."""
+    """Every top-level lineload import of the Snakefile and rules, and the start-up reading,
+    in a fresh interpreter: pandas stays unimported (Snakemake's plugins may import it)."""
     sources = [
         REPO / "workflow" / "Snakefile",
         *sorted((REPO / "workflow" / "rules").glob("*.smk")),
@@ -282,7 +298,8 @@ def test_what_start_up_imports_leaves_pandas_out(tmp_path):
             line.strip()
             for path in sources
             for line in path.read_text().splitlines()
-            if re.match(r"\s*(from lineload\b|import lineload\b)", line)
+            # at the top level: an import inside a function runs only when it is called
+            if re.match(r"(from lineload\b|import lineload\b)", line)
         }
     )
     assert any("startup" in line for line in imports), imports
@@ -348,3 +365,168 @@ def test_the_report_command_is_read_as_snakemake_reads_it(tmp_path, capsys):
     assert (
         capsys.readouterr().err == f"The report: {tmp_path / 'r.html'} (open it in a web browser)\n"
     )
+
+
+# ------------------------------------------------------ config values that are numbers
+
+
+@pytest.mark.parametrize(
+    ("setting", "key"),
+    [
+        ("fit_window_mm=nan", "fit_window_mm"),
+        ("input_checks__deflection_factor=nan", "input_checks/deflection_factor"),
+        ("claims__significance=nan", "claims/significance"),
+        ("digitise__reach_mm=nan", "digitise/reach_mm"),
+    ],
+)
+def test_nan_and_infinities_in_the_config_are_refused_with_one_line(tmp_path, setting, key):
+    process = run_snakemake(
+        "-n", raw=write_small_dataset(tmp_path / "raw"), results=tmp_path / "out", config=[setting]
+    )
+    output = process.stdout + process.stderr
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert process.returncode != 0 and "Traceback" not in output, output
+    assert len(errors) == 1 and errors[0].startswith(f"Error: config, key '{key}': nan is not a"), (
+        output
+    )
+    assert not (tmp_path / "out").exists()
+
+
+def test_config_problem_sees_what_the_schema_cannot():
+    from lineload.startup import config_problem
+
+    assert config_problem({"raw_data": "data/raw", "results": "results", "a": [1.0, 2]}) is None
+    assert "key 'a/1'" in config_problem({"a": [1.0, float("nan")]})
+    # an infinity where the schema sets no upper bound
+    assert "key 'b/c': inf is not a finite" in config_problem({"b": {"c": float("inf")}})
+    long_name = config_problem({"raw_data": "data/" + "x" * 256, "results": "results"})
+    assert long_name.startswith("config, key 'raw_data': the name") and "256 bytes" in long_name
+    deep = config_problem({"results": "/".join(["y" * 200] * 25)})
+    assert deep.startswith("config, key 'results': the path is") and "\n" not in deep
+
+
+def test_an_over_long_results_path_is_one_line(tmp_path):
+    process = run_snakemake(
+        "-n", raw=write_small_dataset(tmp_path / "raw"), results=tmp_path / ("z" * 256)
+    )
+    output = process.stdout + process.stderr
+    assert process.returncode != 0 and "Traceback" not in output, output
+    assert "Error: config, key 'results': the name" in output, output
+
+
+# ------------------------------------------------------ nothing read from outside
+
+
+@pytest.mark.parametrize("entry", ["subjects.csv", "profiles/MK.csv"])
+def test_start_up_refuses_a_link_out_of_the_dataset_before_reading_it(tmp_path, entry):
+    raw = write_small_dataset(tmp_path / "raw")
+    (raw / entry).unlink()
+    (raw / entry).symlink_to("/etc/passwd")
+    process = run_snakemake("-n", raw=raw, results=tmp_path / "out")
+    output = process.stdout + process.stderr
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert process.returncode != 0 and "Traceback" not in output, output
+    assert errors == [
+        f"Error: {raw}/{entry} leads to /etc/passwd, outside the raw-data folder {raw}; "
+        "expected every input inside it (copy the file in, or link the whole folder), "
+        "nothing is read from elsewhere"
+    ], output
+    assert not (tmp_path / "out").exists()
+
+
+# ------------------------------------------------------ one build per results folder
+
+HOLD = """
+import sys, time
+from lineload import buildlock
+fd, held = buildlock.acquire(sys.argv[1], buildlock.this_build(sys.argv))
+print("held" if fd is not None else held, flush=True)
+time.sleep(120)
+"""
+
+
+def holder(results, cwd):
+    """A process holding the results folder's lock (as a running build's main process does)."""
+    import os
+
+    process = subprocess.Popen(
+        [sys.executable, "-c", HOLD, str(results)],
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(REPO / "workflow")},
+    )
+    assert process.stdout.readline().strip() == "held"
+    return process
+
+
+def test_the_lock_is_taken_once_and_taken_over_from_a_killed_holder(tmp_path):
+    import signal
+
+    from lineload.buildlock import LOCK_NAME, acquire, release
+
+    results = tmp_path / "results"
+    other = holder(results, tmp_path)
+    try:
+        fd, held = acquire(str(results))
+        assert fd is None and f"process {other.pid} on " in held and str(tmp_path) in held
+        assert "\n" not in held
+    finally:
+        other.send_signal(signal.SIGKILL)
+        other.wait()
+    assert (results / LOCK_NAME).is_file()  # left behind by the killed build...
+    fd, held = acquire(str(results))  # ...and taken over: its process is gone
+    assert fd is not None and held is None
+    assert json.loads((results / LOCK_NAME).read_text())["pid"] != other.pid
+    again, held = acquire(str(results))  # the same process's second try is refused too
+    assert again is None and held
+    release(fd, str(results))
+    assert not (results / LOCK_NAME).exists()
+
+
+def test_a_second_build_on_one_results_folder_is_refused_naming_the_first(tmp_path):
+    """Snakemake's lock is the working folder's: a build from another working folder
+    onto the same results folder is refused by this one, and the first's files stay."""
+    raw = write_small_dataset(tmp_path / "raw")
+    results = tmp_path / "results"
+    (results / "mine").mkdir(parents=True)  # the lab's own, which must stay
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    first = holder(results, elsewhere)
+    try:
+        process = run_snakemake("check", raw=raw, results=results)
+    finally:
+        first.kill()
+        first.wait()
+    output = process.stdout + process.stderr
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert process.returncode != 0 and "Traceback" not in output, output
+    assert len(errors) == 1 and f"process {first.pid} on" in errors[0], output
+    assert f"in {elsewhere})" in errors[0], output
+    assert (results / "mine").is_dir()
+    # the first build gone, the next one runs, and lets go of the lock when done
+    dry = run_snakemake("-n", raw=raw, results=tmp_path / "dry")
+    assert dry.returncode == 0, dry.stderr  # a dry run takes no lock
+    assert not (tmp_path / "dry" / ".lineload-build.lock").exists()
+    done = run_snakemake("check", raw=raw, results=results)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert not (results / ".lineload-build.lock").exists()
+
+
+def test_where_to_look_names_first_what_the_target_built(tmp_path):
+    from lineload import startup
+
+    zipped, article = tmp_path / "b.zip", tmp_path / "a.pdf"
+    article.write_text("%PDF")
+    targets = {"bundle": [("the bundle", str(zipped))]}
+    built = startup.named_targets(["snakemake", "--cores", "2", "bundle"], targets)
+    assert built == [("the bundle", str(zipped))]
+    assert startup.named_targets(["snakemake", "--cores", "2"], targets) == []
+    documents = [("the article", str(article)), ("the claims table", str(tmp_path / "no.md"))]
+    # a bundle not written (the run failed before it) is not named
+    lines = startup.where_to_look(documents, "r.html", built).splitlines()
+    assert lines[2] == f"  the article: {article}" and len(lines) == 4
+    zipped.write_bytes(b"PK")
+    lines = startup.where_to_look(documents, "r.html", built).splitlines()
+    assert lines[2] == f"  this run built the bundle: {zipped}"
+    assert lines[-1] == "  the HTML report: snakemake --report r.html"

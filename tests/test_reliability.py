@@ -8,7 +8,13 @@ from pathlib import Path
 
 import pytest
 
-from conftest import copy_build, run_snakemake, without_log_hashes, write_small_dataset
+from conftest import (
+    copy_build,
+    job_params,
+    run_snakemake,
+    without_log_hashes,
+    write_small_dataset,
+)
 from lineload.provenance import verify
 
 pytestmark = pytest.mark.e2e
@@ -64,7 +70,7 @@ def test_labels_and_notices_with_awkward_characters_build(tmp_path):
     sheet.write_text("\n".join(lines) + "\n")
     results = tmp_path / "out"
     check_ok(run_snakemake(raw=raw, results=results, config=[f"data_notice={NOTICE}"]))
-    spec = json.loads((results / "specs" / "figure_fits" / "all.json").read_text())
+    spec = job_params(results / "logs" / "figure_fits.log")
     assert [LABEL] == [label for _, _, label in spec["subjects"] if label == LABEL]
     assert spec["settings"]["notice"] == NOTICE
     for table in ("claims.md", "fits.md", "summary.md"):

@@ -37,3 +37,22 @@ def test_values_keep_two_significant_digits_of_their_uncertainty():
     assert shown[5] == 12.3456
     page = table_page("t", COLUMNS, [row])
     assert '<td class="num">0.0841</td>' in page and "0.0840843" not in page
+
+
+def test_headers_carry_words_and_units_and_values_the_articles_digits():
+    from lineload.reportpages import column_label
+
+    assert column_label("waterbed_L_ci_low_mm") == "waterbed L 95 % CI low (mm)"
+    assert column_label("boussinesq_x0_mm") == "Boussinesq x₀ (mm)"
+    assert column_label("pretension_se_N_per_mm") == "pretension SE (N/mm)"
+    assert column_label("waterbed_aicc") == "waterbed AICc" and column_label("chi2") == "chi2"
+    # L to 0.01 mm as the article prints it, even when its interval supports one decimal
+    columns = ["waterbed_L_mm", "waterbed_L_ci_low_mm", "waterbed_L_ci_high_mm"]
+    columns += ["waterbed_rmse_mm", "waterbed_aicc", "n_points"]
+    (shown,) = with_supported_digits(columns, [[14.7213, 13.9, 15.6, 0.0123456, -157.72209, 20]])
+    assert shown == ["14.72", "13.90", "15.60", "0.0123", "-157.7", 20]
+    # a depth or a window, set with few digits, is shown as it was set
+    (depth,) = with_supported_digits(["depth_mm"], [[0.5]])
+    assert depth == ["0.5"]
+    page = table_page("t", columns, [[14.7213, 13.9, 15.6, 0.0123456, -157.72209, 20]])
+    assert '<th title="waterbed_rmse_mm">waterbed RMSE (mm)</th>' in page

@@ -10,7 +10,7 @@ import textwrap
 
 import pytest
 
-from conftest import REPO, run_snakemake, write_small_dataset
+from conftest import REPO, job_params, run_snakemake, write_small_dataset
 from lineload.settings import apply_command_line, typed_value
 
 
@@ -76,9 +76,9 @@ def test_typed_value_keeps_text_that_is_not_a_mapping_or_list():
 def test_nested_settings_reach_the_jobs_as_numbers(tmp_path, setting, snakemake_available):
     raw = write_small_dataset(tmp_path / "raw")
     out = tmp_path / "out"
-    process = run_snakemake("figure_fits", "-n", raw=raw, results=out, config=[setting])
+    process = run_snakemake("figure_fits", raw=raw, results=out, config=[setting])
     assert process.returncode == 0, process.stderr[-3000:]
-    spec = json.loads((out / "specs" / "figure_fits" / "all.json").read_text())
+    spec = job_params(out / "logs" / "figure_fits.log")
     assert spec["settings"]["example_depth_mm"] == 2
     assert isinstance(spec["settings"]["example_depth_mm"], (int, float))
     # as configured: a list given is kept, none given stays empty (the job chooses then)
@@ -87,7 +87,8 @@ def test_nested_settings_reach_the_jobs_as_numbers(tmp_path, setting, snakemake_
 
 
 def snakemake_in(folder, *args):
-    command = [sys.executable, "-m", "snakemake", "--cores", "1", *args]
+    # the jobs printed (the default profile keeps the console quiet about them)
+    command = [sys.executable, "-m", "snakemake", "--quiet", "reason", "--cores", "1", *args]
     env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
     return subprocess.run(command, cwd=folder, capture_output=True, text=True, env=env)
 
@@ -96,22 +97,18 @@ def snakemake_in(folder, *args):
 def test_the_workflow_runs_from_another_folder_with_s(tmp_path, snakemake_available):
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
-    # the provenance job, which records the config, is in the DAG of the default target
-    process = snakemake_in(elsewhere, "-s", str(REPO / "workflow" / "Snakefile"), "-n")
+    snakefile = str(REPO / "workflow" / "Snakefile")
+    process = snakemake_in(elsewhere, "-s", snakefile, "-n")
     assert process.returncode == 0, process.stderr[-3000:]
-    # the workflow's own config and shipped data are found; results go where it runs
-    specs = sorted(p.name for p in (elsewhere / "results" / "specs" / "fit_models").iterdir())
-    assert specs == sorted(f"{s}.json" for s in ("M1", "M2", "M3", "M4", "H1", "H2", "H3"))
-    provenance = json.loads(
-        (elsewhere / "results" / "specs" / "provenance" / "all.json").read_text()
-    )
-    # the shipped data lie outside the working folder: named, never by absolute path
-    assert provenance["config"]["raw_data"] == "raw"
-    assert provenance["config"]["results"] == "results"
-    check = json.loads(
-        (elsewhere / "results" / "specs" / "check_raw_data" / "all.json").read_text()
-    )
-    assert str(REPO) not in json.dumps([provenance, check])
+    # the workflow's own config and shipped data are found: a fit job per subject
+    job = r"^rule fit_models:\n(?:    .*\n)*?    wildcards: batch=(\S+)$"
+    batches = re.findall(job, process.stdout + process.stderr, re.M)
+    assert sorted(batches) == sorted(["M1", "M2", "M3", "M4", "H1", "H2", "H3"])
+    # results go where it runs; the job's values never hold the checkout's path
+    process = snakemake_in(elsewhere, "-s", snakefile, "check")
+    assert process.returncode == 0, process.stderr[-3000:]
+    check = job_params(elsewhere / "results" / "logs" / "check_raw_data.log")
+    assert check["window_mm"] == 3.0 and str(REPO) not in json.dumps(check)
 
 
 def readme_lab_config():
@@ -142,16 +139,14 @@ def test_the_readme_lab_config_runs(tmp_path, how, snakemake_available):
     else:
         folder = tmp_path
         args = ["--directory", "mylab", "--configfile", "mylab/lab.yaml", "-s", snakefile]
-    process = snakemake_in(folder, "fits", *args)
+    process = snakemake_in(folder, "fits", "figure_fits", *args)
     assert process.returncode == 0, process.stderr[-3000:]
     assert (lab / "results" / "tables" / "fits.csv").is_file()
-    # the provenance record's spec holds the config as the jobs see it: written by a dry
-    # run of the default target (the record itself needs the whole build)
-    dry = snakemake_in(folder, "-n", *args)
-    assert dry.returncode == 0, dry.stderr[-3000:]
-    spec = json.loads((lab / "results" / "specs" / "provenance" / "all.json").read_text())
-    assert spec["config"]["raw_data"] == "raw"  # relative to the lab folder, where it runs
-    config = spec["config"]
-    assert config["figures"]["example_subjects"] == ["S-01", "S-02"]
-    assert config["input_checks"]["depth_max_mm"] == 3.0
-    assert config["figures"]["png_dpi"] == 300  # the rest from the workflow's config
+    # the jobs were given the config as the lab wrote it, the rest from the workflow's
+    logs = lab / "results" / "logs"
+    check = (logs / "check_raw_data.log").read_text()
+    assert "\nraw: 2 subjects" in check  # relative to the lab folder, where it runs
+    assert job_params(logs / "check_raw_data.log")["input_checks"]["depth_max_mm"] == 3.0
+    figures = job_params(logs / "figure_fits.log")
+    assert figures["settings"]["example_subjects"] == ["S-01", "S-02"]
+    assert figures["dpi"] == 300  # the rest from the workflow's config

@@ -75,7 +75,7 @@ def profile_for(cluster_folder, destination):
 def snakemake(*args, raw, results, timeout_s=BUILD_TIMEOUT_S):
     """Run Snakemake from the repository; on a hang kill its whole process group."""
     command = [  # --nolock: see conftest.run_snakemake (the repository's folder is shared)
-        sys.executable, "-m", "snakemake", "--nolock", *args,
+        sys.executable, "-m", "snakemake", "--quiet", "reason", "--nolock", *args,
         "--config", f"raw_data={raw}", f"results={results}",
     ]  # fmt: skip
     process = subprocess.Popen(

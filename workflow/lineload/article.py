@@ -17,14 +17,30 @@ import numpy as np
 
 from . import paper
 from .calibration import claim_error_rates
-from .claims import EVIDENCE_VERDICTS, summary_sentence, verdict_counts
-from .tables import format_fixed, join_words, span_text
+from .claims import EVIDENCE_VERDICTS, PAPER_CLAIM, summary_sentence, verdict_counts
+from .priors import changed_claims
+from .tables import (
+    AT_BOUND_MARK,
+    at_bound,
+    counted,
+    every,
+    format_fixed,
+    join_words,
+    percent_text,
+    span_text,
+)
 
 __all__ = [
     "article_facts",
+    "calibration_design",
+    "counted",
+    "dataset_design",
+    "design_text",
+    "every",
     "group_depths_text",
     "join_words",
     "number_words",
+    "percent_text",
     "photograph_facts",
     "shown",
     "span_text",
@@ -166,11 +182,16 @@ def _data_facts(subjects, depths_mm, notice):
         )
     magnifications = sorted({about["magnification"] for about in subjects.values()})
     all_depths = sorted({d for s in subjects for d in depths_mm[s]})
+    n_trials = sum(len(d) for d in depths_mm.values())
     return {
         "synthetic": bool(notice),
         "notice": notice,
+        "has": {species: species in by_species for species in paper.SPECIES},
+        "subjects_text": counted(len(subjects), "subject"),
+        "trials_text": counted(n_trials, "trial"),
+        "every_trial": every(n_trials, "trial"),
         "n_subjects": len(subjects),
-        "n_trials": sum(len(d) for d in depths_mm.values()),
+        "n_trials": n_trials,
         "groups": groups,
         "who": join_words(g["count_words"] for g in groups),
         "depths": _depths_text(all_depths),
@@ -199,7 +220,15 @@ def _fit_facts(fits, checks, noise_mm):
     deepest = float(fits["depth_mm"].max()) if len(fits) else math.nan
     at_deepest = (fits["depth_mm"] == deepest).to_numpy()
     gaps = checks["gap_shifted_mm"].to_numpy(float) if len(checks) else np.array([])
+    n_compared, n_better = int(finite.sum()), int((ratio[finite] > 1).sum())
+    n_gaps, n_above = int(gaps.size), int((gaps > noise_mm).sum())
     return {
+        "comparison": _comparison_text(n_better, n_compared),
+        "n_compared": n_compared,
+        "n_waterbed_better": n_better,
+        "coordinates": _coordinates_text(n_above, n_gaps),
+        "n_gaps": n_gaps,
+        "n_gaps_above_noise": n_above,
         "species": species,
         "L_paper": L["waterbed"],
         "L_shifted": L["shifted"],
@@ -207,8 +236,12 @@ def _fit_facts(fits, checks, noise_mm):
         "L_paper_all": span_text(fits["waterbed_L_mm"]),
         "rmse_waterbed": span_text(fits["waterbed_rmse_mm"], 3),
         "rmse_boussinesq": span_text(fits["boussinesq_rmse_mm"], 3),
-        "ratio_median": format_fixed(np.median(ratio[finite]), 1) if finite.any() else "–",
-        "ratio_range": span_text(ratio[finite], 1, ""),
+        "ratio_median": (
+            format_fixed(np.median(ratio[finite]), _ratio_decimals(ratio[finite]))
+            if finite.any()
+            else "–"
+        ),
+        "ratio_range": span_text(ratio[finite], _ratio_decimals(ratio[finite]), ""),
         "waterbed_better": f"{int((ratio[finite] > 1).sum())} of {int(finite.sum())}",
         "L_change": span_text(change, 2),
         "L_change_deepest": span_text(change[at_deepest], 2),
@@ -216,7 +249,112 @@ def _fit_facts(fits, checks, noise_mm):
         "gap_range": span_text(gaps, 4),
         "gap_above_noise": f"{int((gaps > noise_mm).sum())} of {gaps.size}",
         "noise_mm": f"{noise_mm:g}",
+        "prior_share_L": _share_span(fits, "waterbed_L_prior_share"),
+        "prior_share_A": _share_span(fits, "boussinesq_A_prior_share"),
     }
+
+
+def _ratio_decimals(ratios):
+    """Decimals that show the smallest ratio to two significant digits (one at least,
+    three at most): a ratio of 0.02 is not printed as 0.0."""
+    ratios = np.abs(np.asarray(ratios, float))
+    ratios = ratios[np.isfinite(ratios) & (ratios > 0)]
+    if not ratios.size:
+        return 1
+    return int(min(3, max(1, 1 - math.floor(math.log10(ratios.min())))))
+
+
+def _comparison_text(n_better, n_compared):
+    """Which model leaves the smaller residuals, as the counts say it."""
+    if n_compared == 0:
+        return "No trial has both fits, so the two forms cannot be compared by their residuals"
+    if n_better == n_compared:
+        return (
+            "Near the wedge the waterbed leaves smaller residuals than the half-space form in "
+            + every(n_compared, "trial")
+        )
+    if n_better == 0:
+        return (
+            "Near the wedge the half-space form leaves smaller residuals than the waterbed in "
+            + every(n_compared, "trial")
+        )
+    return (
+        "Near the wedge neither form leaves the smaller residuals in every trial: the waterbed "
+        f"does in {n_better} of {counted(n_compared, 'trial')}, the half-space form in the "
+        f"other {n_compared - n_better}"
+    )
+
+
+def _coordinates_text(n_above, n_gaps):
+    """Whether reading the photographs in measured coordinates moves a fit by more than the
+    noise, in how many trials."""
+    if n_gaps == 0:
+        return "no trial has both fits to compare"
+    if n_above == 0:
+        return "less than one reading's noise in " + every(n_gaps, "trial")
+    if n_above == n_gaps:
+        return "more than one reading's noise in " + every(n_gaps, "trial")
+    return f"more than one reading's noise in {n_above} of {counted(n_gaps, 'trial')}"
+
+
+def dataset_design(fits):
+    """The trials of a dataset by species and depth: ``{(species, depth_mm): count}``."""
+    return {
+        (str(species), float(depth)): int(n)
+        for (species, depth), n in fits.groupby(["species", "depth_mm"]).size().items()
+    }
+
+
+def calibration_design(bootstrap_trials):
+    """The design the committed calibration was computed for, from the parametric
+    bootstrap's per-trial table (``docs/calibration/bootstrap_trials.csv``): the trials
+    of its first replicate by species and depth, as :func:`dataset_design` gives them."""
+    first = bootstrap_trials[
+        (bootstrap_trials["dataset"] == bootstrap_trials["dataset"].min())
+        & (bootstrap_trials["model"] == bootstrap_trials["model"].iloc[0])
+        & (bootstrap_trials["parameter"] == bootstrap_trials["parameter"].iloc[0])
+    ]
+    return dataset_design(first)
+
+
+def design_text(design):
+    """``"26 trials (16 monkey, 10 human) at 0.5, 1, 1.5 and 2 mm"``."""
+    per_species = {}
+    for (species, _), n in design.items():
+        per_species[species] = per_species.get(species, 0) + n
+    depths = sorted({depth for _, depth in design})
+    order = [s for s in paper.SPECIES if s in per_species]
+    order += sorted(set(per_species) - set(paper.SPECIES))
+    parts = ", ".join(f"{per_species[species]} {species}" for species in order)
+    return f"{counted(sum(design.values()), 'trial')} ({parts}) at {_depths_text(depths)}"
+
+
+def _prior_facts(claims):
+    """Which verdicts change with the noise priors scaled (the claims table's
+    ``verdict_prior_x*`` columns): by multiple, and below twice the stated sizes."""
+    columns = [c for c in claims.columns if c.startswith("verdict_prior_x")]
+    multiples = [float(c.removeprefix("verdict_prior_x")) for c in columns]
+    by_multiple = [
+        {
+            "multiple": f"{m:g}",
+            "changed": join_words(claims.loc[claims[c] != claims["verdict"], "claim"]) or "none",
+        }
+        for m, c in zip(multiples, columns, strict=True)
+    ]
+    below = changed_claims(claims, below=2.0)
+    return {
+        "checked": bool(columns),
+        "multiples": join_words(f"{m:g}" for m in multiples),
+        "by_multiple": by_multiple,
+        "changed_below_2": join_words(below) if below else "none",
+    }
+
+
+def _share_span(fits, column):
+    """The range of a ``*_prior_share`` column in per cent ('–' without one)."""
+    if column not in fits:
+        return "–"
+    return span_text(100 * fits[column].to_numpy(float), 0, " %")
 
 
 def article_facts(
@@ -231,6 +369,7 @@ def article_facts(
     mechanics=None,
     calibration=None,
     built_in=None,
+    results_name="results",
 ):
     """Every number and data-dependent phrase of the article.
 
@@ -258,7 +397,11 @@ def article_facts(
         ``tuned``, ``follows`` or ``identity``), for its reconstruction.
     calibration : dict of pandas.DataFrame, optional
         ``verdicts``, ``coverage`` and optionally ``boundary``: the calibration
-        tables (``docs/calibration/verdicts.csv``, ``coverage.csv``, ``boundary.csv``).
+        tables (``docs/calibration/verdicts.csv``, ``coverage.csv``, ``boundary.csv``),
+        and ``design``: ``{(species, depth_mm): trials}`` of the data they were computed
+        for. Their rates are printed only for data of that design.
+    results_name : str, optional
+        The name of the build's results folder, where the text sends the reader.
 
     Returns
     -------
@@ -277,7 +420,8 @@ def article_facts(
         "verdicts": {
             **{key.replace(" ", "_"): value for key, value in counts.items()},
             "sentence": summary_sentence(claims),
-            "n_claims": len(claims),
+            # the paper's claims about fingers; the checks of method and model apart
+            "n_claims": counts["paper_claims"],
             "evidence_words": number_words(counts["evidence"]),
             "holds_words": number_words(counts["holds"]),
             "fails_words": number_words(counts["does not hold"]),
@@ -290,11 +434,14 @@ def article_facts(
                 "paper_value": row["paper_value"],
                 "our_value": row["our_value"],
                 "verdict": row["verdict"],
-                "evidence": row["verdict"] in EVIDENCE_VERDICTS,
+                "kind": row.get("kind", PAPER_CLAIM),
+                "evidence": row["verdict"] in EVIDENCE_VERDICTS
+                and row.get("kind", PAPER_CLAIM) == PAPER_CLAIM,
                 "reason": row["reason"],
             }
             for _, row in claims.iterrows()
         ],
+        "priors": _prior_facts(claims),
         "settings": shown(settings),
         "figures": {
             "example_depth": f"{figures['example_depth_mm']:g} mm",
@@ -311,16 +458,19 @@ def article_facts(
         "built_in": None
         if built_in is None
         else {
-            how: join_words(r["claim"] for r in built_in if r["how"] == how)
-            for how in ("tuned", "follows")
+            how.replace(" ", "_"): join_words(r["claim"] for r in built_in if r["how"] == how)
+            for how in ("tuned", "by construction", "follows")
         },
+        "claim_verdicts": {row["claim"]: row["verdict"] for _, row in claims.iterrows()},
         "software": {
+            "record": f"{results_name}/provenance.json",
             # name, version and release date: the citation file's (absent in older callers)
             **{
                 key: str(software[key])
-                for key in ("name", "version", "released")
+                for key in ("name", "version", "released", "authors")
                 if software.get(key)
             },
+            "authors_placeholder": bool(software.get("authors_placeholder", True)),
             "python": str(software["python"]),
             "packages": {name: str(v) for name, v in software["packages"].items() if v},
             "git": {
@@ -339,7 +489,27 @@ def article_facts(
             calibration.get("mechanics"),
             calibration.get("bootstrap"),
         )
+        ours = dataset_design(fits)
+        theirs = calibration.get("design")
+        facts["calibration"]["same_design"] = theirs is None or theirs == ours
+        facts["calibration"]["design"] = "" if theirs is None else design_text(theirs)
+        facts["calibration"]["our_design"] = design_text(ours)
     return facts
+
+
+#: The models as the text names them (the tables' column prefixes are lower case).
+_MODEL_NAMES = {
+    "waterbed": "waterbed",
+    "shifted": "shifted",
+    "arc": "exact arc",
+    "boussinesq": "Boussinesq",
+}
+
+
+def _symbol(parameter):
+    """A parameter as the text writes it: ``x0_mm`` -> ``x₀``, ``L_mm`` -> ``L``."""
+    name = str(parameter).removesuffix("_mm")
+    return {"x0": "x₀", "W0": "W₀"}.get(name, name)
 
 
 def _percent(rate, low, high):
@@ -364,6 +534,8 @@ def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None, bootst
                 "untestable": "–" if identity else str(int(row["n_untestable"])),
                 "wrong": "not evidence"
                 if identity
+                else "undecided"
+                if int(row["n_holds"]) + int(row["n_fails"]) == 0
                 else _percent(row["wrong_rate"], row["wrong_ci_low"], row["wrong_ci_high"]),
             }
         )
@@ -371,16 +543,27 @@ def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None, bootst
     pooled = coverage[coverage["species"] == "all"]
     at_boundary = []
     if boundary is not None:
-        # only the datasets where the claim is not true: 'holds' there is wrong
-        for _, row in boundary[boundary["truth"] != "holds"].iterrows():
+        # every world, side and truth: wrong 'holds' and wrong 'does not hold'
+        for _, row in boundary.iterrows():
             at_boundary.append(
                 {
                     "claim": str(row["claim"]),
+                    "side": str(row["side"]),
+                    "truth": str(row["truth"]),
                     "n": str(int(row["n_datasets"])),
                     "holds": str(int(row["n_holds"])),
                     "fails": str(int(row["n_fails"])),
                     "untestable": str(int(row["n_untestable"])),
-                    "wrong": _percent(row["wrong_rate"], row["wrong_ci_low"], row["wrong_ci_high"]),
+                    "wrong_holds": _percent(
+                        row["wrong_holds_rate"],
+                        row["wrong_holds_ci_low"],
+                        row["wrong_holds_ci_high"],
+                    ),
+                    "wrong_fails": _percent(
+                        row["wrong_fails_rate"],
+                        row["wrong_fails_ci_low"],
+                        row["wrong_fails_ci_high"],
+                    ),
                 }
             )
     by_claim = claim_error_rates(verdicts, boundary)
@@ -398,7 +581,8 @@ def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None, bootst
             "n": str(int(replicated["n_trials"].iloc[0])),
             "rows": [
                 {
-                    "what": f"{row['model']} {str(row['parameter']).removesuffix('_mm')}",
+                    "what": f"{_MODEL_NAMES.get(row['model'], row['model'])} "
+                    + _symbol(row["parameter"]),
                     "coverage": _percent(row["coverage"], row["ci_low"], row["ci_high"]),
                 }
                 for _, row in replicated.iterrows()
@@ -408,19 +592,20 @@ def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None, bootst
         "by_claim": by_claim,
         "rows": rows,
         "boundary": at_boundary,
+        "boundary_claims": str(len({row["claim"] for row in at_boundary})),
         "membrane": membrane or None,
         "bootstrap": resampled,
         "n_datasets": str(int(every["n_datasets"])),
         "any_wrong": str(int(every["n_wrong"])),
         "any_rate": (
-            f"{100 * every['wrong_rate']:.1f} %, 95 % CI {100 * every['wrong_ci_low']:.1f}-"
+            f"{percent_text(every['wrong_rate'])}, 95 % CI {100 * every['wrong_ci_low']:.1f}-"
             f"{100 * every['wrong_ci_high']:.1f} %"
         ),
         "coverage": [
             {
                 "scenario": str(row["scenario"]),
-                "model": str(row["model"]),
-                "parameter": str(row["parameter"]).removesuffix("_mm"),
+                "model": _MODEL_NAMES.get(str(row["model"]), str(row["model"])),
+                "parameter": _symbol(row["parameter"]),
                 "n": str(int(row["n_trials"])),
                 "coverage": _percent(row["coverage"], row["ci_low"], row["ci_high"]),
             }
@@ -459,13 +644,23 @@ def _trial_facts(fits):
                         float(row[f"{model}_L_ci_low_mm"]),
                         float(row[f"{model}_L_ci_high_mm"]),
                     )
+                    + (AT_BOUND_MARK if at_bound(row, model) else "")
                     for model in ("waterbed", "arc")
                 },
                 "rmse_waterbed": format_fixed(1000 * float(row["waterbed_rmse_mm"]), 1),
                 "rmse_boussinesq": format_fixed(1000 * float(row["boussinesq_rmse_mm"]), 1),
             }
         )
-    return {"rows": rows, "n": len(fits), "shown": len(rows)}
+    bounded = sum(
+        at_bound(row, model) for _, row in fits.iterrows() for model in ("waterbed", "arc")
+    )
+    return {
+        "rows": rows,
+        "n": len(fits),
+        "shown": len(rows),
+        "bounded": int(bounded),
+        "bound_mark": AT_BOUND_MARK,
+    }
 
 
 def _with_error(value, error, decimals):
@@ -496,6 +691,7 @@ def _mechanics_facts(mechanics):
     return {
         "n_subjects": len(rows),
         "n_words": number_words(len(rows)),
+        "subjects_text": f"{number_words(len(rows))} {'subject' if len(rows) == 1 else 'subjects'}",
         "with_contact_lengths": with_lengths,
         "any_exact": bool((mechanics["dof"].to_numpy(int) == 0).any()),
         "rows": rows,

@@ -36,10 +36,12 @@ import pandas as pd
 from . import synthetic
 from .averaging import average_subjects, tissue_columns
 from .claims import (
+    CLAIM_KINDS,
     EVIDENCE_VERDICTS,
     FAILS,
     HOLDS,
     IDENTITY,
+    PAPER_CLAIM,
     UNTESTABLE,
     ClaimSettings,
     compute_claims,
@@ -292,12 +294,14 @@ def summarise_verdicts(rows):
         Columns :data:`SUMMARY_COLUMNS`; one row per claim and true verdict (the
         truth can differ between datasets: it depends on each dataset's reading
         grid), claims in table order, then ``any``: datasets with at least one
-        wrong verdict among the evidence claims.
+        wrong verdict among the paper's claims (kind ``paper claim``; the checks of
+        method and model, :data:`lineload.claims.CLAIM_KINDS`, apart).
     """
     by_claim, wrong_in = {}, {}
     for row in rows:
         by_claim.setdefault((row["claim"], row["truth"]), []).append(row)
-        wrong_in[row["dataset"]] = wrong_in.get(row["dataset"], False) or bool(row["wrong"])
+        counted = CLAIM_KINDS.get(row["claim"], PAPER_CLAIM) == PAPER_CLAIM and bool(row["wrong"])
+        wrong_in[row["dataset"]] = wrong_in.get(row["dataset"], False) or counted
     order = {verdict: i for i, verdict in enumerate((HOLDS, FAILS, UNTESTABLE, IDENTITY))}
     claims = list(dict.fromkeys(claim for claim, _ in by_claim))
     keys = sorted(by_claim, key=lambda key: (claims.index(key[0]), order.get(key[1], 9)))
@@ -375,7 +379,14 @@ def verdict_markdown(summary, command, notice=""):
             ]
         cells.append([row["claim"], row["truth"], str(row["n_datasets"]), *counts])
     every = summary[-1]
-    evidence = len({r["claim"] for r in summary[:-1] if r["truth"] in EVIDENCE_VERDICTS})
+    evidence = len(
+        {
+            r["claim"]
+            for r in summary[:-1]
+            if r["truth"] in EVIDENCE_VERDICTS
+            and CLAIM_KINDS.get(r["claim"], PAPER_CLAIM) == PAPER_CLAIM
+        }
+    )
     truths = {}
     for r in summary[:-1]:
         truths.setdefault(r["claim"], set()).add(r["truth"])
@@ -392,7 +403,9 @@ def verdict_markdown(summary, command, notice=""):
         "A verdict opposite to the truth is wrong; 'cannot be checked' is not wrong, but "
         "counted. Aim: at most 5 % wrong per claim.\n\n"
         + markdown_table(header, cells, "llrrrrr")
-        + f"\n\nAcross the {evidence} claims that are evidence, {every['n_wrong']} of "
+        + f"\n\nAcross the paper's {evidence} claims that are evidence about fingers (the "
+        "checks of the method and the model apart), "
+        f"{every['n_wrong']} of "
         f"{every['n_datasets']} datasets had at least one wrong verdict "
         f"({_percent_interval(every)}): each rule keeps its own error rate, none is "
         "corrected for the others.\n\n"
@@ -503,12 +516,32 @@ def _toward_waterbed(t):
     )
 
 
+def _one_shape(t):
+    """C8: every finger's deep profile ``t`` of the way to its shallow one's shape.
+
+    ``t = 1``: one shape at every depth (``w = W0 f(x / e)``, the edge ``e`` still
+    widening with depth): the waterbed's misfit then grows as W0 and its misfit
+    relative to the depth stays, but for what the fixed fit window sees of the wider
+    deep profiles.
+    """
+    return _changed(
+        synthetic.shipped_subjects(),
+        lambda s: {
+            "exponent_deep": s.exponent_deep + t * (s.exponent_shallow - s.exponent_deep),
+            "near_fraction_deep": s.near_fraction_deep
+            + t * (s.near_fraction_shallow - s.near_fraction_deep),
+        },
+    )
+
+
 #: World name -> (claim, what changes, family of subjects, (effect where the claim
 #: holds, effect where it does not), claim settings of the error-free verdicts that
-#: place the boundary).  C8's rule tests a mean over seven subjects against their own
-#: spread, which remains without digitising errors: its boundary is where that mean
-#: slope is zero, the error-free verdict at significance 0.5 (holds exactly when the
-#: estimate is above zero), not where the seven subjects' t-test stops rejecting.
+#: place the boundary).  C8's world moves every finger towards one shape at every depth,
+#: where the waterbed's misfit grows as W0 but not relative to it.  C8's rule tests a
+#: mean over seven subjects against their own spread, which remains without
+#: digitising errors: its boundary is where that mean slope is zero, the error-free
+#: verdict at significance 0.5 (holds exactly when the estimate is above zero), not
+#: where the seven subjects' t-test stops rejecting.
 #: C10's world starts where the claim fails (the shipped shapes) and moves towards
 #: circles, where it holds; its effect runs from 1 (circles) down.  Claims without a
 #: world: C4 (no shape of the generator's family bulges above the resting surface),
@@ -550,10 +583,10 @@ BOUNDARY_WORLDS = {
         (1.0, 0.4),
         {},
     ),
-    "misfit-not-growing": (
+    "one-shape-at-every-depth": (
         "C8",
-        "every profile's shape parameters t of the way to the waterbed's eq. 19",
-        _toward_waterbed,
+        "every finger's deep profile t of the way to its shallow profile's shape",
+        _one_shape,
         (0.0, 1.0),
         {"significance": 0.5},
     ),
@@ -573,10 +606,45 @@ BOUNDARY_WORLDS = {
     ),
 }
 
-#: Columns of the boundary study: one row per world and dataset.
-BOUNDARY_COLUMNS = ["world", "effect", *DATASET_COLUMNS]
-#: Columns of its summary: one row per world and true verdict.
-BOUNDARY_SUMMARY_COLUMNS = ["world", "effect", *SUMMARY_COLUMNS]
+#: The two planned worlds of each boundary: the ends of the last bisection bracket,
+#: where the claim just holds and where it just fails on dataset 0's reading grid.
+SIDES = ("holding", "failing")
+
+#: Columns of the boundary study: one row per world, side and dataset.  ``wrong_holds``:
+#: the rule says "holds" where the claim is not true; ``wrong_fails``: it says "does not
+#: hold" where the claim is not false.
+BOUNDARY_COLUMNS = [
+    "world",
+    "side",
+    "effect",
+    "dataset",
+    "claim",
+    "truth",
+    "verdict",
+    "wrong_holds",
+    "wrong_fails",
+]
+#: Columns of its summary: one row per world, side and true verdict, both errors with
+#: their Clopper-Pearson 95 % intervals.
+BOUNDARY_SUMMARY_COLUMNS = [
+    "world",
+    "side",
+    "effect",
+    "claim",
+    "truth",
+    "n_datasets",
+    "n_holds",
+    "n_fails",
+    "n_untestable",
+    "n_wrong_holds",
+    "wrong_holds_rate",
+    "wrong_holds_ci_low",
+    "wrong_holds_ci_high",
+    "n_wrong_fails",
+    "wrong_fails_rate",
+    "wrong_fails_ci_low",
+    "wrong_fails_ci_high",
+]
 
 
 def _true_verdict(claim, effect, family, seed, window_mm, priors, max_trials, claims):
@@ -587,7 +655,8 @@ def _true_verdict(claim, effect, family, seed, window_mm, priors, max_trials, cl
 
 
 def boundary_effect(world, seed, window_mm, priors, max_trials, claims=None, steps=12):
-    """The effect at which a world's claim stops being true, on error-free readings.
+    """The effects either side of where a world's claim stops being true, on error-free
+    readings.
 
     Parameters
     ----------
@@ -602,9 +671,10 @@ def boundary_effect(world, seed, window_mm, priors, max_trials, claims=None, ste
 
     Returns
     -------
-    float
-        The effect nearest the boundary at which the claim's true verdict is not
-        "holds" (the failing end of the last bracket).
+    tuple of float
+        ``(holding, failing)``: the ends of the last bisection bracket, the effect
+        nearest the boundary at which the claim's true verdict is "holds" and the one
+        at which it is not.
 
     Raises
     ------
@@ -630,18 +700,21 @@ def boundary_effect(world, seed, window_mm, priors, max_trials, claims=None, ste
             holds_at = middle
         else:
             fails_at = middle
-    return fails_at
+    return holds_at, fails_at
 
 
-def boundary_study(world, seed, datasets, window_mm, priors, max_trials, claims=None, first=0):
-    """The verdicts of a world's claim at its boundary, on datasets with fresh errors.
+def boundary_study(
+    world, seed, datasets, window_mm, priors, max_trials, claims=None, first=0, sides=SIDES
+):
+    """The verdicts of a world's claim either side of its boundary, on datasets with
+    fresh errors.
 
-    The boundary is found on dataset 0's reading grid (:func:`boundary_effect`);
-    dataset ``k`` then has the errors of dataset ``k`` of :func:`verdict_study`
-    (seed ``(seed, k)``), and its own error-free verdict as ``truth``.  The world
-    lies where the claim is not true, so "holds" is wrong in every dataset whose
-    error-free verdict is not "holds" (also where it is "cannot be checked", as
-    it can be for C8 at a mean slope of zero).
+    The boundary is found on dataset 0's reading grid (:func:`boundary_effect`); each
+    side's world is then read ``datasets`` times, dataset ``k`` with the errors of
+    dataset ``k`` of :func:`verdict_study` (seed ``(seed, k)``) and its own error-free
+    verdict as ``truth``.  Both errors are scored: "holds" where the truth is not
+    "holds" (mostly on the failing side), "does not hold" where the truth is not "does
+    not hold" (mostly on the holding side).
 
     Returns
     -------
@@ -649,34 +722,58 @@ def boundary_study(world, seed, datasets, window_mm, priors, max_trials, claims=
         Columns :data:`BOUNDARY_COLUMNS`.
     """
     claim, _, family, _, placing = BOUNDARY_WORLDS[world]
-    effect = boundary_effect(world, (seed, 0), window_mm, priors, max_trials, claims)
-    # each dataset's truth judged as the boundary was placed (C8: the sign of the mean
-    # slope), its readings as the workflow judges them
-    rows = verdict_study(
-        seed,
-        datasets,
-        window_mm,
-        priors,
-        max_trials,
-        claims,
-        first,
-        family(effect),
-        truth_claims={**(claims or {}), **placing},
+    effects = dict(
+        zip(
+            SIDES,
+            boundary_effect(world, (seed, 0), window_mm, priors, max_trials, claims),
+            strict=True,
+        )
     )
-    return [
-        {
-            "world": world,
-            "effect": effect,
-            **row,
-            "wrong": row["verdict"] == HOLDS and row["truth"] != HOLDS,
-        }
-        for row in rows
-        if row["claim"] == claim
-    ]
+    out = []
+    for side in sides:
+        # each dataset's truth judged as the boundary was placed (C8: the sign of the mean
+        # slope), its readings as the workflow judges them
+        rows = verdict_study(
+            seed,
+            datasets,
+            window_mm,
+            priors,
+            max_trials,
+            claims,
+            first,
+            family(effects[side]),
+            truth_claims={**(claims or {}), **placing},
+        )
+        out.extend(
+            {
+                "world": world,
+                "side": side,
+                "effect": effects[side],
+                "dataset": row["dataset"],
+                "claim": row["claim"],
+                "truth": row["truth"],
+                "verdict": row["verdict"],
+                "wrong_holds": row["verdict"] == HOLDS and row["truth"] != HOLDS,
+                "wrong_fails": row["verdict"] == FAILS and row["truth"] != FAILS,
+            }
+            for row in rows
+            if row["claim"] == claim
+        )
+    return out
+
+
+def _rate(wrong, n, prefix):
+    low, high = binomial_interval(wrong, n)
+    return {
+        f"n_{prefix}": wrong,
+        f"{prefix}_rate": wrong / n if n else np.nan,
+        f"{prefix}_ci_low": low,
+        f"{prefix}_ci_high": high,
+    }
 
 
 def summarise_boundary(rows):
-    """Counts of each verdict per world and truth, with the wrong-verdict rate.
+    """Counts of each verdict per world, side and truth, with both wrong-verdict rates.
 
     Parameters
     ----------
@@ -687,57 +784,99 @@ def summarise_boundary(rows):
     -------
     list of dict
         Columns :data:`BOUNDARY_SUMMARY_COLUMNS`, worlds in the order of
-        :data:`BOUNDARY_WORLDS`.
+        :data:`BOUNDARY_WORLDS`, the holding side first.
     """
-    rows = list(rows)
+    groups = {}
+    for row in rows:
+        groups.setdefault((row["world"], row["side"], row["truth"]), []).append(row)
+    order = {verdict: i for i, verdict in enumerate((HOLDS, FAILS, UNTESTABLE, IDENTITY))}
+    worlds = list(BOUNDARY_WORLDS)
     summary = []
-    for world in BOUNDARY_WORLDS:
-        found = [r for r in rows if r["world"] == world]
-        if found:
-            summary.extend(
-                {"world": world, "effect": found[0]["effect"], **row}
-                for row in summarise_verdicts(found)[:-1]
-            )
+    for world, side, truth in sorted(
+        groups, key=lambda k: (worlds.index(k[0]), SIDES.index(k[1]), order.get(k[2], 9))
+    ):
+        group = groups[(world, side, truth)]
+        verdicts = [r["verdict"] for r in group]
+        n = len(group)
+        summary.append(
+            {
+                "world": world,
+                "side": side,
+                "effect": group[0]["effect"],
+                "claim": group[0]["claim"],
+                "truth": truth,
+                "n_datasets": n,
+                "n_holds": verdicts.count(HOLDS),
+                "n_fails": verdicts.count(FAILS),
+                "n_untestable": verdicts.count(UNTESTABLE),
+                **_rate(sum(bool(r["wrong_holds"]) for r in group), n, "wrong_holds"),
+                **_rate(sum(bool(r["wrong_fails"]) for r in group), n, "wrong_fails"),
+            }
+        )
     return summary
+
+
+def _wrong_cell(row, prefix):
+    """'2: 1.0 % (0.1-3.6 %)': the count of wrong verdicts, their rate and its interval."""
+    rate = percent_interval(
+        row[f"{prefix}_rate"], row[f"{prefix}_ci_low"], row[f"{prefix}_ci_high"]
+    )
+    return f"{int(row[f'n_{prefix}'])}: {rate}"
 
 
 def boundary_markdown(summary, command, notice=""):
     """The boundary study's summary as a Markdown table with the command that made it."""
     from .tables import markdown_table
 
-    header = ["claim", "world (effect t at the boundary)", *_COUNT_HEADER]
+    header = [
+        "claim",
+        "world (effect t)",
+        "side",
+        "true verdict",
+        "datasets",
+        "holds",
+        "does not hold",
+        "cannot be checked",
+        "wrong 'holds' (95 % CI)",
+        "wrong 'does not hold' (95 % CI)",
+    ]
     cells = [
         [
             row["claim"],
             f"{BOUNDARY_WORLDS[row['world']][1]}: t = {row['effect']:.4g}",
+            row["side"],
             row["truth"],
             str(row["n_datasets"]),
             str(row["n_holds"]),
             str(row["n_fails"]),
             str(row["n_untestable"]),
-            # on a grid where the claim still holds by a hair, no test has power
-            "not counted" if row["truth"] == HOLDS else _percent_interval(row),
+            _wrong_cell(row, "wrong_holds"),
+            _wrong_cell(row, "wrong_fails"),
         ]
         for row in summary
     ]
     text = (
-        "# Verdicts at each claim's boundary\n\n"
+        "# Verdicts either side of each claim's boundary\n\n"
         "Worlds that change the reconstruction's true profiles along one direction, the "
         "effect t, to the point where a claim just stops being true on error-free "
-        "readings (found by bisection; the failing side of the last step). Each world is "
-        "read with the same fresh errors as the datasets of the main calibration and "
-        "analysed as the workflow does. A rule that says 'holds' there is wrong; at the "
-        "boundary, where its power is least, an honest test at significance 0.05 says it "
-        "in at most about 5 % of datasets. Aim: at most 5 % wrong. The boundary is placed "
-        "on one dataset's reading grid; on another grid the claim can still hold by a hair "
-        "(a row of its own, not counted: there a test has no power, and 'does not hold' "
-        "is a miss, not an error of the kind measured here).\n\n"
-        + markdown_table(header, cells, "lllrrrrr")
+        "readings (found by bisection on one dataset's reading grid). Two worlds are "
+        "planned for each boundary, the two ends of the last bisection step: on the "
+        "holding side the claim just holds, on the failing side it just fails. Each is "
+        "read the same planned number of times with the fresh errors of the main "
+        "calibration's datasets and analysed as the workflow does; each dataset's truth is "
+        "the error-free verdict on its own reading grid (a row per truth). Both errors are "
+        "counted, with Clopper-Pearson 95 % intervals: 'holds' where the truth is not "
+        "'holds', and 'does not hold' where the truth is not 'does not hold'. At the "
+        "boundary, where a test's power is least, an honest test at significance 0.05 "
+        "makes either error in at most about 5 % of datasets; 'cannot be checked' is not "
+        "an error but is counted.\n\n"
+        + markdown_table(header, cells, "llllrrrrrr")
         + "\n\nNo world is built for C4 and C11: the generator's family of shapes (a power "
         "of the distance to the edge, a near-field term and a circle) cannot make the skin "
         "bulge above its resting surface, and its forces come from a membrane under "
         "tension at rest, which C11's force test rejects as stress-free whatever the "
-        "shapes. C7 is an identity.\n\n"
+        "shapes. C7 is an identity. C6 is a property of the paper's method, reported "
+        "apart from the paper's claims.\n\n"
         f"Made by `{command}`.\n"
     )
     if notice:
@@ -769,20 +908,35 @@ def claim_error_rates(verdicts, boundary=None):
         n, wrong = int(group["n_datasets"].sum()), int(group["n_wrong"].sum())
         undecided = int(group["n_untestable"].sum())
         high = binomial_interval(wrong, n)[1]
+        if undecided == n:  # no decided verdict: no rate of wrong ones to give
+            rates[str(claim)] = (
+                f"undecided in every one of {n} reconstructions with fresh errors, so no "
+                "error rate can be given"
+            )
+            continue
         rates[str(claim)] = (
             f"wrong in {wrong} of {n} reconstructions with fresh errors (95 % upper bound "
             f"{100 * high:.1f} %), undecided in {undecided}"
         )
     if boundary is not None:
-        # only the datasets where the claim is not true: 'holds' there is wrong
-        for claim, group in boundary[boundary["truth"] != HOLDS].groupby("claim", sort=False):
-            n, wrong = int(group["n_datasets"].sum()), int(group["n_wrong"].sum())
-            high = binomial_interval(wrong, n)[1]
-            rates[str(claim)] = (
-                rates.get(str(claim), "")
-                + f"; where the claim only just fails, 'holds' in {wrong} of {n} (95 % upper "
-                f"bound {100 * high:.1f} %)"
-            ).lstrip("; ")
+        for claim, group in boundary.groupby("claim", sort=False):
+            parts = []
+            for prefix, words, side in (
+                ("wrong_holds", "'holds'", "fails"),
+                ("wrong_fails", "'does not hold'", "holds"),
+            ):
+                # the datasets where that verdict is wrong: the truth is not that verdict
+                truth = HOLDS if prefix == "wrong_holds" else FAILS
+                counted = group[group["truth"] != truth]
+                n, wrong = int(counted["n_datasets"].sum()), int(counted[f"n_{prefix}"].sum())
+                if n:
+                    high = binomial_interval(wrong, n)[1]
+                    parts.append(
+                        f"where the claim only just {side}, {words} in {wrong} of {n} (95 % "
+                        f"upper bound {100 * high:.1f} %)"
+                    )
+            rates[str(claim)] = "; ".join([rates[str(claim)]] if str(claim) in rates else [])
+            rates[str(claim)] = "; ".join(p for p in (rates[str(claim)], *parts) if p)
     return rates
 
 

@@ -98,6 +98,35 @@ def software_name(citation):
     return str(citation["title"]).split(":", 1)[0].strip()
 
 
+#: The name CITATION.cff carries until a release names its authors.
+PLACEHOLDER_AUTHOR = "The lineload contributors"
+
+
+def author_names(citation):
+    """The authors as a byline writes them (``"Ada Lovelace and Alan Turing"``) and
+    whether they are the placeholder a release replaces (or absent).
+
+    Parameters
+    ----------
+    citation : dict
+        As :func:`read_citation` returns it.
+
+    Returns
+    -------
+    tuple of (str, bool)
+    """
+    names = []
+    for author in citation.get("authors") or []:
+        if "name" in author:
+            names.append(str(author["name"]))
+        else:
+            given, family = author.get("given-names", ""), author.get("family-names", "")
+            names.append(f"{given} {family}".strip())
+    placeholder = not names or names == [PLACEHOLDER_AUTHOR]
+    text = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else "".join(names)
+    return text, placeholder
+
+
 def _creator(author):
     """A Zenodo creator from a CFF person or entity."""
     if "name" in author:  # an entity (or a placeholder)

@@ -345,14 +345,12 @@ def binomial_interval(successes, n, level=0.95):
     tuple of float
         ``(low, high)``; ``(nan, nan)`` when ``n`` is 0.
     """
-    from scipy.stats import beta
+    from scipy.stats import binomtest
 
     if n == 0:
         return math.nan, math.nan
-    alpha = 1.0 - level
-    low = 0.0 if successes == 0 else float(beta.ppf(alpha / 2, successes, n - successes + 1))
-    high = 1.0 if successes == n else float(beta.ppf(1 - alpha / 2, successes + 1, n - successes))
-    return low, high
+    interval = binomtest(int(successes), int(n)).proportion_ci(level, method="exact")
+    return float(interval.low), float(interval.high)
 
 
 def summarise_coverage(rows):

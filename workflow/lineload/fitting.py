@@ -55,6 +55,7 @@ depend on its batch beyond rounding: two batchings agree to the tolerance of
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -71,11 +72,13 @@ from .models import (
 from .optimize import CHI2_1DOF_95, likelihood_interval, minimize_bounded
 
 __all__ = [
+    "AT_BOUND_RTOL",
     "CHI2_1DOF_95",
     "FIT_COLUMNS",
     "MODELS",
     "BatchFits",
     "FitResult",
+    "at_search_bound",
     "fit_arc",
     "fit_batch",
     "fit_boussinesq",
@@ -153,6 +156,9 @@ class FitResult:
     chi2 : float
         With a covariance ``C`` only: ``r' C^-1 r`` of the residuals at the
         minimum (how far the misfit is beyond the noise); NaN without one.
+    at_bound : bool
+        Whether the fitted L ends on a bound of its search (:func:`at_search_bound`):
+        its interval is then one-sided and the value itself is not a measurement.
     """
 
     model: str
@@ -165,6 +171,7 @@ class FitResult:
     aicc: float
     residual_mm: np.ndarray = field(repr=False)
     chi2: float = np.nan
+    at_bound: bool = False
 
 
 def in_fit_window(distance_mm, window_mm):
@@ -232,14 +239,30 @@ class _Trials:
     the outline, which the log-singular Boussinesq form feels to second order.
     """
 
-    def __init__(self, x, y, mask, n, x_max, covariance=None, wedge_sd_mm=0.0):
+    def __init__(
+        self, x, y, mask, n, x_max, covariance=None, wedge_sd_mm=0.0, prior_covariance=None
+    ):
         self.x, self.y, self.mask, self.n, self.x_max = x, y, mask, n, x_max
         self.covariance = covariance
         self.wedge_sd_mm = wedge_sd_mm
+        self.prior_covariance = prior_covariance
 
     @classmethod
-    def from_flat(cls, x_mm, y_mm, counts, offsets, covariance_mm2=None, wedge_sd_mm=0.0):
-        """Trials ``i`` = ``x_mm[offsets[i]:offsets[i] + counts[i]]`` (each with a point)."""
+    def from_flat(
+        cls,
+        x_mm,
+        y_mm,
+        counts,
+        offsets,
+        covariance_mm2=None,
+        wedge_sd_mm=0.0,
+        prior_covariance_mm2=None,
+    ):
+        """Trials ``i`` = ``x_mm[offsets[i]:offsets[i] + counts[i]]`` (each with a point).
+
+        ``prior_covariance_mm2``, if given, is the part of each covariance that the
+        stated priors make (shared offset, tilt, depth): what :func:`_prior_share` reads.
+        """
         width = _padded_width(counts.max())
         column = np.arange(width)
         mask = column < counts[:, None]
@@ -249,10 +272,17 @@ class _Trials:
         covariance = (
             None if covariance_mm2 is None else _padded_covariances(covariance_mm2, counts, width)
         )
-        return cls(x, y, mask, counts, np.fmax.reduce(x, axis=1), covariance, wedge_sd_mm)
+        prior = None
+        if covariance is not None and prior_covariance_mm2 is not None:
+            prior = np.zeros_like(covariance)
+            for i, (matrix, n) in enumerate(zip(prior_covariance_mm2, counts, strict=True)):
+                prior[i, :n, :n] = matrix
+        x_max = np.fmax.reduce(x, axis=1)
+        return cls(x, y, mask, counts, x_max, covariance, wedge_sd_mm, prior)
 
     def take(self, rows):
         covariance = None if self.covariance is None else self.covariance[rows]
+        prior = None if self.prior_covariance is None else self.prior_covariance[rows]
         return _Trials(
             self.x[rows],
             self.y[rows],
@@ -261,6 +291,7 @@ class _Trials:
             self.x_max[rows],
             covariance,
             self.wedge_sd_mm,
+            prior,
         )
 
     @property
@@ -298,7 +329,8 @@ class _Trials:
     def generalised_chi2(self, residual):
         """``r' C^-1 r`` of each trial's residuals: how far the misfit is beyond the noise."""
         eye = np.eye(self.width) * (~self.mask)[:, None, :]
-        r = np.where(np.isfinite(residual), self.masked(residual), np.nan)
+        # NaN for a trial whose own points have no residual (no fit); the padding is not its
+        r = np.where(self.mask & ~np.isfinite(residual), np.nan, self.masked(residual))
         with np.errstate(invalid="ignore"):
             solved = np.linalg.solve(self.covariance + eye, r[..., None])[..., 0]
         return np.sum(r * solved, axis=-1)
@@ -377,10 +409,15 @@ def goodness_of_fit(residual_mm, n_params):
 class _ChunkFit:
     """One model fitted to the trials of a :class:`_Trials` chunk."""
 
-    def __init__(self, model, trials, params, residual_mm, errors=None):
+    def __init__(
+        self, model, trials, params, residual_mm, errors=None, at_bound=None, prior_share=None
+    ):
         self.model = model
         self.trials = trials
         self.params = params
+        count = trials.n.size
+        self.at_bound = np.zeros(count, dtype=bool) if at_bound is None else at_bound
+        self.prior_share = np.full(count, np.nan) if prior_share is None else prior_share
         self.residual_mm = residual_mm
         self.errors = errors or {}
         self.measures = _measures(residual_mm, trials.mask, MODELS[model][1])
@@ -471,34 +508,38 @@ def _fit_waterbed_chunk(trials, depth_mm):
     def residual_at(rows, L):
         return y[rows] - waterbed_deflection_mm(x[rows], W0[rows], L[:, None])
 
-    low, high = _interval(
+    delta, share = _sandwich_delta(trials, residual_at, L_mm, residual)
+    low, high, at_bound = _interval(
         lambda L, rows: _polyval(quartic[rows], 1.0 / L),
         trials,
         L_mm,
         x_max,
         np.full(x_max.size, np.inf),
         trials.chi2(residual),
-        _sandwich_delta(trials, residual_at, L_mm, residual),
+        delta,
+        residual_at,
+        residual,
     )
     params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
-    return _ChunkFit("waterbed", trials, params, residual)
+    return _ChunkFit("waterbed", trials, params, residual, at_bound=at_bound, prior_share=share)
 
 
 def _sandwich_delta(trials, residual_at, L_mm, residual):
     """How far the sum of squares rises at the ends of the 95 % interval on L, given
-    the points' covariance: ``chi2 J' C J / H`` (see the module's notes); None
-    without a covariance.
+    the points' covariance: ``chi2 J' C J / H`` (see the module's notes), and the
+    share of that variance the stated priors make (:func:`_prior_share`); None and
+    NaN without a covariance.
 
     ``J`` and the curve's second derivative come from central differences of
     ``residual_at(rows, L)`` at ``L (1 +- 1e-4)``; where a side is not defined (a
     bound of the model) one-sided, with the misfit term left out of ``H``.
     """
     if trials.covariance is None:
-        return None
-    delta = np.full(L_mm.size, np.nan)
+        return None, np.full(L_mm.size, np.nan)
+    delta, share = np.full(L_mm.size, np.nan), np.full(L_mm.size, np.nan)
     rows = np.flatnonzero(np.isfinite(L_mm))
     if not rows.size:
-        return delta
+        return delta, share
     L = L_mm[rows]
     step = 1e-4 * L
     r0 = trials.masked(residual[rows], rows)
@@ -515,22 +556,107 @@ def _sandwich_delta(trials, residual_at, L_mm, residual):
     spread = np.einsum("ti,tij,tj->t", J, trials.covariance[rows], J)
     with np.errstate(divide="ignore", invalid="ignore"):
         delta[rows] = CHI2_1DOF_95 * spread / H
-    return delta
+    share[rows] = _prior_share(trials.take(rows), J, spread)
+    return delta, share
 
 
-def _interval(objective, trials, L_best, L_min, L_max, chi2_min, delta=None):
-    """The 95 % interval on L of each trial (NaN where it cannot be had).
+def _prior_share(trials, J, spread):
+    """Share ``J' C_prior J / J' C J`` of a one-parameter fit's variance that the stated
+    priors make (``C_prior`` the covariance of the shared offset, tilt and depth error
+    alone, which enter ``C`` linearly in their variances); NaN without that split."""
+    if trials.prior_covariance is None:
+        return np.full(J.shape[0], np.nan)
+    prior = np.einsum("ti,tij,tj->t", J, trials.prior_covariance, J)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.clip(prior / spread, 0.0, 1.0)
+
+
+#: Relative distance from a bound of the search within which a fitted L is taken to
+#: lie on it: far above the search's own tolerance (``rtol`` 1e-9 of
+#: :func:`lineload.optimize.minimize_bounded`), far below any interval's width.
+AT_BOUND_RTOL = 1e-6
+
+
+def at_search_bound(L_mm, L_min, L_max):
+    """Whether each fitted L lies on a bound of its admissible range.
+
+    Parameters
+    ----------
+    L_mm, L_min, L_max : array_like
+        Fitted L and the admissible range (mm); ``L_max`` may be infinite.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where ``L`` is within :data:`AT_BOUND_RTOL` of ``L_min`` or of ``L_max``
+        (an infinite L, a flat membrane, is on the upper bound).
+    """
+    L_mm, L_min, L_max = (np.asarray(v, dtype=float) for v in (L_mm, L_min, L_max))
+    with np.errstate(invalid="ignore"):
+        low = np.isfinite(L_mm) & (L_mm <= L_min * (1.0 + AT_BOUND_RTOL))
+        high = np.isinf(L_mm) | (np.isfinite(L_max) & (L_mm >= L_max * (1.0 - AT_BOUND_RTOL)))
+    return low | high
+
+
+def _bound_half_width(trials, residual_at, L_mm, residual, rows):
+    """Half-width ``z_0.975 sqrt(J' C J) / J' J`` of a linearised 95 % interval on L,
+    for fits that end on the lower bound of L.
+
+    There the sum of squares does not have a minimum but a slope, so the likelihood
+    interval (the L whose sum of squares rises by less than a threshold) shrinks with
+    that slope to microns, however noisy the readings.  What the readings allow is
+    how far L moves with them: ``J = df/dL`` from a one-sided difference into the
+    admissible side, and ``C`` the points' covariance (without one, the residual
+    variance times the identity, ``n - 1`` degrees of freedom).  A fit on its bound
+    misfits the readings by construction; where the misfit exceeds the noise
+    (``r' C^-1 r`` above ``n - 1``), the variance is scaled by their ratio, as
+    for independent errors of unknown size, so that the readings' departure from
+    the model widens the interval instead of being read as precision.
+    """
+    L = L_mm[rows]
+    step = 1e-4 * L
+    r0 = trials.masked(residual[rows], rows)
+    with np.errstate(invalid="ignore"):
+        above = trials.masked(residual_at(rows, L + step), rows)
+    J = (r0 - above) / step[:, None]
+    H = np.sum(J * J, axis=-1)
+    if trials.covariance is not None:
+        spread = np.einsum("ti,tij,tj->t", J, trials.covariance[rows], J)
+        misfit = trials.take(rows).generalised_chi2(residual[rows])
+        spread = spread * np.fmax(misfit / np.maximum(trials.n[rows] - 1, 1), 1.0)
+    else:
+        variance = np.sum(r0 * r0, axis=-1) / np.maximum(trials.n[rows] - 1, 1)
+        spread = variance * H
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.sqrt(CHI2_1DOF_95 * spread) / H
+
+
+def _interval(
+    objective, trials, L_best, L_min, L_max, chi2_min, delta=None, residual_at=None, residual=None
+):
+    """The 95 % interval on L of each trial (NaN where it cannot be had), and which
+    fits end on a bound of L.
 
     Without a covariance a fit needs two points for its variance; with one (and
-    ``delta`` from :func:`_sandwich_delta`), one.
+    ``delta`` from :func:`_sandwich_delta`), one.  A fit on the lower bound gets a
+    one-sided interval: from the bound up to the bound plus the linearised
+    half-width (:func:`_bound_half_width`), or the likelihood interval's upper end
+    if that is further; never the microns the sum of squares' slope there would give.
     """
     valid = np.isfinite(L_best) & (trials.n >= (1 if trials.covariance is not None else 2))
     if delta is not None:
         valid &= np.isfinite(delta) & (delta > 0)
     best = np.where(valid, L_best, np.nan)
-    return likelihood_interval(
+    low, high = likelihood_interval(
         objective, best, L_min, L_max, trials.threshold(chi2_min, delta=delta)
     )
+    at_bound = at_search_bound(L_best, L_min, L_max)
+    on_lower = np.flatnonzero(at_bound & np.isfinite(L_best) & np.isfinite(high))
+    if residual_at is not None and on_lower.size:
+        half = _bound_half_width(trials, residual_at, L_best, residual, on_lower)
+        low[on_lower] = L_min[on_lower]
+        high[on_lower] = np.fmax(high[on_lower], L_min[on_lower] + half)
+    return low, high, at_bound
 
 
 def _curve_objective(curve, trials, depth_mm):
@@ -582,16 +708,20 @@ def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None
     rows = np.flatnonzero(found)
     residual[rows] = residual_at(rows, L_mm[rows])
     if delta_at is None:
-        delta = _sandwich_delta(trials, residual_at, L_mm, residual)
+        delta, share = _sandwich_delta(trials, residual_at, L_mm, residual)
     else:
-        delta = delta_at(L_mm, residual)
-    low, high = _interval(objective, trials, L_mm, L_lo, L_hi, trials.chi2(residual), delta)
+        delta, share = delta_at(L_mm, residual), None
+    low, high, at_bound = _interval(
+        objective, trials, L_mm, L_lo, L_hi, trials.chi2(residual), delta, residual_at, residual
+    )
+    if rows.size:
+        residual_at(rows, L_mm[rows])  # restores what residual_at keeps of the best fit (W0)
     errors = {
         int(i): f"no valid {model} curve: no admissible L between {L_lo[i]:g} and {L_hi[i]:g} mm"
         for i in np.flatnonzero(~found)
     }
     params = {"L_mm": L_mm, "L_ci_low_mm": low, "L_ci_high_mm": high}
-    return _ChunkFit(model, trials, params, residual, errors), L_mm
+    return _ChunkFit(model, trials, params, residual, errors, at_bound, share), L_mm
 
 
 def _fit_curve_chunk(model, curve, objective, trials, depth_mm, L_lo, lower_bound=None):
@@ -803,7 +933,8 @@ def _wedge_moments(x_mm, mask, wedge_sd_mm):
 
 
 def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
-    """95 % intervals on A and x0 given the points' covariance ``C`` (the sandwich).
+    """95 % intervals on A and x0 given the points' covariance ``C`` (the sandwich), and
+    the share of A's variance that the stated priors make (NaN without their split).
 
     The least-squares line ``a - A ln x`` has covariance ``V = (X'X)^-1 X'CX
     (X'X)^-1`` (``X = [1, -ln x]``); A's interval is ``A +- 1.96 sqrt(V_AA)``,
@@ -824,15 +955,15 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
     ``A**2 S``; the fitted A and x0 stay the least-squares values.  The
     correction assumes the logarithm holds down to the first reading, as the
     model says; for a profile that is smoother there it widens the intervals
-    a little (in simulation of the reconstruction's shapes, A covered 97.8 %
-    with it and 95.9 % without), and it rests on the prior: with the wedge's
-    true SD 1.5 times the prior, A covered 82 %.
+    a little, and it rests on the prior (its share of A's variance is reported
+    with the others', :func:`_prior_share`).
     """
     X = np.stack([np.ones(trials.x.shape), -np.log(trials.x)], axis=-1)
     X = np.where(trials.mask[:, :, None], X, 0.0)
     z = np.sqrt(CHI2_1DOF_95)
     count = A_mm.size
     ends = {name: np.full(count, np.nan) for name in ("A_low", "A_high", "x0_low", "x0_high")}
+    share = np.full(count, np.nan)
     information = np.einsum("tik,til->tkl", X, X)
     ok = np.isfinite(A_mm) & (np.abs(np.linalg.det(information)) > 0)
     if ok.any():
@@ -848,8 +979,16 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
         stretch = 1.0 + k[:, 1]
         A = A / stretch
         a = a - A * k[:, 0]
-        V = V + (A**2)[:, None, None] * np.einsum("tkn,tln->tkl", h, h)
+        wedge = (A**2)[:, None, None] * np.einsum("tkn,tln->tkl", h, h)
+        V = V + wedge
         sd_A = np.sqrt(np.maximum(V[:, 1, 1], 0.0)) / stretch
+        part = trials.take(rows)
+        if part.prior_covariance is not None:
+            # the priors' share of A's variance: shared offset, tilt, depth and the wedge
+            prior = np.einsum("tik,tij,tjl->tkl", Xr, part.prior_covariance, Xr)
+            prior = (inverse @ prior @ inverse)[:, 1, 1] + wedge[:, 1, 1]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                share[rows] = np.clip(prior / V[:, 1, 1], 0.0, 1.0)
         ends["A_low"][rows], ends["A_high"][rows] = A - z * sd_A, A + z * sd_A
         with np.errstate(divide="ignore", invalid="ignore"):
             # ln x0 = a / A of the corrected line, as a function of the fitted (a, A)
@@ -860,12 +999,13 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
             rising = A > 0
             ends["x0_low"][rows] = np.where(rising, np.exp(a / A - z * sd_log), np.nan)
             ends["x0_high"][rows] = np.where(rising, np.exp(a / A + z * sd_log), np.nan)
-    return {
+    intervals = {
         "A_ci_low_mm": ends["A_low"],
         "A_ci_high_mm": ends["A_high"],
         "x0_ci_low_mm": ends["x0_low"],
         "x0_ci_high_mm": ends["x0_high"],
     }
+    return intervals, share
 
 
 def _fit_boussinesq_chunk(trials, depth_mm=None):
@@ -889,11 +1029,13 @@ def _fit_boussinesq_chunk(trials, depth_mm=None):
         x[rising], A_mm[rising, None], x0_mm[rising, None]
     )
     params = {"A_mm": A_mm, "x0_mm": x0_mm}
+    share = None
     if trials.covariance is None:
         params.update(_boussinesq_intervals(trials, intercept, A_mm))
     else:
-        params.update(_boussinesq_sandwich_intervals(trials, intercept, A_mm))
-    return _ChunkFit("boussinesq", trials, params, residual)
+        intervals, share = _boussinesq_sandwich_intervals(trials, intercept, A_mm)
+        params.update(intervals)
+    return _ChunkFit("boussinesq", trials, params, residual, prior_share=share)
 
 
 _CHUNK_FITS = {
@@ -928,6 +1070,13 @@ class BatchFits:
         Points of each trial.
     fitted : numpy.ndarray of bool
         Whether the trial has a fit (enough points, an admissible L).
+    at_bound : numpy.ndarray of bool
+        Whether the fitted L ends on a bound of its search (False for a model
+        without L, and for a trial without a fit).
+    prior_share : numpy.ndarray
+        Share of the variance of the model's first parameter (L, or A) that the
+        stated priors make (shared offset, tilt and depth error; for A also the
+        wedge's position); NaN without a noise model.
     errors : dict of int to str
         Why a trial has no fit, by trial index.
     """
@@ -940,6 +1089,8 @@ class BatchFits:
         self.chi2 = np.full(count, np.nan)
         self.n_points = n_points
         self.fitted = np.zeros(count, dtype=bool)
+        self.at_bound = np.zeros(count, dtype=bool)
+        self.prior_share = np.full(count, np.nan)
         self.errors = {}
         self._chunks = []
         self._where = np.full((count, 2), -1)
@@ -955,6 +1106,8 @@ class BatchFits:
         for name, values in chunk.measures.items():
             self.measures[name][fitted] = values[ok]
         self.chi2[fitted] = chunk.chi2[ok]
+        self.at_bound[fitted] = chunk.at_bound[ok]
+        self.prior_share[fitted] = chunk.prior_share[ok]
         self.fitted[fitted] = True
         self._where[trial_index, 0] = len(self._chunks)
         self._where[trial_index, 1] = np.arange(trial_index.size)
@@ -983,6 +1136,7 @@ class BatchFits:
             n_params=MODELS[self.model][1],
             residual_mm=chunk.residual_mm[row, :n].copy(),
             chi2=_python_float(self.chi2[i]),
+            at_bound=bool(self.at_bound[i]),
             **{name: _python_float(values[i]) for name, values in self.measures.items()},
         )
 
@@ -1004,8 +1158,18 @@ def _as_trials(distance_mm, deflection_mm):
     return np.concatenate(distance_mm), np.concatenate(deflection_mm), counts
 
 
-def _fit_flat(x_mm, y_mm, counts, depth_mm, models, covariance_mm2=None, wedge_sd_mm=0.0):
-    """Fit ``models`` to trials given as concatenated points and counts."""
+def _fit_flat(
+    x_mm,
+    y_mm,
+    counts,
+    depth_mm,
+    models,
+    covariance_mm2=None,
+    wedge_sd_mm=0.0,
+    prior_covariance_mm2=None,
+):
+    """Fit ``models`` to trials given as concatenated points and counts (``prior_covariance_mm2``:
+    the priors' part of each covariance, for the fits' ``prior_share``)."""
     offsets = np.cumsum(counts) - counts
     fits = {model: BatchFits(model, counts) for model in models}
     for model in models:
@@ -1019,8 +1183,11 @@ def _fit_flat(x_mm, y_mm, counts, depth_mm, models, covariance_mm2=None, wedge_s
     for start in range(0, order.size, CHUNK_TRIALS):
         chunk = order[start : start + CHUNK_TRIALS]
         covariance = None if covariance_mm2 is None else [covariance_mm2[i] for i in chunk]
+        prior = None
+        if prior_covariance_mm2 is not None:
+            prior = [prior_covariance_mm2[i] for i in chunk]
         trials = _Trials.from_flat(
-            x_mm, y_mm, counts[chunk], offsets[chunk], covariance, wedge_sd_mm
+            x_mm, y_mm, counts[chunk], offsets[chunk], covariance, wedge_sd_mm, prior
         )
         for model in models:
             enough = counts[chunk] >= MODELS[model][2]
@@ -1241,18 +1408,30 @@ FIT_COLUMNS = [
     "waterbed_L_mm",
     "waterbed_L_ci_low_mm",
     "waterbed_L_ci_high_mm",
+    "waterbed_L_at_bound",
+    "waterbed_L_prior_share",
+    "waterbed_L_window_min_mm",
+    "waterbed_L_window_max_mm",
     "waterbed_rmse_mm",
     "waterbed_max_abs_residual_mm",
     "waterbed_aicc",
     "shifted_L_mm",
     "shifted_L_ci_low_mm",
     "shifted_L_ci_high_mm",
+    "shifted_L_at_bound",
+    "shifted_L_prior_share",
+    "shifted_L_window_min_mm",
+    "shifted_L_window_max_mm",
     "shifted_rmse_mm",
     "shifted_max_abs_residual_mm",
     "shifted_aicc",
     "arc_L_mm",
     "arc_L_ci_low_mm",
     "arc_L_ci_high_mm",
+    "arc_L_at_bound",
+    "arc_L_prior_share",
+    "arc_L_window_min_mm",
+    "arc_L_window_max_mm",
     "arc_rmse_mm",
     "arc_max_abs_residual_mm",
     "arc_aicc",
@@ -1260,6 +1439,7 @@ FIT_COLUMNS = [
     "boussinesq_x0_mm",
     "boussinesq_A_ci_low_mm",
     "boussinesq_A_ci_high_mm",
+    "boussinesq_A_prior_share",
     "boussinesq_x0_ci_low_mm",
     "boussinesq_x0_ci_high_mm",
     "boussinesq_rmse_mm",
@@ -1342,7 +1522,7 @@ def fit_windowed(
     """
     x_mm, y_mm, counts = window_points(distance_mm, deflection_mm, window_mm)
     depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), counts.shape)
-    covariance_mm2, wedge_sd_mm = None, 0.0
+    covariance_mm2, wedge_sd_mm, prior_covariance_mm2 = None, 0.0, None
     if noise is not None:
         if not isinstance(noise, (list, tuple)):
             noise = [noise] * counts.size
@@ -1356,7 +1536,20 @@ def fit_windowed(
         covariance_mm2 = _window_covariances(
             distance_mm, deflection_mm, depth_mm, window, noise, n_sides
         )
-    fits = _fit_flat(x_mm, y_mm, counts, depth_mm, tuple(models), covariance_mm2, wedge_sd_mm)
+        priors_only = [n.priors_only() for n in noise]
+        prior_covariance_mm2 = _window_covariances(
+            distance_mm, deflection_mm, depth_mm, window, priors_only, n_sides
+        )
+    fits = _fit_flat(
+        x_mm,
+        y_mm,
+        counts,
+        depth_mm,
+        tuple(models),
+        covariance_mm2,
+        wedge_sd_mm,
+        prior_covariance_mm2,
+    )
     max_distance_mm = np.full(counts.size, np.nan)
     some = counts > 0
     if some.any():
@@ -1364,7 +1557,19 @@ def fit_windowed(
     return {"n_points": counts, "max_distance_mm": max_distance_mm, **fits}
 
 
-def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_sides=None):
+#: The fits whose L the fit table follows across other windows (:func:`fit_trials`).
+WINDOW_MODELS = ("waterbed", "shifted", "arc")
+
+
+def fit_trials(
+    distance_mm,
+    deflection_mm,
+    depth_mm,
+    window_mm,
+    noise=None,
+    n_sides=None,
+    other_windows_mm=(),
+):
     """Fit every model of the fit table to many trials, each on its windowed points.
 
     Parameters
@@ -1380,6 +1585,12 @@ def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_si
         see :func:`fit_windowed`).
     n_sides : sequence of array_like, optional
         Sides read at each point of each trial (with ``noise``).
+    other_windows_mm : sequence of float or None, optional
+        Further windows (None or infinity: the whole profile) in which the waterbed
+        fits' L is found again: ``{model}_L_window_min_mm`` and ``_max_mm`` give
+        the smallest and largest L over these and ``window_mm`` (L is the
+        half-width *for a window*; the spread is a sensitivity, not part of the
+        95 % interval).  Without any, those columns equal L.
 
     Returns
     -------
@@ -1400,8 +1611,24 @@ def fit_trials(distance_mm, deflection_mm, depth_mm, window_mm, noise=None, n_si
         fit = fits[model]
         for name, values in (*fit.params.items(), *list(fit.measures.items())[1:]):
             columns[f"{model}_{name}"] = values.tolist()
+        first = next(iter(fit.params))
+        columns[f"{model}_{first.removesuffix('_mm')}_prior_share"] = fit.prior_share.tolist()
+        if "L_mm" in fit.params:
+            columns[f"{model}_L_at_bound"] = fit.at_bound.tolist()
+    spread = {model: [fits[model].params["L_mm"]] for model in WINDOW_MODELS}
+    for other in other_windows_mm:
+        other = np.inf if other is None else float(other)
+        refit = fit_windowed(distance_mm, deflection_mm, depth_mm, other, WINDOW_MODELS)
+        for model in WINDOW_MODELS:
+            spread[model].append(refit[model].params["L_mm"])
+    for model, values in spread.items():
+        values = np.array(values)
+        with np.errstate(invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a trial without any fit
+            columns[f"{model}_L_window_min_mm"] = np.nanmin(values, axis=0).tolist()
+            columns[f"{model}_L_window_max_mm"] = np.nanmax(values, axis=0).tolist()
     for name, values in columns.items():
-        if name != "n_points":
+        if name != "n_points" and not name.endswith("_at_bound"):
             columns[name] = [np.nan if v != v else v for v in values]
     names = list(columns)
     return [dict(zip(names, row, strict=True)) for row in zip(*columns.values(), strict=True)]

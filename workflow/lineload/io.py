@@ -48,8 +48,21 @@ __all__ = [
     "write_text",
 ]
 
-#: The JSON schemas (YAML) of the config and of each raw-data table.
-SCHEMA_DIR = Path(__file__).resolve().parents[1] / "schemas"
+#: The JSON schemas (YAML) of the config and of each raw-data table: workflow/schemas in
+#: a checkout (where Snakemake's validate reads them too), the package's own copy when it
+#: is installed (pip install ., pyproject.toml maps them into the package as
+#: lineload/schemas).
+SCHEMA_DIR = next(
+    (
+        folder
+        for folder in (
+            Path(__file__).resolve().parent / "schemas",
+            Path(__file__).resolve().parents[1] / "schemas",
+        )
+        if folder.is_dir()
+    ),
+    Path(__file__).resolve().parents[1] / "schemas",
+)
 
 #: The process's file-creation mask (read once: os.umask can only be read by setting it).
 _UMASK = os.umask(0o022)

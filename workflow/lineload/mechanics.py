@@ -58,8 +58,11 @@ when ``l`` is known.  Each force has the stated precision ``force_sd_N``; the
 uncertainty of the fitted ``L`` (its 95 % interval read as +-1.96 standard
 errors) moves ``u`` and ``v`` and is added to each force's variance through the
 slope of the model in ``L`` (effective variance, iterated to a fixed point).
-Standard errors come from those known variances; ``chi2`` says whether the
-scatter matches them.  A stress-free membrane is the special case ``A = 0``.
+The force's own precision is measured from the pooled chi-square of all
+subjects' fits (:func:`pooled_force_sd`; the config's value a floor and a
+fallback), and the standard errors come from those variances; each subject's
+``chi2`` says whether its scatter matches them.  A stress-free membrane is the
+special case ``A = 0``.
 """
 
 from __future__ import annotations
@@ -86,6 +89,7 @@ __all__ = [
     "fit_membrane",
     "force_terms",
     "mechanics_tables",
+    "pooled_force_sd",
     "ratio_check",
     "reconciling_prestrain",
     "sd_from_interval",
@@ -516,7 +520,55 @@ SUBJECT_COLUMNS = [
     "stress_free_chi2",
     "stress_free_dof",
     "stress_free_p_value",
+    "force_sd_N",
+    "force_sd_dof",
+    "force_sd_source",
 ]
+
+
+def pooled_force_sd(groups, prior_sd_N):
+    """The precision of one force reading, from the pooled chi-square of the membrane fits.
+
+    Each subject's two-constant fit (:func:`fit_membrane`) leaves ``n - 2`` degrees of
+    freedom; over all subjects, the SD ``s`` at which the chi-squares add up to their
+    degrees of freedom, ``sum chi2(s) = sum dof`` (each force's variance ``s**2`` plus
+    the part from its L), is the estimate.  The config's prior is a floor (a scatter
+    the L errors already explain does not shrink it) and the fallback where no subject
+    leaves a degree of freedom.
+
+    Parameters
+    ----------
+    groups : sequence of tuple
+        ``(depth_mm, L_mm, force_N, L_sd_mm)`` arrays of each subject with forces at
+        two or more depths.
+    prior_sd_N : float
+        The config's ``mechanics: force_sd_N`` (N).
+
+    Returns
+    -------
+    tuple
+        ``(sd_N, dof, source)``: the SD used, the pooled degrees of freedom and
+        ``"pooled chi-square"``, ``"config prior (floor)"`` or ``"config prior
+        (no degrees of freedom)"``.
+    """
+    from scipy.optimize import brentq
+
+    usable = [g for g in groups if len(g[0]) > 2]
+    dof = sum(len(g[0]) - 2 for g in usable)
+    if dof == 0:
+        return prior_sd_N, 0, "config prior (no degrees of freedom)"
+
+    def excess(log_sd):
+        sd = math.exp(log_sd)
+        return sum(fit_membrane(*g[:3], sd, g[3]).chi2 for g in usable) - dof
+
+    low, high = math.log(prior_sd_N), math.log(prior_sd_N)
+    if excess(low) <= 0:
+        return prior_sd_N, dof, "config prior (floor)"
+    while excess(high) > 0:
+        high += math.log(2.0)
+    sd = math.exp(brentq(excess, low, high, xtol=1e-10))
+    return sd, dof, "pooled chi-square"
 
 
 def _force_lookup(forces):
@@ -543,9 +595,10 @@ def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=None)
         Subject -> length of wedge edge in contact (mm); subjects missing or
         None have none.
     force_sd_N : float, optional
-        Precision of one force reading (N, a prior: there are no replicate
-        forces); None takes the config schema's default (``mechanics:
-        force_sd_N``).
+        The config's precision of one force reading (N; None takes the schema's
+        default, ``mechanics: force_sd_N``): a floor and a fallback of the
+        precision measured from the pooled chi-square of the membrane fits
+        (:func:`pooled_force_sd`), which the standard errors use.
 
     Returns
     -------
@@ -562,7 +615,21 @@ def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=None)
     lengths = {
         str(k): (math.nan if v is None else float(v)) for k, v in (contact_length_mm or {}).items()
     }
-    trials, subjects = [], []
+    trials, subjects, groups = [], [], {}
+    for subject, rows in fits.groupby("subject", sort=False):
+        rows = rows.sort_values("depth_mm", kind="stable")
+        depth = rows["depth_mm"].to_numpy(float)
+        L_mm = rows[f"{WATERBED_VARIANT}_L_mm"].to_numpy(float)
+        L_sd = sd_from_interval(
+            rows[f"{WATERBED_VARIANT}_L_ci_low_mm"], rows[f"{WATERBED_VARIANT}_L_ci_high_mm"]
+        )
+        force = np.array([lookup.get((str(subject), round(d, 9)), math.nan) for d in depth])
+        usable = np.isfinite(force) & np.isfinite(arc_load_angle_rad(depth, L_mm))
+        usable &= np.isfinite(L_sd)
+        if np.unique(depth[usable]).size >= 2:
+            groups[str(subject)] = (depth[usable], L_mm[usable], force[usable], L_sd[usable])
+    prior_sd_N = force_sd_N
+    force_sd_N, sd_dof, sd_source = pooled_force_sd(list(groups.values()), prior_sd_N)
     for subject, rows in fits.groupby("subject", sort=False):
         subject = str(subject)
         rows = rows.sort_values("depth_mm", kind="stable")
@@ -608,6 +675,9 @@ def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=None)
                     "stress_free_chi2": free.chi2,
                     "stress_free_dof": free.dof,
                     "stress_free_p_value": free.p_value,
+                    "force_sd_N": force_sd_N,
+                    "force_sd_dof": sd_dof,
+                    "force_sd_source": sd_source,
                 }
             )
         for i, (_, row) in enumerate(rows.iterrows()):

@@ -63,6 +63,7 @@ __all__ = [
     "MIN_DIFFERENCES",
     "NOISE_COLUMNS",
     "PRIORS",
+    "PRIOR_BASIS",
     "TRIAL_PRIORS",
     "NoiseEstimate",
     "NoiseModel",
@@ -82,6 +83,19 @@ __all__ = [
 MEASURED = ("reading_sd_mm", "tracing_sd_mm", "tracing_length_mm", "side_offset_sd_mm")
 #: Parameters the differences cannot see: priors from the config.
 PRIORS = ("shared_offset_sd_mm", "shared_tilt_sd", "depth_sd_mm", "wedge_position_sd_mm")
+#: What each prior rests on, for the noise table's source column: none is a measurement
+#: or a cited accuracy, and the synthetic reconstruction was made with the same values,
+#: so its calibration cannot test them (the fit tables give each interval's share of
+#: variance from them, ``*_prior_share``).
+PRIOR_BASIS = {
+    "shared_offset_sd_mm": "assumed default: the outlines registered to about 0.1 mm "
+    "on the 20x print",
+    "shared_tilt_sd": "assumed default: the outlines superimposed to a slope of 0.1 mm "
+    "over 10 cm of the 20x print",
+    "depth_sd_mm": "assumed default: a positioner read to about 10 um",
+    "wedge_position_sd_mm": "assumed default: the apex marked to about 0.2 mm on the 20x "
+    "print (the wedge's edge is under 50 um wide)",
+}
 #: Priors a trial may replace with its own measurement (a photographed trial's
 #: registration error); the others hold for the whole dataset.
 TRIAL_PRIORS = ("shared_offset_sd_mm",)
@@ -196,6 +210,18 @@ class NoiseModel:
         covariance += self.shared_tilt_sd**2 * np.outer(x, x)
         covariance += self.depth_sd_mm**2 * np.outer(scale, scale)
         return covariance
+
+    def priors_only(self):
+        """A copy with every measured part (and the rotation) at zero: its
+        :meth:`average_covariance_mm2` is the part of the covariance the stated priors
+        make (shared offset, tilt, depth error), linear in their variances."""
+        return replace(
+            self, reading_sd_mm=0.0, tracing_sd_mm=0.0, side_offset_sd_mm=0.0, rotation_sd=0.0
+        )
+
+    def scaled_priors(self, multiple):
+        """A copy with every prior's standard deviation (:data:`PRIORS`) times ``multiple``."""
+        return replace(self, **{name: multiple * getattr(self, name) for name in PRIORS})
 
     def with_priors(self, **priors):
         """A copy with the prior standard deviations replaced."""
@@ -579,7 +605,8 @@ def noise_rows(estimate, priors, overrides=None):
     rows = []
     for name, value in estimate.model.as_dict().items():
         if name in PRIORS:
-            value, se, source = priors[name], math.nan, f"prior: config noise.{name}"
+            source = f"prior, {PRIOR_BASIS[name]}: config noise.{name}"
+            value, se = priors[name], math.nan
         elif name in overrides:
             value, se, source = overrides[name], math.nan, f"set: config noise.{name}"
         else:

@@ -38,6 +38,7 @@ from skimage import filters
 
 __all__ = [
     "BACKGROUND_LEVEL",
+    "MAX_PIXELS",
     "SKIN_LEVEL",
     "WEDGE_LEVEL",
     "Camera",
@@ -46,12 +47,120 @@ __all__ = [
     "Scene",
     "digitise_pair",
     "digitise_photographs",
+    "photograph_problem",
     "profile_rows",
     "quality_record",
+    "read_photograph",
     "render_photograph",
     "skin_outline_mm",
+    "trial_problem",
     "truth_error_um",
 ]
+
+#: The most pixels a photograph may have (data/README.md): 40 megapixels, a 7300 x 5500
+#: camera with room to spare.  Checked from the file's header before it is decoded: a
+#: small file may claim 40000 x 40000 pixels and take gigabytes once decoded.
+MAX_PIXELS = 40_000_000
+
+#: Pillow's image modes that hold a photograph this workflow reads: 8- or 16-bit grey,
+#: 8-bit colour (with or without alpha).
+READABLE_MODES = ("L", "I;16", "I;16B", "I;16L", "I;16N", "RGB", "RGBA")
+
+#: What the other modes are, in words.
+MODE_WORDS = {
+    "1": "1-bit black and white",
+    "LA": "greyscale with an alpha channel (LA)",
+    "La": "greyscale with an alpha channel (La)",
+    "PA": "palette colours with an alpha channel",
+    "P": "palette colours (an indexed image)",
+    "F": "32-bit floating point",
+    "I": "32-bit integer",
+    "CMYK": "CMYK colour",
+    "YCbCr": "YCbCr colour",
+    "LAB": "Lab colour",
+    "HSV": "HSV colour",
+    "RGBX": "RGB with a padding channel",
+    "RGBa": "RGB with a premultiplied alpha channel",
+}
+
+
+def photograph_problem(path, name, max_pixels=MAX_PIXELS):
+    """Why a file cannot be read as a photograph, from its header alone, or None.
+
+    Nothing is decoded: the size and mode come from the header (Pillow's ``open``),
+    so a file claiming more than ``max_pixels`` pixels is refused before it can take
+    the machine's memory.
+
+    Parameters
+    ----------
+    path : str
+        The file.
+    name : str
+        How the message names it.
+    max_pixels : int, optional
+        The most pixels allowed (:data:`MAX_PIXELS`).
+
+    Returns
+    -------
+    str or None
+        One sentence naming the file, what it is and what was expected.
+    """
+    import re
+    import warnings
+
+    from PIL import Image, UnidentifiedImageError
+
+    expected = "expected a PNG or TIFF of 8- or 16-bit grey or 8-bit colour"
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            with Image.open(path) as image:
+                (width, height), mode = image.size, image.mode
+    except Image.DecompressionBombError as error:
+        claimed = re.search(r"\((\d+) pixels\)", str(error))
+        size = f"{int(claimed.group(1)):,} pixels" if claimed else "too many pixels"
+        return (
+            f"{name} claims {size}; expected at most {max_pixels:,} (a decompression "
+            "bomb, or a photograph far larger than a camera's)"
+        )
+    except UnidentifiedImageError:
+        return f"{name} cannot be read as an image (not a format Pillow knows); {expected}"
+    except OSError as error:  # a header cut short, or a device that is no file
+        return f"{name} cannot be read as an image ({error}); {expected}"
+    except Exception as error:  # any other reader failure: still one line
+        return f"{name} cannot be read as an image ({type(error).__name__}: {error}); {expected}"
+    if width * height > max_pixels:
+        return (
+            f"{name} is {width} x {height} pixels ({width * height:,}); expected at most "
+            f"{max_pixels:,} (a decompression bomb, or a photograph far larger than a camera's)"
+        )
+    if mode not in READABLE_MODES:
+        what = MODE_WORDS.get(mode, f"of Pillow's mode {mode!r}")
+        return f"{name} is {what}; {expected}"
+    return None
+
+
+def read_photograph(path, name, max_pixels=MAX_PIXELS):
+    """A photograph's pixels, after its header has passed :func:`photograph_problem`.
+
+    Raises
+    ------
+    ImageError
+        One sentence: the header's problem, or a file that cannot be decoded to its end
+        (truncated or damaged).
+    """
+    import imageio.v3 as iio
+
+    if problem := photograph_problem(path, name, max_pixels):
+        raise ImageError(problem)
+    try:
+        return iio.imread(path)
+    except Exception as error:  # a truncated or damaged file: any reader's failure
+        raise ImageError(
+            f"{name} cannot be decoded ({error}); is the file truncated or damaged? "
+            "expected the whole photograph, as the camera wrote it"
+        ) from None
+
 
 #: Brightness of the plain background, the skin and the wedge (fractions of full scale).
 BACKGROUND_LEVEL = 0.88
@@ -212,6 +321,13 @@ def _as_float(image, name):
     if image.dtype == np.uint8:
         return image.astype(float) / 255.0
     if image.dtype == np.uint16:
+        top = int(image.max()) if image.size else 0
+        if 0 < top < 4096:  # 10- or 12-bit levels in a 16-bit file: no edge would show
+            raise ImageError(
+                f"{name}: its levels reach only {top} of 65535, as 10- or 12-bit data "
+                "stored in a 16-bit file do; expected levels over the full 16 bits "
+                "(multiply 12-bit levels by 16, 10-bit ones by 64)"
+            )
         return image.astype(float) / 65535.0
     if image.dtype.kind == "f" and np.isfinite(image).all():
         return image.astype(float)
@@ -322,6 +438,11 @@ class DigitisedTrial:
     outlines : dict, optional
         ``x_mm`` of each column, the loaded outline (``loaded_mm``, NaN where unread)
         and the resting one moved onto it (``rest_mm``): what the quality figure draws.
+    apex_x_mm : float, optional
+        The wedge's apex as seen in the loaded image (None where no wedge is seen
+        against the background): ``tip_x_mm`` itself unless the sheet gave the tip.
+    pixel_mm : float, optional
+        The size of a pixel (tissue mm).
     """
 
     readings: dict
@@ -332,6 +453,8 @@ class DigitisedTrial:
     reading_sd_mm: float
     registration_sd_mm: float = 0.0
     outlines: dict = None
+    apex_x_mm: float | None = None
+    pixel_mm: float | None = None
 
 
 def _roughness_mm(z_mm, window_px=25):
@@ -426,8 +549,10 @@ def digitise_pair(
     z_rest, _ = skin_outline_mm(rest_image, scene, smoothing_px, names[0])
     smooth_load = _smoothed(loaded_image, scene, smoothing_px, names[1])
     z_load, contrast_load = _outline_mm(smooth_load, scene, names[1])
+    # the apex seen in the image, also where the sheet gives the tip (to compare)
+    apex_x_mm = _wedge_apex_mm(smooth_load, scene, z_load, smoothing_px)
     if tip_x_mm is None:
-        tip_x_mm = _wedge_apex_mm(smooth_load, scene, z_load, smoothing_px)
+        tip_x_mm = apex_x_mm
         if tip_x_mm is None:  # no wedge seen against the background: the notch's tip
             tip_x_mm = _wedge_tip_mm(x, z_load, names[1])
     # glare at the wedge lowers the edge's contrast and biases it: within 1 mm of the
@@ -488,6 +613,8 @@ def digitise_pair(
         reading_sd_mm=float(np.hypot(per_reading, registration_sd)),
         registration_sd_mm=float(registration_sd),
         outlines={"x_mm": x, "loaded_mm": z_load, "rest_mm": rest_on_loaded},
+        apex_x_mm=None if apex_x_mm is None else float(apex_x_mm),
+        pixel_mm=1.0 / scene.pixels_per_mm,
     )
 
 
@@ -533,6 +660,98 @@ def digitise_photographs(
         window_mm=settings["window_mm"],
         names=tuple(names) or ("rest", "loaded"),
     )
+
+
+#: How far (pixels) a tip given in the sheet may lie from the apex seen in the image:
+#: the apex is found to within 0.35 pixel on 20 pairs with harder camera settings.
+TIP_PIXELS_MAX = 3.0
+
+#: How many times the outlines' own roughness the registration may leave beyond
+#: reach_mm.  On the photograph example the residual is 1.9-2.4 times it; a pair whose
+#: skin beyond reach_mm moved (reach 2 mm: 156-276 times), whose resting view is 3 %
+#: zoomed (44-61 times) or whose scale is a quarter of the truth (195-212 times) is
+#: far beyond.
+REGISTRATION_ROUGHNESS_MAX = 10.0
+
+
+def trial_problem(trial, depth_mm, deflection_factor, names=("rest", "loaded")):
+    """Why a digitised trial is not a plausible indentation, or None.
+
+    The checks a profile file gets (its readings within ``deflection_factor`` of the
+    depth), and those only a pair of photographs can fail: no deflection at all (one
+    photograph copied over the other), skin raised at the wedge (the two swapped), a
+    registration that leaves many times the outlines' roughness (the skin beyond
+    ``reach_mm`` moved, or the two photographs differ in scale).
+
+    Parameters
+    ----------
+    trial : DigitisedTrial
+    depth_mm : float
+        The pair's depth (images.csv, tissue mm).
+    deflection_factor : float
+        The config's ``input_checks: deflection_factor``.
+    names : tuple of str, optional
+        How messages name the two photographs.
+
+    Returns
+    -------
+    str or None
+        One sentence naming the loaded photograph, what was found and the likely cause.
+    """
+    name = names[1]
+    values = [trial.readings[side][1] for side in ("left", "right")]
+    readings = np.concatenate(values)
+    if readings.size == 0:
+        return None  # nothing read: the digitiser said so already
+    edge_mm = max(trial.edge_noise_mm, 1e-9)
+    near_mm = float(np.mean([v[0] for v in values if v.size]))
+    largest = float(np.max(np.abs(readings)))
+    if largest < 5.0 * edge_mm or largest < depth_mm / 100.0:
+        return (
+            f"{name}: no deflection (at most {1000 * largest:.1f} um anywhere, at a depth of "
+            f"{depth_mm:g} mm); expected the loaded outline pressed in: is one photograph "
+            "copied over the other?"
+        )
+    if near_mm < 0 and -near_mm > depth_mm / deflection_factor:
+        return (
+            f"{name}: the skin at the wedge is raised by {-near_mm:.3f} mm against the "
+            f"resting photograph, at a depth of {depth_mm:g} mm; expected it pressed down: "
+            "are rest and loaded swapped?"
+        )
+    if trial.apex_x_mm is not None and trial.pixel_mm:
+        off_px = (trial.tip_x_mm - trial.apex_x_mm) / trial.pixel_mm
+        if abs(off_px) > TIP_PIXELS_MAX:
+            return (
+                f"{name}: the sheet's tip_x_px puts the wedge's tip {abs(off_px):.1f} pixels "
+                f"{'right' if off_px > 0 else 'left'} of its apex as seen in the photograph "
+                f"(pixel column {trial.apex_x_mm / trial.pixel_mm - 0.5:.1f}); expected them "
+                f"within {TIP_PIXELS_MAX:g} pixels: a tip read from another photograph, or "
+                "a typing error?"
+            )
+    ratio = trial.registration_rms_mm / edge_mm
+    if ratio > REGISTRATION_ROUGHNESS_MAX:
+        return (
+            f"{name}: the two outlines beyond reach_mm differ by "
+            f"{1000 * trial.registration_rms_mm:.1f} um after registration, {ratio:.0f} times "
+            f"the outlines' own roughness ({1000 * edge_mm:.2f} um; expected at most "
+            f"{REGISTRATION_ROUGHNESS_MAX:g} times): reach_mm too short (the load still "
+            "moves the skin there), the two photographs at different scales (zoom, or a "
+            "wrong pixels_per_mm), or not the same finger"
+        )
+    if near_mm > deflection_factor * depth_mm or largest > deflection_factor * depth_mm:
+        return (
+            f"{name}: deflected {max(near_mm, largest):.3f} mm at a depth of {depth_mm:g} mm, "
+            f"more than {deflection_factor:g} times it; expected about the depth at the "
+            "wedge: is the scale (pixels_per_mm) or the depth wrong?"
+        )
+    if near_mm < depth_mm / deflection_factor:
+        return (
+            f"{name}: deflected {near_mm:.3f} mm next to the wedge at a depth of "
+            f"{depth_mm:g} mm, less than 1/{deflection_factor:g} of it; expected about the "
+            "depth: is the scale (pixels_per_mm) or the depth wrong, or the loaded view "
+            "not indented?"
+        )
+    return None
 
 
 def _wedge_apex_mm(smooth, scene, z_mm, smoothing_px, half_window_mm=1.5):

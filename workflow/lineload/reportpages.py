@@ -14,6 +14,7 @@ import html
 import math
 
 __all__ = [
+    "column_label",
     "error_columns",
     "figure_page",
     "page",
@@ -34,7 +35,8 @@ table { border-collapse: collapse; font-size: 13px; display: block; max-width: 1
         overflow-x: auto; }
 th, td { border-bottom: 1px solid #e5e7eb; padding: 4px 8px; text-align: left;
          vertical-align: top; }
-th { background: #f9fafb; position: sticky; top: 0; }
+th { background: #f9fafb; position: sticky; top: 0; min-width: 4em; max-width: 9em;
+     white-space: normal; font-weight: 600; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 img { width: 100%; max-width: 1100px; height: auto; border: 1px solid #e5e7eb; }
 """
@@ -74,6 +76,64 @@ def page(title, body, caption_html="", notice=""):
 
 class _Fixed(str):
     """A number already written with the digits its uncertainty supports."""
+
+
+#: A column's unit, by the suffix of its name, as a header writes it.
+_UNITS = {
+    "_N_per_mm": "N/mm",
+    "_um2_per_mm": "µm²/mm",
+    "_um2": "µm²",
+    "_um": "µm",
+    "_mm": "mm",
+    "_N": "N",
+    "_deg": "°",
+}
+
+#: Words of the column names as the article writes them.
+_WORDS = {
+    "rmse": "RMSE",
+    "aicc": "AICc",
+    "boussinesq": "Boussinesq",
+    "x0": "x₀",
+    "W0": "W₀",
+    "ci": "95 % CI",
+    "n": "number of",
+    "se": "SE",
+    "sd": "SD",
+    "abs": "absolute",
+    "max": "largest",
+}
+
+
+def column_label(column):
+    """A header for a table column: its words, then its unit in brackets.
+
+    ``waterbed_L_ci_low_mm`` -> ``waterbed L 95 % CI low (mm)``; ``waterbed_aicc`` ->
+    ``waterbed AICc``; the CSV's own name is kept as the header's tooltip.
+    """
+    name, unit = str(column), ""
+    for suffix, shown in _UNITS.items():
+        if name.endswith(suffix) and len(name) > len(suffix):
+            name, unit = name[: -len(suffix)], f" ({shown})"
+            break
+    words = [_WORDS.get(word, word) for word in name.split("_") if word]
+    return " ".join(words) + unit
+
+
+#: Decimals of a value without an uncertainty, by its column's unit or kind, as the
+#: article prints them: mm to the micrometre and a tenth (RMSE 0.0172), AICc to 0.1.
+_PLAIN_DECIMALS = (("_aicc", 1), ("_mm", 4), ("_um", 1), ("_N", 3))
+
+#: The fewest decimals a value with an uncertainty is shown with, by unit: the article
+#: prints L to 0.01 mm (14.72) whatever its interval.
+_MIN_DECIMALS = (("_mm", 2),)
+
+
+def _decimals_by_suffix(column, table):
+    for suffix, decimals in table:
+        if str(column).endswith(suffix):
+            return decimals
+    return None
 
 
 def error_columns(columns):
@@ -122,17 +182,36 @@ def _supported_decimals(value, bounds):
 
 def with_supported_digits(columns, rows):
     """Rows with each value that has an uncertainty, and the uncertainty, rounded to the
-    digits it supports (two significant digits of the error); other cells as they were."""
+    digits it supports (two significant digits of the error, and at least the article's
+    digits for its unit); other numbers with the article's decimals for their unit
+    (:data:`_PLAIN_DECIMALS`), the rest as they were."""
     columns = list(columns)
     errors = error_columns(columns)
     index = {c: i for i, c in enumerate(columns)}
+    # the rest by their unit, as the article prints them
+    bound = {b for ends in errors.values() for b in ends}
+    plain = {
+        c: d
+        for c in columns
+        if c not in errors
+        and c not in bound
+        and (d := _decimals_by_suffix(c, _PLAIN_DECIMALS)) is not None
+    }
     for row in rows:
         cells = list(row)
+        for column, decimals in plain.items():
+            number = cells[index[column]]
+            if isinstance(number, float) and math.isfinite(number):
+                # a value set with few digits (a depth, a window) is shown as it was set
+                short = f"{number:g}"
+                exact = float(short) == number and len(short.lstrip("-")) <= 5
+                cells[index[column]] = _Fixed(short if exact else f"{number:.{decimals}f}")
         for column, bounds in errors.items():
             value = cells[index[column]]
             decimals = _supported_decimals(value, [cells[index[b]] for b in bounds])
             if decimals is None:
                 continue
+            decimals = max(decimals, _decimals_by_suffix(column, _MIN_DECIMALS) or 0)
             for name in (column, *bounds):
                 number = cells[index[name]]
                 if isinstance(number, (int, float)) and math.isfinite(float(number)):
@@ -160,7 +239,7 @@ def table_page(title, columns, rows, caption_html="", notice=""):
     ----------
     title : str
     columns : list of str
-        Column headers.
+        Column names, shown as labels with their units (:func:`column_label`).
     rows : iterable of sequence
         Cell values (numbers or text), one sequence per row.  A value with an
         uncertainty in the table (:func:`error_columns`) is shown with the digits
@@ -172,7 +251,9 @@ def table_page(title, columns, rows, caption_html="", notice=""):
     -------
     str
     """
-    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in columns)
+    head = "".join(
+        f'<th title="{html.escape(str(c))}">{html.escape(column_label(c))}</th>' for c in columns
+    )
     rows = with_supported_digits(columns, rows)
     body = "".join("<tr>" + "".join(_cell(v) for v in row) + "</tr>" for row in rows)
     table = f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"

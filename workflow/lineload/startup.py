@@ -9,13 +9,14 @@ the rule ``check_raw_data`` (``workflow/scripts/check_raw_data.py``).
 It also says how a folder is named in what the workflow writes: relative to the
 working folder when it lies inside it, else by its name alone
 (:func:`portable_path`), so that moving or re-cloning the checkout changes no
-job spec and no output.
+job's params and no output.
 """
 
 from __future__ import annotations
 
 import contextlib
 import json
+import math
 import os
 import sys
 from pathlib import Path
@@ -39,7 +40,7 @@ __all__ = [
 ]
 
 #: Sub-folders of the raw-data folder whose files the check reads ("" is the top level).
-RAW_SUBFOLDERS = ("", "profiles", "outlines", "images")
+from .validation import DATA_FOLDERS as RAW_SUBFOLDERS
 
 
 def abort(message):
@@ -105,6 +106,90 @@ def schema_message(error, what):
     elif "description" in inner.schema:
         message = f"{message} ({inner.schema['description'].rstrip('.')})"
     return f"{what}, key '{where}': {message}" if where else f"{what}: {message}"
+
+
+#: The longest name of one file or folder most file systems allow (bytes), and the
+#: longest path (Linux's PATH_MAX).
+NAME_MAX = 255
+PATH_MAX = 4096
+
+#: The config's keys that name folders.
+PATH_KEYS = ("raw_data", "results")
+
+
+def _non_finite(value, where=()):
+    """(key path, value) of the first NaN or infinity in a nested config, or None."""
+    if isinstance(value, dict):
+        items = value.items()
+    elif isinstance(value, list | tuple):
+        items = enumerate(value)
+    else:
+        if isinstance(value, float) and not math.isfinite(value):
+            return where, value
+        return None
+    for key, item in items:
+        if found := _non_finite(item, (*where, str(key))):
+            return found
+    return None
+
+
+def path_problem(key, path):
+    """What is wrong with the length of a configured path, or None.
+
+    Parameters
+    ----------
+    key : str
+        The config key (for the message).
+    path : str
+        Its value.
+
+    Returns
+    -------
+    str or None
+        One sentence naming the key, the over-long name and the limit.
+    """
+    for part in Path(path).parts:
+        if len(os.fsencode(part)) > NAME_MAX:
+            shown = part if len(part) <= 40 else f"{part[:30]}... ({len(part)} characters)"
+            return (
+                f"config, key '{key}': the name {shown!r} is {len(os.fsencode(part))} bytes "
+                f"long; expected at most {NAME_MAX} (the longest name a file system allows)"
+            )
+    if len(os.fsencode(os.path.abspath(path))) > PATH_MAX:
+        return (
+            f"config, key '{key}': the path is {len(os.fsencode(os.path.abspath(path)))} "
+            f"bytes long; expected at most {PATH_MAX} (the longest path Linux allows)"
+        )
+    return None
+
+
+def config_problem(config):
+    """What the schema check cannot see in a validated config, or None.
+
+    A NaN passes every bound of a JSON schema (it compares false with everything), and
+    an infinity passes a lower bound: both are refused here, naming the key; so is a
+    folder whose name or path is longer than a file system allows.
+
+    Parameters
+    ----------
+    config : dict
+        The config, after ``snakemake.utils.validate``.
+
+    Returns
+    -------
+    str or None
+        One sentence in the form of :func:`schema_message`.
+    """
+    if found := _non_finite(config):
+        where, value = found
+        return (
+            f"config, key '{'/'.join(where)}': {value} is not a finite number; "
+            "expected a number (NaN and infinities are not values a setting can take)"
+        )
+    for key in PATH_KEYS:
+        if isinstance(config.get(key), str) and (problem := path_problem(key, config[key])):
+            return problem
+    return None
 
 
 def data_folder(path, repository):
@@ -212,7 +297,15 @@ def read_subject_sheet(raw_dir, schema):
     from .validation import read_columns
 
     path = f"{raw_dir.rstrip('/')}/subjects.csv"
-    columns, _ = read_columns(path, schema)
+    try:
+        columns, _ = read_columns(path, schema)
+    except ModuleNotFoundError as missing:
+        if missing.name != "numpy":
+            raise
+        # Snakemake without the workflow's environment (snakemake --lint where only
+        # Snakemake is installed): the sheet as written; no job can run there, and the
+        # raw-data check, which every job waits for, checks it in full
+        columns = _plain_columns(path)
     rows = len(columns["subject"])
     labels = columns.get("label", [None] * rows)
     contact = columns.get("contact_length_mm", [None] * rows)
@@ -238,6 +331,15 @@ def read_subject_sheet(raw_dir, schema):
     return subjects
 
 
+def _plain_columns(path):
+    """Column name -> its cells as written (standard library only; nothing checked)."""
+    import csv
+
+    with open(path, newline="", encoding="utf-8-sig") as handle:
+        rows = list(csv.DictReader(handle))
+    return {name: [row[name] for row in rows] for name in (rows[0] if rows else {})}
+
+
 def list_raw_files(raw_dir):
     """Every regular file the raw-data check reads, by name; no file is opened.
 
@@ -257,6 +359,11 @@ def list_raw_files(raw_dir):
         ``forces`` and ``notice``: the path of ``forces.csv`` and
         ``NOTICE.txt``, or None.
     """
+    from .validation import links_outside
+
+    if away := links_outside(raw_dir):  # nothing is read from outside the dataset
+        more = f" (and {len(away) - 1} more such links)" if len(away) > 1 else ""
+        abort(away[0] + more)
     found = {"all": []}
     for sub in RAW_SUBFOLDERS:
         folder = os.path.join(raw_dir, sub) if sub else raw_dir
@@ -414,7 +521,7 @@ def portable_path(path, workdir="."):
 
 
 def portable_config(config, workdir="."):
-    """The config with its folders named by :func:`portable_path`, for specs and outputs.
+    """The config with its folders named by :func:`portable_path`, for params and outputs.
 
     Parameters
     ----------
@@ -443,7 +550,7 @@ def planned_folders(paths, root):
     Parameters
     ----------
     paths : iterable of str
-        File paths or patterns (outputs, logs, benchmarks, job specs).
+        File paths or patterns (outputs, logs, benchmarks).
     root : str or os.PathLike
         The results folder.
 
@@ -483,7 +590,7 @@ def remove_written(paths, folders):
     Parameters
     ----------
     paths : iterable of str
-        Files written by this run (the job specs it created).
+        Files written by this run (none now: the jobs' values are params, not files).
     folders : iterable of pathlib.Path
         Folders that did not exist when this run started.
     """
@@ -494,8 +601,8 @@ def remove_written(paths, folders):
             os.rmdir(folder)
 
 
-def where_to_look(documents, report):
-    """After a build: where the reader's documents are.
+def where_to_look(documents, report, built=()):
+    """After a build: what it was asked for, and where the reader's documents are.
 
     Parameters
     ----------
@@ -503,6 +610,8 @@ def where_to_look(documents, report):
         What each is and its path; only those that exist are named.
     report : str
         Path of the HTML report ``snakemake --report`` would write.
+    built : list of (str, str), optional
+        What the run's targets made (:func:`named_targets`), named first.
 
     Returns
     -------
@@ -510,9 +619,35 @@ def where_to_look(documents, report):
         Lines to print.
     """
     lines = ["", "Where to look:"]
-    lines += [f"  {what}: {path}" for what, path in documents if Path(path).is_file()]
+    shown = [(what, path) for what, path in built if Path(path).exists()]
+    lines += [f"  this run built {what}: {path}" for what, path in shown]
+    lines += [
+        f"  {what}: {path}"
+        for what, path in documents
+        if Path(path).is_file() and path not in {p for _, p in shown}
+    ]
     lines.append(f"  the HTML report: snakemake --report {report}")
     return "\n".join(lines)
+
+
+def named_targets(argv, targets):
+    """What the targets named on the command line make, in the order given.
+
+    Parameters
+    ----------
+    argv : list of str
+        The command line (``sys.argv``).
+    targets : dict
+        Target (a rule's name) -> list of (what, path) it makes.
+
+    Returns
+    -------
+    list of (str, str)
+    """
+    built = []
+    for word in argv[1:]:
+        built += targets.get(word, [])
+    return built
 
 
 def report_argument(argv):

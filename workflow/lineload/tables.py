@@ -21,16 +21,21 @@ from . import paper
 from .models import MODEL_NAMES
 
 __all__ = [
+    "AT_BOUND_MARK",
     "SUMMARY_COLUMNS",
+    "at_bound",
+    "counted",
     "decimals_for",
     "escape_latex",
     "escape_markdown",
+    "every",
     "fits_latex",
     "fits_markdown",
     "format_fixed",
     "latex_table",
     "markdown_table",
     "notice_footer",
+    "percent_text",
     "sensitivity_markdown",
     "span_text",
     "summarise_fits",
@@ -48,6 +53,7 @@ SUMMARY_COLUMNS = [
     "species",
     "depth_mm",
     "n_trials",
+    "waterbed_n_at_bound",
     "waterbed_L_mean_mm",
     "waterbed_L_sd_mm",
     "waterbed_rmse_mean_mm",
@@ -211,6 +217,50 @@ def escape_latex(text):
 _HTML_OPENING = re.compile(r"<(?=[A-Za-z/!?])")
 
 
+def counted(count, noun, plural=None):
+    """A count with its noun in the right number: ``"1 degree of freedom"``, ``"3 trials"``.
+
+    Parameters
+    ----------
+    count : int
+        How many.
+    noun : str
+        The noun in the singular (``"trial"``; ``"degree of freedom"``).
+    plural : str, optional
+        The plural where it is not ``noun + "s"`` (``"degrees of freedom"``).
+    """
+    count = int(count)
+    return f"{count} {noun if count == 1 else plural or noun + 's'}"
+
+
+def every(count, noun, plural=None):
+    """All of a count, as a sentence says it: ``"the one trial"``, ``"both trials"``,
+    ``"all 3 trials"`` (``"no trials"`` for none)."""
+    count = int(count)
+    many = plural or noun + "s"
+    if count == 0:
+        return f"no {many}"
+    if count == 1:
+        return f"the one {noun}"
+    if count == 2:
+        return f"both {many}"
+    return f"all {count} {many}"
+
+
+def percent_text(fraction, decimals=1):
+    """A fraction in percent, never shown as zero when it is not: ``0.1234 -> "12.3 %"``,
+    ``0.00001 -> "< 0.1 %"``, ``0 -> "0 %"``; NaN gives ``"–"``."""
+    if fraction is None or not math.isfinite(float(fraction)):
+        return "–"
+    value = 100.0 * float(fraction)
+    if value == 0:
+        return "0 %"
+    smallest = 0.5 * 10.0**-decimals
+    if abs(value) < smallest:
+        return f"{'> -' if value < 0 else '< '}{format_fixed(2 * smallest, decimals)} %"
+    return f"{format_fixed(value, decimals)} %"
+
+
 def join_words(items):
     """``["a", "b", "c"]`` -> ``"a, b and c"``."""
     items = [str(item) for item in items]
@@ -335,26 +385,53 @@ def _fit_rows(fits):
                 str(trial["species"]),
                 format_fixed(trial["depth_mm"], DEPTH_DECIMALS),
                 str(int(trial["n_points"])),
-                with_interval(
-                    trial["waterbed_L_mm"],
-                    trial["waterbed_L_ci_low_mm"],
-                    trial["waterbed_L_ci_high_mm"],
-                ),
+                _L_cell(trial, "waterbed"),
                 *(format_fixed(trial[f"{m}_rmse_mm"], RMSE_DECIMALS) for m, _ in MODELS),
             ]
         )
     return rows
 
 
+#: Mark of a fitted L that ends on a bound of its search (the caption explains it).
+AT_BOUND_MARK = "†"
+
+
+def at_bound(trial, model):
+    """Whether the fit table's row ``trial`` has ``model``'s L on a bound of its search
+    (False where the table has no such column, as an older table)."""
+    value = trial.get(f"{model}_L_at_bound", False)
+    if isinstance(value, str):
+        return value.strip().lower() == "true"
+    return bool(value) if value == value else False
+
+
+def _L_cell(trial, model):
+    """A fitted L with its interval; one on a bound of its search marked, its interval
+    one-sided (the bound is its lower end)."""
+    text = with_interval(
+        trial[f"{model}_L_mm"], trial[f"{model}_L_ci_low_mm"], trial[f"{model}_L_ci_high_mm"]
+    )
+    return text + AT_BOUND_MARK if at_bound(trial, model) else text
+
+
 def _fits_caption(fits):
     window = _fit_window_text(fits)
-    return (
+    bounded = sum(at_bound(trial, "waterbed") for _, trial in fits.iterrows())
+    caption = (
         "Fits to the left/right mean profile of each subject and depth, using the n points "
         f"that lie between the wedge and {window} from it. L is the fitted half-width of "
-        "the small-slope waterbed, whose depth under the wedge is held at the indentation "
-        "depth; the RMSE columns give the root-mean-square residual of each model on the "
-        "same points."
+        "the small-slope waterbed for that window, whose depth under the wedge is held at "
+        "the indentation depth; the RMSE columns give the root-mean-square residual of each "
+        "model on the same points."
     )
+    if bounded:
+        caption += (
+            f" {AT_BOUND_MARK} L ended on a bound of its search in {bounded} of "
+            f"{len(fits)} rows (the farthest point fitted, below which the membrane would "
+            "not reach every point, or a flat membrane): there L is a bound, not a "
+            "measurement, and its interval is one-sided."
+        )
+    return caption
 
 
 def fits_markdown(fits, notice=""):
@@ -411,7 +488,8 @@ def fits_latex(fits, notice=""):
 
 
 def summarise_fits(fits):
-    """Per species and depth: trials, waterbed L (mean, SD), mean RMSE of each model.
+    """Per species and depth: trials, waterbed L (mean, SD, and how many of the fits
+    ended on a bound of their search, which the mean includes), mean RMSE of each model.
 
     The RMSE ratio Boussinesq / waterbed is computed per trial first; the table
     gives the mean and the smallest of these per-trial ratios (a ratio above 1
@@ -448,6 +526,7 @@ def summarise_fits(fits):
                 "species": species,
                 "depth_mm": depth_mm,
                 "n_trials": len(group),
+                "waterbed_n_at_bound": sum(at_bound(t, "waterbed") for _, t in group.iterrows()),
                 "waterbed_L_mean_mm": _mean(L_mm),
                 "waterbed_L_sd_mm": _sd(L_mm),
                 "waterbed_rmse_mean_mm": _mean(group["waterbed_rmse_mm"]),
@@ -483,7 +562,7 @@ def _summary_rows(summary):
             [
                 str(row["species"]),
                 format_fixed(row["depth_mm"], DEPTH_DECIMALS),
-                str(int(row["n_trials"])),
+                _trials_cell(row),
                 format_fixed(row["waterbed_L_mean_mm"], LENGTH_DECIMALS),
                 format_fixed(row["waterbed_L_sd_mm"], LENGTH_DECIMALS),
                 *(format_fixed(row[f"{m}_rmse_mean_mm"], RMSE_DECIMALS) for m, _ in MODELS),
@@ -494,12 +573,28 @@ def _summary_rows(summary):
     return rows
 
 
-_SUMMARY_CAPTION = (
-    "Summary per species and indentation depth: number of trials (subjects), mean and "
-    "standard deviation (n - 1) of the waterbed half-width L, mean RMSE of each model, and "
-    "the ratio of Boussinesq to waterbed RMSE, formed trial by trial and then averaged "
-    "(mean) or minimised over trials (min). A ratio above 1 means the waterbed fitted better."
-)
+def _trials_cell(row):
+    """Trials of a summary row, with how many of their L are on a bound (if any)."""
+    text = str(int(row["n_trials"]))
+    bounded = row.get("waterbed_n_at_bound", 0)
+    bounded = int(bounded) if bounded == bounded else 0
+    return f"{text} ({bounded}{AT_BOUND_MARK})" if bounded else text
+
+
+def _summary_caption(summary):
+    caption = (
+        "Summary per species and indentation depth: number of trials (subjects), mean and "
+        "standard deviation (n - 1) of the waterbed half-width L, mean RMSE of each model, "
+        "and the ratio of Boussinesq to waterbed RMSE, formed trial by trial and then "
+        "averaged (mean) or minimised over trials (min). A ratio above 1 means the waterbed "
+        "fitted better."
+    )
+    if "waterbed_n_at_bound" in summary and summary["waterbed_n_at_bound"].fillna(0).sum():
+        caption += (
+            f" In brackets ({AT_BOUND_MARK}), how many of the trials' L ended on a bound of "
+            "its search: a bound, not a measurement, which the mean and SD include."
+        )
+    return caption
 
 
 def summary_markdown(summary, notice=""):
@@ -526,7 +621,7 @@ def summary_markdown(summary, notice=""):
         "RMSE ratio B/W, mean",
         "RMSE ratio B/W, min",
     ]
-    text = "# Summary per species and depth\n\n" + _SUMMARY_CAPTION + "\n\n"
+    text = "# Summary per species and depth\n\n" + _summary_caption(summary) + "\n\n"
     text += markdown_table(headers, _summary_rows(summary), "lrrrrrrrrr")
     return text + notice_footer(notice)
 
@@ -553,7 +648,7 @@ def summary_latex(summary, notice=""):
         + " & ".join(escape_latex(label) for _, label in MODELS)
         + r" & mean & min \\",
     ]
-    caption = escape_latex(_SUMMARY_CAPTION)
+    caption = escape_latex(_summary_caption(summary))
     return latex_table(
         head, _summary_rows(summary), "lrrrrrrrrr", caption, "tab:fit-summary", notice
     )

@@ -32,13 +32,18 @@ collected problems into the lines printed for the user, at most
 
 from __future__ import annotations
 
+import codecs
 import contextlib
 import csv
 import math
 import os
 import re
 
-import numpy as np
+from .lazy import lazy_import
+
+# numpy when first used: Snakemake reads the subject sheet at start-up with this module
+# (lineload.startup), where numpy may not be installed (snakemake --lint; lazy.py)
+np = lazy_import("numpy")
 
 __all__ = [
     "MAX_REPORTED",
@@ -50,6 +55,7 @@ __all__ = [
     "check_forces",
     "check_no_duplicate_readings",
     "check_reach",
+    "check_subject_files",
     "check_subjects",
     "check_thin_trials",
     "collecting",
@@ -436,6 +442,16 @@ def _csv_rows(path, shown):
                 rows.append(row)
                 numbers.append(start)
     except UnicodeDecodeError as error:
+        with open(path, "rb") as handle:
+            start = handle.read(2)
+        if start in (codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE):
+            _fail(
+                shown,
+                None,
+                None,
+                "is UTF-16 text (it starts with UTF-16's byte order mark); expected UTF-8: "
+                "save it as 'CSV UTF-8 (comma delimited)'",
+            )
         _fail(
             shown,
             None,
@@ -483,6 +499,34 @@ def read_columns(path, schema, display_path=None, problems=None):
     return table
 
 
+def _drop_empty_nameless(shown, header, header_line, rows, found):
+    """The header and rows without the columns that have no name and no value (the empty
+    columns a spreadsheet may save after the last one); a nameless column holding a value
+    is refused, naming its position.  Returns ``(header, rows, ok)``."""
+    keep = []
+    for i, name in enumerate(header):
+        if name:
+            keep.append(i)
+            continue
+        if any(i < len(row) and row[i].strip() for row in rows):
+            found.error(
+                shown,
+                header_line,
+                None,
+                f"column {i + 1} has no name in the header but holds values; expected a "
+                "name for every column that holds values",
+            )
+            return header, rows, False
+    return (
+        [header[i] for i in keep],
+        [
+            [row[i] for i in keep if i < len(row)] if len(row) == len(header) else row
+            for row in rows
+        ],
+        True,
+    )
+
+
 def _read_columns(path, schema, shown, found):
     if not os.path.isfile(path):
         found.error(shown, None, None, "file not found")
@@ -504,6 +548,10 @@ def _read_columns(path, schema, shown, found):
         return None
     header, header_line = [cell.strip() for cell in rows[0]], lines[0]
     rows, lines = rows[1:], lines[1:]
+    if "" in header:  # columns without a name: empty ones (a sheet's trailing commas) dropped
+        header, rows, named = _drop_empty_nameless(shown, header, header_line, rows, found)
+        if not named:
+            return None
     if not _check_header(shown, header, header_line, schema, found):
         return None
     if not rows:
@@ -669,6 +717,110 @@ def _files_in(folder):
         return []
 
 
+#: Sub-folders of the raw-data folder whose files the check reads ("" is the top level).
+DATA_FOLDERS = ("", "profiles", "outlines", "images")
+
+
+def outside(path, root_real):
+    """Where ``path`` leads when that is outside the folder ``root_real`` (already resolved
+    with ``os.path.realpath``), else None.  Nothing is opened: only links are followed."""
+    target = os.path.realpath(path)
+    if target == root_real or target.startswith(root_real.rstrip(os.sep) + os.sep):
+        return None
+    return target
+
+
+def _outside_message(shown, target, root_shown):
+    return (
+        f"{shown} leads to {target}, outside the raw-data folder {root_shown}; expected "
+        "every input inside it (copy the file in, or link the whole folder), nothing is "
+        "read from elsewhere"
+    )
+
+
+def links_outside(raw_dir, raw_dir_shown=None):
+    """Every entry of the folders the check reads whose link leads out of the raw folder.
+
+    The raw folder is resolved once (it may itself be a link, as clusters arrange data);
+    an entry (a file, a link to a file or to a device such as /dev/zero, or a link
+    inside a linked sub-folder) that resolves outside it is listed, never opened.
+
+    Parameters
+    ----------
+    raw_dir : str
+        The raw-data folder.
+    raw_dir_shown : str, optional
+        How to name it in messages.
+
+    Returns
+    -------
+    list of str
+        One sentence per such entry, naming it and where it leads.
+    """
+    shown = (raw_dir_shown or raw_dir).rstrip("/") or "/"
+    root = os.path.realpath(raw_dir)
+    lines = []
+    for sub in DATA_FOLDERS:
+        folder = os.path.join(raw_dir, sub) if sub else raw_dir
+        if sub and os.path.islink(folder) and (target := outside(folder, root)):
+            lines.append(_outside_message(f"{shown}/{sub}", target, shown))
+            continue
+        try:
+            entries = sorted(os.scandir(folder), key=lambda e: e.name)
+        except OSError:  # missing, not a folder, or a link loop: reported where it is read
+            continue
+        for entry in entries:
+            if entry.is_symlink() and (target := outside(entry.path, root)):
+                name = "/".join(p for p in (shown, sub, entry.name) if p)
+                lines.append(_outside_message(name, target, shown))
+    return lines
+
+
+#: The names the data contract gives (folder -> its expected entries), for near misses.
+CONTRACT_NAMES = {
+    "": ("subjects.csv", "profiles", "outlines", "images", "forces.csv", "NOTICE.txt"),
+    "images": ("images.csv", "truth.csv"),
+}
+
+
+def _stem(name):
+    """A name as a person would read it, and without a plural 's'."""
+    loose = _loose(name)
+    base, dot, ext = loose.rpartition(".")
+    base, ext = (base, dot + ext) if dot else (loose, "")
+    return base.rstrip("s") + ext
+
+
+def near_miss_names(raw_dir, raw_dir_shown=None):
+    """Entries of the raw folder named almost as the contract says (``Images`` for
+    ``images``, ``image``, ``Subjects.CSV``), where the exact name is missing.
+
+    Returns
+    -------
+    list of str
+        One sentence each: what was found and the name expected.
+    """
+    shown = (raw_dir_shown or raw_dir).rstrip("/")
+    lines = []
+    for sub, expected in CONTRACT_NAMES.items():
+        folder = os.path.join(raw_dir, sub) if sub else raw_dir
+        try:
+            present = sorted(os.listdir(folder))
+        except OSError:
+            continue
+        for name in expected:
+            if name in present:
+                continue
+            near = [p for p in present if p != name and _stem(p) == _stem(name)]
+            if near:
+                where = "/".join(p for p in (shown, sub, near[0]) if p)
+                lines.append(
+                    f"{where}: expected the name {name!r} (names are matched exactly: case "
+                    "and a plural 's' count); rename it"
+                )
+    return lines
+
+
 def _near_names(subject, names):
     """Files named like ``<subject>.csv`` up to case, spaces or the extension."""
     stem = _loose(subject)
@@ -818,25 +970,40 @@ IMAGE_STATES = ("rest", "loaded")
 def photograph_files(raw_dir):
     """Subject -> the photographs images/images.csv names for it (paths, in sheet order;
     empty without the file), read as plain text before any check: what each subject's
-    digitising job reads.  The raw-data check reports anything wrong with the sheet."""
+    digitising job reads.  The raw-data check reports anything wrong with the sheet.
+
+    Read leniently (a BOM, UTF-16, semicolons or tabs, ``File`` for ``file``): a sheet
+    saved another way still says which subjects are photographed, so the check names
+    what is wrong with it rather than a profile file those subjects never had.  A
+    photograph whose path leads out of the raw folder is left out (never opened)."""
     path = os.path.join(raw_dir, "images", "images.csv")
-    if not os.path.isfile(path):  # (not even tried: a dataset without photographs)
+    root = os.path.realpath(raw_dir)
+    if not os.path.isfile(path) or outside(path, root):  # (a dataset without photographs)
         return {}
     try:
-        with open(path, newline="", encoding="utf-8") as handle:
-            rows = list(csv.reader(handle))
-    except (OSError, UnicodeDecodeError):
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except OSError:
         return {}
-    if not rows or not {"subject", "file"} <= {c.strip() for c in rows[0]}:
+    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        text = data.decode("utf-16", errors="replace")
+    else:
+        text = data.decode("utf-8-sig", errors="replace")
+    first = text.split("\n", 1)[0]
+    delimiter = max([",", *OTHER_SEPARATORS], key=first.count)
+    rows = list(csv.reader(text.splitlines(), delimiter=delimiter))
+    header = [_loose(c) for c in rows[0]] if rows else []
+    if not {"subject", "file"} <= set(header):
         return {}
-    header = [c.strip() for c in rows[0]]
     subject, name = header.index("subject"), header.index("file")
     files = {}
     for row in rows[1:]:
         if len(row) > max(subject, name) and row[subject].strip():
-            files.setdefault(row[subject].strip(), []).append(
-                os.path.join(raw_dir, "images", row[name].strip())
-            )
+            photo = os.path.join(raw_dir, "images", row[name].strip())
+            if not outside(photo, root):
+                files.setdefault(row[subject].strip(), []).append(photo)
+            else:
+                files.setdefault(row[subject].strip(), [])
     return files
 
 
@@ -866,7 +1033,15 @@ def image_properties(path):
     return tuple(properties.shape), np.dtype(properties.dtype)
 
 
-def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None, digitise=None):
+def check_images(
+    raw_dir,
+    schema,
+    subject_ids,
+    raw_dir_shown=None,
+    problems=None,
+    digitise=None,
+    plausibility=None,
+):
     """Check ``images/images.csv`` and the photographs it names.
 
     Every (subject, depth) needs one ``rest`` and one ``loaded`` photograph of the same
@@ -889,7 +1064,11 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
         The config's ``digitise`` settings: each pair is then read as its job will read
         it, so that a photograph without an edge, without a wedge or without skin
         beyond ``reach_mm`` is refused here, before any job runs (reading a pair takes
-        a few hundredths of a second).
+        a few hundredths of a second); and its readings are held to the bounds of a
+        profile file (:func:`lineload.photographs.trial_problem`).
+    plausibility : dict, optional
+        The config's ``input_checks`` (:func:`plausibility_defaults` for any not
+        given): the depths' range and the deflection factor.
 
     Returns
     -------
@@ -897,6 +1076,9 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
         Subject -> sorted depths (mm) of its photograph pairs; empty without images.csv.
     """
     shown = (raw_dir_shown or raw_dir).rstrip("/")
+    limits = dict(plausibility or {})
+    if not {"depth_min_mm", "depth_max_mm", "deflection_factor"} <= set(limits):
+        limits = {**plausibility_defaults(), **limits}  # (reads the config schema: slow)
     sheet = os.path.join(raw_dir, "images", "images.csv")
     sheet_shown = f"{shown}/images/images.csv"
     if not os.path.isfile(sheet):
@@ -905,6 +1087,12 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
         before = found.count()
         images = read_table(sheet, schema, sheet_shown, found)
         if images is None or found.count() > before:
+            return {}
+        # depths in tissue mm, as a profile file's (1000 is micrometres)
+        check_depth_range(
+            images, sheet_shown, limits["depth_min_mm"], limits["depth_max_mm"], None, found
+        )
+        if found.count() > before:
             return {}
         truth_path = os.path.join(raw_dir, "images", "truth.csv")
         if os.path.isfile(truth_path):  # optional: the truth, where it is known
@@ -954,13 +1142,8 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
                 )
                 continue
             path = os.path.join(raw_dir, "images", name)
-            if not os.path.isfile(path):
-                found.error(
-                    sheet_shown,
-                    line,
-                    "file",
-                    f"no file {shown}/images/{name}; expected the photograph",
-                )
+            if problem := _photograph_file_problem(path, name, shown, raw_dir):
+                found.error(sheet_shown, line, "file", problem)
                 continue
             properties = image_properties(path)
             if properties is None:
@@ -993,6 +1176,8 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
             sizes[key][state] = (line, shape[:2], path, float(scale.loc[line]), row)
         for (subject, depth), states in sizes.items():
             missing = [s for s in IMAGE_STATES if s not in states]
+            if not states:  # both photographs refused: each has its line already
+                continue
             if missing:
                 line = next(iter(states.values()))[0]
                 found.error(
@@ -1003,8 +1188,19 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
                     "and one loaded photograph per depth",
                 )
                 continue
-            (_, rest_shape, rest_path, _, _) = states["rest"]
+            (rest_line, rest_shape, rest_path, rest_ppmm, _) = states["rest"]
             (line, loaded_shape, loaded_path, ppmm, loaded_row) = states["loaded"]
+            if not math.isclose(rest_ppmm, ppmm, rel_tol=1e-6):
+                found.error(
+                    sheet_shown,
+                    rest_line,
+                    "pixels_per_mm" if "pixels_per_mm" in images else "scale_bar_px",
+                    f"the resting photograph of {subject} at {depth:g} mm is at "
+                    f"{rest_ppmm:g} pixels per mm, the loaded one (line {line}) at {ppmm:g}; "
+                    "expected one scale for the pair (the digitiser registers them pixel "
+                    "for pixel): a zoomed view, or a scale copied from another row?",
+                )
+                continue
             if rest_shape != loaded_shape:
                 found.error(
                     sheet_shown,
@@ -1017,7 +1213,15 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
                 continue
             if digitise is not None:
                 problem = _digitising_problem(
-                    rest_path, loaded_path, ppmm, loaded_row, digitise, shown, raw_dir
+                    rest_path,
+                    loaded_path,
+                    ppmm,
+                    loaded_row,
+                    digitise,
+                    shown,
+                    raw_dir,
+                    depth,
+                    limits["deflection_factor"],
                 )
                 if problem:
                     found.error(sheet_shown, line, "file", problem)
@@ -1026,25 +1230,73 @@ def check_images(raw_dir, schema, subject_ids, raw_dir_shown=None, problems=None
         return {subject: sorted(d) for subject, d in depths.items()}
 
 
-def _digitising_problem(rest_path, loaded_path, ppmm, loaded_row, settings, shown, raw_dir):
-    """Why a pair cannot be read (the digitiser's one line), or None."""
-    import imageio.v3 as iio
+#: The longest file name most file systems allow (bytes of one path component).
+NAME_MAX = 255
 
-    from .photographs import ImageError, digitise_photographs
+
+def _photograph_file_problem(path, name, shown, raw_dir):
+    """Why a photograph the sheet names cannot be read, from its name and header, or None."""
+    from .photographs import photograph_problem
+
+    longest = max(name.replace("\\", "/").split("/"), key=lambda part: len(part.encode()))
+    if len(longest.encode()) > NAME_MAX:
+        return (
+            f"the file name {_shown(longest)} is {len(longest.encode())} bytes long; "
+            f"expected at most {NAME_MAX} (the longest name a file system allows)"
+        )
+    if target := outside(path, os.path.realpath(raw_dir)):
+        return _outside_message(f"{shown}/images/{name}", target, shown)
+    if not os.path.isfile(path):
+        if os.path.exists(path):
+            return f"{shown}/images/{name} is not a regular file; expected the photograph"
+        near = [
+            other
+            for other in _files_in(os.path.dirname(path))
+            if other.lower() == os.path.basename(path).lower()
+        ]
+        hint = f" (there is {near[0]!r}: names differ in case)" if near else ""
+        return f"no file {shown}/images/{name}{hint}; expected the photograph"
+    return photograph_problem(path, f"{shown}/images/{name}")
+
+
+def _digitising_problem(
+    rest_path, loaded_path, ppmm, loaded_row, settings, shown, raw_dir, depth_mm, factor
+):
+    """Why a pair cannot be read, or is no plausible indentation (one line), or None.
+
+    The pair is read as its job reads it, over the same distances, and its readings held
+    to the profile files' bounds (:func:`lineload.photographs.trial_problem`)."""
+    from .photographs import ImageError, digitise_photographs, read_photograph, trial_problem
+    from .readings import reading_distances_mm
 
     paths = (rest_path, loaded_path)
+    names = [path.replace(raw_dir.rstrip("/"), shown, 1) for path in paths]
+    grid = reading_distances_mm(settings["reach_mm"], settings["first_mm"])
     try:
-        digitise_photographs(
-            *(iio.imread(path) for path in paths),
-            ppmm,
-            [settings["first_mm"]],
-            settings,
-            tip_x_px=loaded_row.get("tip_x_px"),
-            names=[path.replace(raw_dir.rstrip("/"), shown, 1) for path in paths],
-        )
+        images = [read_photograph(path, name) for path, name in zip(paths, names, strict=True)]
     except ImageError as error:
         return str(error)
-    return None
+
+    def read(rest, loaded):
+        return digitise_photographs(
+            rest, loaded, ppmm, grid, settings, tip_x_px=loaded_row.get("tip_x_px"), names=names
+        )
+
+    try:
+        trial = read(*images)
+    except ImageError as error:
+        if "the wedge was not found" not in str(error):
+            return str(error)
+        try:  # the resting photograph shows the notch: the two swapped
+            read(*images[::-1])
+        except ImageError:
+            return (
+                f"{error}; is the loaded photograph the resting one (copied over it)?"
+                if "notch" in str(error)
+                else str(error)
+            )
+        return f"{error}; the resting photograph shows it: are rest and loaded swapped?"
+    return trial_problem(trial, depth_mm, factor, names)
 
 
 # ---------------------------------------------------------------- plausibility of units
@@ -1381,84 +1633,45 @@ def _check_contact_lengths(subjects, path, reach_max_mm, problems):
 # ---------------------------------------------------------------- a whole raw folder
 
 
-def check_dataset(
-    raw_dir, schemas, raw_dir_shown=None, plausibility=None, window=None, digitise=None
+def check_subject_files(
+    raw_dir, schemas, subjects, magnifications, found, limits, window=None, raw_dir_shown=None
 ):
-    """Validate a whole raw-data folder before anything is computed.
-
-    Every file is checked, and every problem found is reported together.
+    """Check the profile and outline files of some subjects (all, or one batch's).
 
     Parameters
     ----------
     raw_dir : str
-        Folder with ``subjects.csv``, ``profiles/`` and optionally ``outlines/``
-        and ``forces.csv``.
+        The raw-data folder.
     schemas : dict
-        Row schemas keyed ``subjects``, ``profiles``, ``outlines`` and
-        (optionally) ``forces``.
+        Row schemas keyed ``profiles`` and ``outlines``.
+    subjects : list of str
+        Subjects with a profile file, in sheet order.
+    magnifications : dict
+        Subject -> magnification of the subject sheet.
+    found : Problems
+        Collector the problems are added to.
+    limits : dict
+        The plausibility limits (:func:`plausibility_defaults` with the config's).
+    window : tuple, optional
+        ``(fit_window_mm, min_points_in_window)``; thin trials not checked if None.
     raw_dir_shown : str, optional
         How to name the folder in messages (defaults to ``raw_dir``).
-    plausibility : dict, optional
-        The config's ``input_checks`` (:func:`plausibility_defaults` for any not
-        given).
-    window : tuple, optional
-        ``(fit_window_mm, min_points_in_window)`` of the config: a trial with
-        fewer distinct distances within the window is refused
-        (:func:`check_thin_trials`); not checked if None.
-    digitise : dict, optional
-        The config's ``digitise`` settings: each photograph pair is read once here
-        (:func:`check_images`); not if None.
 
     Returns
     -------
-    dict
-        ``subjects`` (the typed subject sheet), ``depths_mm`` (subject -> sorted
-        list of depths), ``outlines`` (subject -> sorted list of depths with
-        an outline file, for listed subjects that have one) and ``warnings``
-        (lines about files that are not read).
-
-    Raises
-    ------
-    InputError
-        Holding every problem found (``problems``, one line each, naming file,
-        line and column) and the warnings.
+    tuple
+        ``depths_mm`` (subject -> sorted depths of its profile), ``outlines``
+        (subject -> sorted depths of its outline, where it has one) and ``refused``
+        (the set of subjects whose profile has a problem).
     """
     shown = raw_dir_shown or raw_dir
-    limits = {**plausibility_defaults(), **(plausibility or {})}
-    found = Problems()
 
     def here(*parts):
         return os.path.join(raw_dir, *parts), "/".join([shown.rstrip("/"), *parts])
 
-    sheet_path, sheet_shown = here("subjects.csv")
-    subjects = read_table(sheet_path, schemas["subjects"], sheet_shown, found)
-    if subjects is None:
-        found.raise_if_any()
-    profile_dir, profile_dir_shown = here("profiles")
-    id_pattern = re.compile(schemas["subjects"]["properties"]["subject"]["pattern"])
-    photographed = photographed_subjects(raw_dir)
-    image_depths = {}
-    if photographed:
-        image_depths = check_images(
-            raw_dir,
-            schemas.get("images") or _images_schema(),
-            subjects["subject"],
-            shown,
-            found,
-            digitise,
-        )
-    check_subjects(
-        subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern, photographed
-    )
-    magnifications = dict(zip(subjects["subject"], subjects["magnification"], strict=True))
-    listed = [
-        s
-        for s in dict.fromkeys(subjects["subject"])
-        if id_pattern.search(s) and os.path.isfile(os.path.join(profile_dir, f"{s}.csv"))
-    ]
     depths_mm, outlines = {}, {}
     refused = set()  # subjects whose profile has a problem: their depths are not known
-    for subject in listed:
+    for subject in subjects:
         magnification = float(magnifications[subject])
         if not magnification > 0:  # refused on the sheet already
             magnification = None
@@ -1513,6 +1726,108 @@ def check_dataset(
                         outline, path_shown, magnification, limits["reach_max_mm"], None, found
                     )
                 outlines[subject] = sorted(float(d) for d in set(outline[0]["depth_mm"]) if d == d)
+    return depths_mm, outlines, refused
+
+
+def check_dataset(
+    raw_dir,
+    schemas,
+    raw_dir_shown=None,
+    plausibility=None,
+    window=None,
+    digitise=None,
+    checked=None,
+):
+    """Validate a whole raw-data folder before anything is computed.
+
+    Every file is checked, and every problem found is reported together.
+
+    Parameters
+    ----------
+    raw_dir : str
+        Folder with ``subjects.csv``, ``profiles/`` and optionally ``outlines/``
+        and ``forces.csv``.
+    schemas : dict
+        Row schemas keyed ``subjects``, ``profiles``, ``outlines`` and
+        (optionally) ``forces``.
+    raw_dir_shown : str, optional
+        How to name the folder in messages (defaults to ``raw_dir``).
+    plausibility : dict, optional
+        The config's ``input_checks`` (:func:`plausibility_defaults` for any not
+        given).
+    window : tuple, optional
+        ``(fit_window_mm, min_points_in_window)`` of the config: a trial with
+        fewer distinct distances within the window is refused
+        (:func:`check_thin_trials`); not checked if None.
+    digitise : dict, optional
+        The config's ``digitise`` settings: each photograph pair is read once here
+        (:func:`check_images`); not if None.
+    checked : dict, optional
+        The profiles and outlines already checked, batch by batch
+        (:func:`check_subject_files` on every listed subject, in sheet order, merged):
+        ``depths_mm``, ``outlines``, ``refused`` and their ``errors`` and
+        ``warnings``, taken as they are instead of reading those files here.
+
+    Returns
+    -------
+    dict
+        ``subjects`` (the typed subject sheet), ``depths_mm`` (subject -> sorted
+        list of depths), ``outlines`` (subject -> sorted list of depths with
+        an outline file, for listed subjects that have one) and ``warnings``
+        (lines about files that are not read).
+
+    Raises
+    ------
+    InputError
+        Holding every problem found (``problems``, one line each, naming file,
+        line and column) and the warnings.
+    """
+    shown = raw_dir_shown or raw_dir
+    limits = {**plausibility_defaults(), **(plausibility or {})}
+    found = Problems()
+    found.errors += links_outside(raw_dir, shown)  # refused before anything is opened
+    found.raise_if_any()
+    found.errors += near_miss_names(raw_dir, shown)
+
+    def here(*parts):
+        return os.path.join(raw_dir, *parts), "/".join([shown.rstrip("/"), *parts])
+
+    sheet_path, sheet_shown = here("subjects.csv")
+    subjects = read_table(sheet_path, schemas["subjects"], sheet_shown, found)
+    if subjects is None:
+        found.raise_if_any()
+    profile_dir, profile_dir_shown = here("profiles")
+    id_pattern = re.compile(schemas["subjects"]["properties"]["subject"]["pattern"])
+    photographed = photographed_subjects(raw_dir)
+    image_depths = {}
+    if os.path.isfile(os.path.join(raw_dir, "images", "images.csv")):  # however it is saved
+        image_depths = check_images(
+            raw_dir,
+            schemas.get("images") or _images_schema(),
+            subjects["subject"],
+            shown,
+            found,
+            digitise,
+            limits,
+        )
+    check_subjects(
+        subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern, photographed
+    )
+    magnifications = dict(zip(subjects["subject"], subjects["magnification"], strict=True))
+    listed = [
+        s
+        for s in dict.fromkeys(subjects["subject"])
+        if id_pattern.search(s) and os.path.isfile(os.path.join(profile_dir, f"{s}.csv"))
+    ]
+    if checked is None:
+        depths_mm, outlines, refused = check_subject_files(
+            raw_dir, schemas, listed, magnifications, found, limits, window, shown
+        )
+    else:  # checked batch by batch (the same function), in the same order
+        depths_mm, outlines = dict(checked["depths_mm"]), dict(checked["outlines"])
+        refused = set(checked["refused"])
+        found.errors.extend(checked["errors"])
+        found.warnings.extend(checked["warnings"])
     depths_mm.update(image_depths)  # photographed subjects: the depths of their pairs
     _check_contact_lengths(subjects, sheet_shown, limits["reach_max_mm"], found)
     forces_schema = schemas.get("forces") or _forces_schema()

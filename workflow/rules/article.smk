@@ -4,22 +4,8 @@
 rule article:
     """Typeset the reproduction article (Typst) from the results tables and figures."""
     input:
-        spec=spec(
-            "article",
-            settings={
-                "fit_window_mm": config["fit_window_mm"],
-                "claims": config["claims"],
-                "noise": config["noise"],
-                "sensitivity": config["sensitivity"],
-                "digitise": config["digitise"],
-                # as configured; the job chooses those left unset, as the figure jobs do
-                "figures": {key: config["figures"][key] for key in CHOICE_KEYS},
-            },
-            subjects=SUBJECTS,
-            notice=NOTICE,
-        ),
-        source=os.path.relpath(Path(workflow.basedir, "article", "reproduction.typ")),
-        references=os.path.relpath(Path(workflow.basedir, "article", "references.yml")),
+        source=os.path.relpath(WORKFLOW_DIR / "article" / "reproduction.typ"),
+        references=os.path.relpath(WORKFLOW_DIR / "article" / "references.yml"),
         # the workflow's name, version and release date, printed in the title block
         citation=CITATION_FILES,
         checked=checked_raw_data,
@@ -33,10 +19,15 @@ rule article:
         boundary_calibration=COMMITTED_CALIBRATION["boundary"],
         mechanics_coverage=COMMITTED_CALIBRATION["mechanics_coverage"],
         bootstrap=COMMITTED_CALIBRATION["bootstrap"],
-        # what the reconstruction's generator built in (read only for its data)
-        built_in=os.path.relpath(
-            Path(workflow.basedir).parent / "data" / "built_in_verdicts.json"
+        # its trials: the design the calibration was computed for
+        calibration_design=os.path.relpath(
+            Path(workflow.basedir).parent
+            / "docs"
+            / "calibration"
+            / "bootstrap_trials.csv"
         ),
+        # what the reconstruction's generator built in (read only for its data)
+        built_in=os.path.relpath(REPOSITORY / "data" / "built_in_verdicts.json"),
         figures=[f for f in FIGURE_FILES if f.endswith(".pdf")],
         # the photographed subjects' quality records and figures (none without photographs)
         digitised=expand(rules.digitise.output.quality, subject=list(PHOTOGRAPHS)),
@@ -58,5 +49,17 @@ rule article:
         result("benchmarks", "article.tsv")
     conda:
         ENVIRONMENT
+    params:
+        settings={
+            "fit_window_mm": config["fit_window_mm"],
+            "claims": config["claims"],
+            "noise": config["noise"],
+            "sensitivity": config["sensitivity"],
+            "digitise": config["digitise"],
+            # as configured; the job chooses those left unset, as the figure jobs do
+            "figures": {key: config["figures"][key] for key in CHOICE_KEYS},
+        },
+        subjects=SUBJECTS,
+        notice=lambda wildcards: NOTICE,
     script:
         "../scripts/write_article.py"

@@ -8,11 +8,6 @@
 rule coverage:
     """Coverage of the fits' 95 % intervals on simulated datasets, per model and error kind."""
     input:
-        spec=spec(
-            "coverage",
-            seed=config["calibration"]["seed"],
-            datasets=config["calibration"]["datasets"],
-        ),
         code=code("run_coverage.py"),
     output:
         trials=result("calibration", "coverage_trials.csv"),
@@ -24,6 +19,9 @@ rule coverage:
         result("benchmarks", "coverage.tsv")
     conda:
         ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["datasets"],
     script:
         "../scripts/run_coverage.py"
 
@@ -32,15 +30,6 @@ rule verdict_calibration:
     """How often each claim's rule says holds, does not hold or cannot be checked, against
     the truth, on reconstructions with fresh digitising errors."""
     input:
-        spec=spec(
-            "verdict_calibration",
-            seed=config["calibration"]["seed"],
-            datasets=config["calibration"]["verdict_datasets"],
-            window_mm=config["fit_window_mm"],
-            priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
-            max_trials=config["noise"]["max_trials"],
-            claims=config["claims"],
-        ),
         code=code("run_verdict_calibration.py"),
     output:
         datasets=result("calibration", "verdicts_datasets.csv"),
@@ -52,23 +41,50 @@ rule verdict_calibration:
         result("benchmarks", "verdict_calibration.tsv")
     conda:
         ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["verdict_datasets"],
+        window_mm=config["fit_window_mm"],
+        priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+        max_trials=config["noise"]["max_trials"],
+        claims=config["claims"],
     script:
         "../scripts/run_verdict_calibration.py"
 
 
-rule boundary_calibration:
-    """The verdict of each claim that has a boundary world, at that boundary, on datasets
-    with fresh errors: how often a rule says "holds" where the claim just fails."""
+rule boundary_block:
+    """One boundary world, both sides, read on one block of datasets."""
     input:
-        spec=spec(
-            "boundary_calibration",
-            seed=config["calibration"]["seed"],
-            datasets=config["calibration"]["verdict_datasets"],
-            window_mm=config["fit_window_mm"],
-            priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
-            max_trials=config["noise"]["max_trials"],
-            claims=config["claims"],
-        ),
+        code=code("run_boundary_block.py"),
+    output:
+        temp(result("calibration", "boundary_blocks", "{block}.csv")),
+    log:
+        result("logs", "boundary_block", "{block}.log"),
+    benchmark:
+        result("benchmarks", "boundary_block", "{block}.tsv")
+    wildcard_constraints:
+        block=r"[a-z0-9-]+\.[0-9]+",
+    conda:
+        ENVIRONMENT
+    params:
+        block=lambda w: w.block,
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["verdict_datasets"],
+        block_datasets=config["calibration"]["block_datasets"],
+        window_mm=config["fit_window_mm"],
+        priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+        max_trials=config["noise"]["max_trials"],
+        claims=config["claims"],
+    script:
+        "../scripts/run_boundary_block.py"
+
+
+rule boundary_calibration:
+    """The verdict of each claim that has a boundary world, either side of that boundary,
+    on datasets with fresh errors: how often a rule says "holds" where the claim just
+    fails, and "does not hold" where it just holds. Gathers the blocks."""
+    input:
+        blocks=lambda w: expand(rules.boundary_block.output[0], block=boundary_blocks()),
         code=code("run_boundary_calibration.py"),
     output:
         datasets=result("calibration", "boundary_datasets.csv"),
@@ -80,6 +96,9 @@ rule boundary_calibration:
         result("benchmarks", "boundary_calibration.tsv")
     conda:
         ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["verdict_datasets"],
     script:
         "../scripts/run_boundary_calibration.py"
 
@@ -87,15 +106,6 @@ rule boundary_calibration:
 rule mechanics_coverage:
     """Coverage of the membrane's N0, E and pre-strain on reconstructions with fresh errors."""
     input:
-        spec=spec(
-            "mechanics_coverage",
-            seed=config["calibration"]["seed"],
-            datasets=config["calibration"]["verdict_datasets"],
-            window_mm=config["fit_window_mm"],
-            priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
-            max_trials=config["noise"]["max_trials"],
-            force_sd_N=config["mechanics"]["force_sd_N"],
-        ),
         code=code("run_mechanics_coverage.py"),
     output:
         subjects=result("calibration", "mechanics_coverage_subjects.csv"),
@@ -107,6 +117,13 @@ rule mechanics_coverage:
         result("benchmarks", "mechanics_coverage.tsv")
     conda:
         ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["verdict_datasets"],
+        window_mm=config["fit_window_mm"],
+        priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+        max_trials=config["noise"]["max_trials"],
+        force_sd_N=config["mechanics"]["force_sd_N"],
     script:
         "../scripts/run_mechanics_coverage.py"
 
@@ -114,13 +131,6 @@ rule mechanics_coverage:
 rule bootstrap:
     """A parametric bootstrap of the data's own fits: do their intervals cover there?"""
     input:
-        spec=spec(
-            "bootstrap",
-            seed=config["calibration"]["seed"],
-            replicates=config["calibration"]["bootstrap_replicates"],
-            window_mm=config["fit_window_mm"],
-            notice=NOTICE,
-        ),
         fits=rules.fits_table.output[0],
         noise=rules.noise.output[0],
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
@@ -135,6 +145,11 @@ rule bootstrap:
         result("benchmarks", "bootstrap.tsv")
     conda:
         ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        replicates=config["calibration"]["bootstrap_replicates"],
+        window_mm=config["fit_window_mm"],
+        notice=lambda wildcards: NOTICE,
     script:
         "../scripts/run_bootstrap.py"
 

@@ -1,5 +1,5 @@
 # Config and subject sheet, validated when Snakemake starts; the raw files listed (not
-# read: rule check_raw_data checks them); batches; what each job is given (input functions).
+# read: rule check_raw_data checks them); batches; input functions.
 import os
 import sys
 from pathlib import Path
@@ -8,9 +8,9 @@ from snakemake.exceptions import IncompleteCheckpointException, WorkflowError
 from snakemake.io import strip_wildcard_constraints
 from snakemake.utils import min_version, validate
 
-from lineload import codedeps, settings, startup, validation
+from lineload import buildlock, codedeps, settings, startup, validation
 from lineload.interrupt import stop_on_sigterm
-from lineload.io import load_schema, write_json_if_changed
+from lineload.io import load_schema
 from lineload.validation import InputError
 
 min_version("9.0")
@@ -32,16 +32,15 @@ try:
     validate(config, "../schemas/config.schema.yaml")  # fills in the defaults
 except WorkflowError as error:
     startup.abort(startup.schema_message(error, "config"))
-RAW = config["raw_data"] = startup.data_folder(
-    config["raw_data"], Path(workflow.basedir).parent
-)
+if problem := startup.config_problem(config):  # NaN, infinities, over-long paths
+    startup.abort(problem)
+RAW = config["raw_data"] = startup.data_folder(config["raw_data"], REPOSITORY)
 RES = config["results"]
 if problem := startup.folder_problem(RAW, RES):
     startup.abort(problem)
 
 # The checkout the workflow runs from, and its citation file where this copy has one (a
 # deployed workflow/ and config/ alone do not: then the package's name and version stand in)
-REPOSITORY = Path(workflow.basedir).parent
 CITATION_FILES = [
     os.path.relpath(path) for path in [REPOSITORY / "CITATION.cff"] if path.is_file()
 ]
@@ -123,34 +122,12 @@ def profile_files(wildcards):
     return [PROFILES[s] for s in BATCHES[wildcards.batch] if s in PROFILES]
 
 
-# A job's values are written to <results>/specs/<rule>/<key>.json, an input of the job,
-# rewritten only when they change: the job reruns exactly when its values do, and a
-# reviewer can read what it was given (params would make Snakemake import pandas).
-NEW_SPECS = []  # written by this run; removed again if the raw-data check refuses
-SPEC_FILES = []  # the pattern of each job's spec, for the folders a run may make
-
-
-def spec(job, **values):
-    """Input function writing a job's spec; a value may be a function of the wildcards."""
-    SPEC_FILES.append(result("specs", job, "{key}.json"))
-
-    def write(wildcards):
-        path = result("specs", job, f"{next(iter(wildcards), 'all')}.json")
-        new = not os.path.exists(path)
-        data = {k: v(wildcards) if callable(v) else v for k, v in values.items()}
-        if write_json_if_changed(data, path) and new:
-            NEW_SPECS.append(path)
-        return path
-
-    return write
-
-
 def code(script, modules=()):
     """The package files a rule's script runs (Snakemake sees the script, not its imports)."""
     return [
         os.path.relpath(path)
         for path in codedeps.script_dependencies(
-            Path(workflow.basedir, "scripts", script), modules
+            WORKFLOW_DIR / "scripts" / script, modules
         )
     ]
 
@@ -161,7 +138,7 @@ def crate_files(wildcards):
     Every file of the crate: its name in the crate (under results/), the rule that
     wrote it, its kind, and where it comes from: outputs and logs are where they are;
     the raw inputs (under the raw folder) and the source (in the checkout) are copied
-    into inputs/ and source/.  No absolute path: the spec stays the same wherever the
+    into inputs/ and source/.  No absolute path: the list stays the same wherever the
     folders are."""
     # (the loop variable is "name": a line that starts with the keyword is read as one)
     outputs_of = {**OUTPUTS_BY_RULE, "provenance": list(rules.provenance.output)}
@@ -197,3 +174,18 @@ def crate_files(wildcards):
         for name in SOURCE_FILES
     ]
     return files
+
+
+def boundary_blocks():
+    """Jobs of the boundary calibration: '{world}.{first}' per world and block of
+    datasets (config calibration: verdict_datasets, block_datasets); the worlds are
+    imported only when the calibration is asked for."""
+    from lineload.calibration import BOUNDARY_WORLDS
+
+    total = config["calibration"]["verdict_datasets"]
+    step = config["calibration"]["block_datasets"]
+    return [
+        f"{world}.{first}"
+        for world in BOUNDARY_WORLDS
+        for first in range(0, total, step)
+    ]

@@ -3,18 +3,46 @@
 # (checked_raw_data, common.smk), so a refused folder leaves nothing but its log.
 
 
-checkpoint check_raw_data:
-    """Check every raw file against the data contract: every problem at once, one line each."""
+rule check_profiles:
+    """Check a batch of subjects' profile and outline files (the large part of the check)."""
     input:
-        spec=spec(
-            "check_raw_data",
-            input_checks=config["input_checks"],
-            window_mm=config["fit_window_mm"],
-            min_points=config["min_points_in_window"],
-            # photographs are read once by the check: one that cannot be is refused here
-            digitise=config["digitise"],
-        ),
         sheet=f"{RAW}/subjects.csv",
+        profiles=lambda wildcards: [
+            RAW_FILES["profiles"][f"{s}.csv"]
+            for s in BATCHES[wildcards.batch]
+            if f"{s}.csv" in RAW_FILES["profiles"]
+        ],
+        outlines=lambda wildcards: [
+            RAW_FILES["outlines"][f"{s}.csv"]
+            for s in BATCHES[wildcards.batch]
+            if f"{s}.csv" in RAW_FILES["outlines"]
+        ],
+        code=code("check_profiles.py"),
+    output:
+        result("data", "checked", "{batch}.json"),
+    log:
+        result("logs", "check_profiles", "{batch}.log"),
+    benchmark:
+        result("benchmarks", "check_profiles", "{batch}.tsv")
+    conda:
+        ENVIRONMENT
+    params:
+        subjects=batch_subjects,
+        input_checks=config["input_checks"],
+        window_mm=config["fit_window_mm"],
+        min_points=config["min_points_in_window"],
+    script:
+        "../scripts/check_profiles.py"
+
+
+checkpoint check_raw_data:
+    """Check every raw file against the data contract: every problem at once, one line each.
+
+    The profiles and outlines are read batch by batch (check_profiles); this job checks
+    the rest of the folder and gathers their findings."""
+    input:
+        sheet=f"{RAW}/subjects.csv",
+        batches=expand(rules.check_profiles.output[0], batch=BATCH_IDS),
         # every file of the folder, a stray one too (the check warns about it)
         files=RAW_FILES["all"],
         code=code("check_raw_data.py"),
@@ -26,6 +54,12 @@ checkpoint check_raw_data:
         result("benchmarks", "check_raw_data.tsv")
     conda:
         ENVIRONMENT
+    params:
+        input_checks=config["input_checks"],
+        window_mm=config["fit_window_mm"],
+        min_points=config["min_points_in_window"],
+        # photographs are read once by the check: one that cannot be is refused here
+        digitise=config["digitise"],
     script:
         "../scripts/check_raw_data.py"
 
@@ -51,17 +85,6 @@ rule digitise:
     """Read a photographed subject's profiles from its rest and loaded photographs."""
     input:
         checked=checked_raw_data,
-        spec=spec(
-            "digitise",
-            subject=lambda wildcards: wildcards.subject,
-            label=lambda wildcards: SUBJECTS[wildcards.subject]["label"],
-            magnification=lambda wildcards: SUBJECTS[wildcards.subject][
-                "magnification"
-            ],
-            settings=config["digitise"],
-            window_mm=config["fit_window_mm"],
-            notice=NOTICE,
-        ),
         sheet=f"{RAW}/images/images.csv",
         photographs=lambda wildcards: PHOTOGRAPHS[wildcards.subject],
         # the truth, where the folder gives it (images/truth.csv): for the quality record
@@ -88,6 +111,13 @@ rule digitise:
         result("benchmarks", "digitise", "{subject}.tsv")
     conda:
         ENVIRONMENT
+    params:
+        subject=lambda wildcards: wildcards.subject,
+        label=lambda wildcards: SUBJECTS[wildcards.subject]["label"],
+        magnification=lambda wildcards: SUBJECTS[wildcards.subject]["magnification"],
+        settings=config["digitise"],
+        window_mm=config["fit_window_mm"],
+        notice=lambda wildcards: NOTICE,
     script:
         "../scripts/digitise.py"
 
@@ -96,7 +126,6 @@ rule prepare_profiles:
     """Convert a batch of subjects' readings to tissue mm and average the two sides."""
     input:
         checked=checked_raw_data,
-        spec=spec("prepare_profiles", subjects=batch_subjects),
         profiles=profile_files,
         code=code("prepare_profiles.py"),
     output:
@@ -120,6 +149,8 @@ rule prepare_profiles:
         result("benchmarks", "prepare_profiles", "{batch}.tsv")
     conda:
         ENVIRONMENT
+    params:
+        subjects=batch_subjects,
     script:
         "../scripts/prepare_profiles.py"
 
@@ -128,13 +159,6 @@ rule prepare_outline:
     """Convert one subject's traced outlines (Figure 1) to tissue mm."""
     input:
         checked=checked_raw_data,
-        spec=spec(
-            "prepare_outline",
-            subject=lambda wildcards: wildcards.subject,
-            magnification=lambda wildcards: SUBJECTS[wildcards.subject][
-                "magnification"
-            ],
-        ),
         outline=f"{RAW}/outlines/{{subject}}.csv",
         code=code("prepare_outline.py"),
     output:
@@ -145,5 +169,8 @@ rule prepare_outline:
         result("benchmarks", "prepare_outline", "{subject}.tsv")
     conda:
         ENVIRONMENT
+    params:
+        subject=lambda wildcards: wildcards.subject,
+        magnification=lambda wildcards: SUBJECTS[wildcards.subject]["magnification"],
     script:
         "../scripts/prepare_outline.py"

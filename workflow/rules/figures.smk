@@ -69,94 +69,33 @@ GROUP_FILES = {
 FIGURE_FILES = [f for group in registry.GROUPS for f in GROUP_FILES[group]]
 
 
-rule figure_outlines:
-    """Figure 1: resting and deformed outlines, to scale (a note if there are none)."""
-    input:
-        **GROUP_INPUTS["outlines"],
-        spec=spec(
-            "figure_outlines",
-            group="outlines",
+# One rule per group, figure_<group>, all alike: the group's figures drawn by one
+# script from the registry's entries.
+#   figure_outlines    Figure 1: resting and deformed outlines, to scale
+#   figure_schematics  Figures 3-5: the waterbed model, material point, free body (eq. 19)
+#   figure_fits        Figures 2, 6 and 7: averaged profiles against the fitted models
+#   figure_supplements residuals, parabola against arc, sensitivity, coordinates
+for group in registry.GROUPS:
+
+    rule:
+        name:
+            f"figure_{group}"
+        input:
+            **GROUP_INPUTS[group],
+        output:
+            GROUP_FILES[group],
+        log:
+            result("logs", f"figure_{group}.log"),
+        benchmark:
+            result("benchmarks", f"figure_{group}.tsv")
+        # the supplements (the longest group) start first when several jobs are ready
+        priority: 1 if group == "supplements" else 0
+        conda:
+            ENVIRONMENT
+        params:
+            group=group,
             dpi=config["figures"]["png_dpi"],
-            subjects=GROUP_SUBJECTS["outlines"],
-            settings=GROUP_SETTINGS["outlines"],
-        ),
-    output:
-        GROUP_FILES["outlines"],
-    log:
-        result("logs", "figure_outlines.log"),
-    benchmark:
-        result("benchmarks", "figure_outlines.tsv")
-    conda:
-        ENVIRONMENT
-    script:
-        "../scripts/draw_figures.py"
-
-
-rule figure_schematics:
-    """Figures 3-5: the waterbed model, material point and free-body diagrams, from eq. 19."""
-    input:
-        **GROUP_INPUTS["schematics"],
-        spec=spec(
-            "figure_schematics",
-            group="schematics",
-            dpi=config["figures"]["png_dpi"],
-            subjects=GROUP_SUBJECTS["schematics"],
-            settings=GROUP_SETTINGS["schematics"],
-        ),
-    output:
-        GROUP_FILES["schematics"],
-    log:
-        result("logs", "figure_schematics.log"),
-    benchmark:
-        result("benchmarks", "figure_schematics.tsv")
-    conda:
-        ENVIRONMENT
-    script:
-        "../scripts/draw_figures.py"
-
-
-rule figure_fits:
-    """Figures 2, 6 and 7: averaged profiles against the fitted models."""
-    input:
-        **GROUP_INPUTS["fits"],
-        spec=spec(
-            "figure_fits",
-            group="fits",
-            dpi=config["figures"]["png_dpi"],
-            subjects=GROUP_SUBJECTS["fits"],
-            settings=GROUP_SETTINGS["fits"],
-        ),
-    output:
-        GROUP_FILES["fits"],
-    log:
-        result("logs", "figure_fits.log"),
-    benchmark:
-        result("benchmarks", "figure_fits.tsv")
-    conda:
-        ENVIRONMENT
-    script:
-        "../scripts/draw_figures.py"
-
-
-rule figure_supplements:
-    """Supplementary figures: residuals, parabola against arc, sensitivity, coordinates."""
-    input:
-        **GROUP_INPUTS["supplements"],
-        spec=spec(
-            "figure_supplements",
-            group="supplements",
-            dpi=config["figures"]["png_dpi"],
-            subjects=GROUP_SUBJECTS["supplements"],
-            settings=GROUP_SETTINGS["supplements"],
-        ),
-    output:
-        GROUP_FILES["supplements"],
-    log:
-        result("logs", "figure_supplements.log"),
-    benchmark:
-        result("benchmarks", "figure_supplements.tsv")
-    priority: 1
-    conda:
-        ENVIRONMENT
-    script:
-        "../scripts/draw_figures.py"
+            subjects=GROUP_SUBJECTS[group],
+            settings=GROUP_SETTINGS[group],
+        script:
+            "../scripts/draw_figures.py"

@@ -5,12 +5,6 @@
 rule noise:
     """Measure the digitising noise from every trial's left-right differences."""
     input:
-        spec=spec(
-            "noise",
-            priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
-            max_trials=config["noise"]["max_trials"],
-            window_mm=config["fit_window_mm"],
-        ),
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
         # each photographed subject's digitising record: its trials' registration errors
         quality=expand(rules.digitise.output.quality, subject=list(PHOTOGRAPHS)),
@@ -29,6 +23,10 @@ rule noise:
         result("benchmarks", "noise.tsv")
     conda:
         ENVIRONMENT
+    params:
+        priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+        max_trials=config["noise"]["max_trials"],
+        window_mm=config["fit_window_mm"],
     script:
         "../scripts/estimate_noise.py"
 
@@ -36,9 +34,6 @@ rule noise:
 rule fit_models:
     """Fit the waterbed (paper's, shifted, exact arc) and Boussinesq to each trial of a batch."""
     input:
-        spec=spec(
-            "fit_models", subjects=batch_subjects, window_mm=config["fit_window_mm"]
-        ),
         averaged=rules.prepare_profiles.output.averaged,
         noise=rules.noise.output[0],
         code=code("fit_models.py"),
@@ -50,6 +45,10 @@ rule fit_models:
         result("benchmarks", "fit_models", "{batch}.tsv")
     conda:
         ENVIRONMENT
+    params:
+        subjects=batch_subjects,
+        window_mm=config["fit_window_mm"],
+        other_windows_mm=config["sensitivity"]["windows_mm"],
     script:
         "../scripts/fit_models.py"
 
@@ -80,13 +79,6 @@ rule fits_table:
 rule fit_sensitivity:
     """Refit a batch with other windows, W0 free, in measured coordinates; U shift and reach."""
     input:
-        spec=spec(
-            "fit_sensitivity",
-            subjects=batch_subjects,
-            window_mm=config["fit_window_mm"],
-            windows_mm=config["sensitivity"]["windows_mm"],
-            reach_fraction=config["sensitivity"]["reach_fraction"],
-        ),
         averaged=rules.prepare_profiles.output.averaged,
         code=code("fit_sensitivity.py"),
     output:
@@ -99,6 +91,11 @@ rule fit_sensitivity:
     priority: 1
     conda:
         ENVIRONMENT
+    params:
+        subjects=batch_subjects,
+        window_mm=config["fit_window_mm"],
+        windows_mm=config["sensitivity"]["windows_mm"],
+        reach_fraction=config["sensitivity"]["reach_fraction"],
     script:
         "../scripts/fit_sensitivity.py"
 
@@ -106,7 +103,6 @@ rule fit_sensitivity:
 rule sensitivity_tables:
     """Collect the refits and per-trial checks; summarise them in Markdown."""
     input:
-        spec=spec("sensitivity_tables", notice=NOTICE),
         sensitivity=expand(rules.fit_sensitivity.output.sensitivity, batch=BATCH_IDS),
         checks=expand(rules.fit_sensitivity.output.checks, batch=BATCH_IDS),
         code=code("sensitivity_tables.py"),
@@ -133,5 +129,7 @@ rule sensitivity_tables:
     priority: 1
     conda:
         ENVIRONMENT
+    params:
+        notice=lambda wildcards: NOTICE,
     script:
         "../scripts/sensitivity_tables.py"

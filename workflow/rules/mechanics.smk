@@ -5,11 +5,6 @@
 rule mechanics:
     """Load angle and strain of each trial's exact arc; a subject's forces fitted by N0 + E eps."""
     input:
-        spec=spec(
-            "mechanics",
-            contact_length_mm=CONTACT_LENGTH_MM,
-            force_sd_N=config["mechanics"]["force_sd_N"],
-        ),
         fits=rules.fits_table.output[0],
         forces=FORCES,
         code=code("fit_mechanics.py"),
@@ -34,5 +29,8 @@ rule mechanics:
         result("benchmarks", "mechanics.tsv")
     conda:
         ENVIRONMENT
+    params:
+        contact_length_mm=CONTACT_LENGTH_MM,
+        force_sd_N=config["mechanics"]["force_sd_N"],
     script:
         "../scripts/fit_mechanics.py"

@@ -82,19 +82,11 @@ REPORT_PAGES = [
 rule report_pages:
     """The report's pages: each table and figure shown with its caption; data; software."""
     input:
-        spec=spec(
-            "report_pages",
-            # [name, title] of each table, in the order of the input `tables`
-            tables=[[name, title] for name, (title, _, _) in REPORT_TABLES.items()],
-            config=startup.portable_config(config),
-            notice=NOTICE,
-            subjects=SUBJECTS,
-        ),
         checked=checked_raw_data,
         tables=[table for _, table, _ in REPORT_TABLES.values()],
         figures=[f for f in FIGURE_FILES if f.endswith(".png")],
         captions=[
-            os.path.relpath(Path(workflow.basedir, "report", f"{name}.rst"))
+            os.path.relpath(WORKFLOW_DIR / "report" / f"{name}.rst")
             for name in [
                 *REPORT_TABLES,
                 *(f.name for f in registry.FIGURES),
@@ -110,6 +102,12 @@ rule report_pages:
         result("benchmarks", "report_pages.tsv")
     conda:
         ENVIRONMENT
+    params:
+        # [name, title] of each table, in the order of the input `tables`
+        tables=[[name, title] for name, (title, _, _) in REPORT_TABLES.items()],
+        config=startup.portable_config(config),
+        notice=lambda wildcards: NOTICE,
+        subjects=SUBJECTS,
     script:
         "../scripts/write_report_pages.py"
 
@@ -117,43 +115,34 @@ rule report_pages:
 #: The jobs of the rules that run once per batch or subject: their wildcards' values
 #: (their outputs and their logs are expanded with these).
 JOB_WILDCARDS = {
+    "check_profiles": {"batch": BATCH_IDS},
     "digitise": {"subject": list(PHOTOGRAPHS)},
     "prepare_profiles": {"batch": BATCH_IDS},
     "prepare_outline": {"subject": OUTLINED},
     "fit_models": {"batch": BATCH_IDS},
     "fit_sensitivity": {"batch": BATCH_IDS},
 }
-#: Every output of the default build by the rule that writes it, in the order the rules
-#: run: the provenance record depends on them all, and the run crate names each file's rule.
+#: Every output of the default build by the rule that writes it, from the rules defined
+#: so far (every stage before the records below; the calibration and the targets come
+#: later), in the order they are defined: the provenance record depends on them all,
+#: and the run crate names each file's rule.
 OUTPUTS_BY_RULE = {
-    "check_raw_data": list(rules.check_raw_data.output),
-    "digitise": expand(rules.digitise.output, **JOB_WILDCARDS["digitise"]),
-    "prepare_profiles": expand(
-        rules.prepare_profiles.output, **JOB_WILDCARDS["prepare_profiles"]
-    ),
-    "prepare_outline": expand(
-        rules.prepare_outline.output, **JOB_WILDCARDS["prepare_outline"]
-    ),
-    "noise": list(rules.noise.output),
-    "fit_models": expand(rules.fit_models.output, **JOB_WILDCARDS["fit_models"]),
-    "fits_table": list(rules.fits_table.output),
-    "fit_sensitivity": expand(
-        rules.fit_sensitivity.output, **JOB_WILDCARDS["fit_sensitivity"]
-    ),
-    "sensitivity_tables": list(rules.sensitivity_tables.output),
-    "fit_tables": list(rules.fit_tables.output),
-    "mechanics": list(rules.mechanics.output),
-    "claims_table": list(rules.claims_table.output),
-    **{f"figure_{group}": GROUP_FILES[group] for group in registry.GROUPS},
-    "article": list(rules.article.output),
-    "report_pages": list(rules.report_pages.output),
+    stage.name: expand(
+        getattr(rules, stage.name).output, **JOB_WILDCARDS.get(stage.name, {})
+    )
+    for stage in workflow.rules
 }
+# a rule that runs per batch or subject lists its jobs' wildcards above
+for stage in workflow.rules:
+    if stage.has_wildcards() and stage.name not in JOB_WILDCARDS:
+        raise WorkflowError(
+            f"rule {stage.name}: its jobs' wildcards are not in JOB_WILDCARDS"
+        )
 
 
 rule provenance:
     """Hash every raw input and record config, software versions and git commit."""
     input:
-        spec=spec("provenance", config=startup.portable_config(config)),
         # every raw file the build read: subject sheet, forces, profiles, outlines, notice
         raw=[
             f"{RAW}/subjects.csv",
@@ -178,7 +167,7 @@ rule provenance:
         report_item(
             result("provenance.json"),
             caption="../report/provenance.rst",
-            category="Data",
+            category="Provenance",
             labels={"file": "provenance record"},
         ),
     log:
@@ -187,6 +176,8 @@ rule provenance:
         result("benchmarks", "provenance.tsv")
     conda:
         ENVIRONMENT
+    params:
+        config=startup.portable_config(config),
     script:
         "../scripts/write_provenance.py"
 
@@ -220,7 +211,6 @@ rule crate:
     the software; the raw inputs and the source copied in, so results/ is a whole run.
     """
     input:
-        spec=spec("crate", files=crate_files, rules=CRATE_RULES),
         provenance=rules.provenance.output[0],
         citation=CITATION_FILES,
         # the raw inputs, the subject sheet first (the raw folder is its folder)
@@ -238,6 +228,9 @@ rule crate:
         result("benchmarks", "crate.tsv")
     conda:
         ENVIRONMENT
+    params:
+        files=crate_files,
+        rules=CRATE_RULES,
     script:
         "../scripts/write_crate.py"
 
@@ -249,8 +242,6 @@ rule bundle:
     """On request: the run crate (results, raw inputs, source) as one reproducible zip
     with SHA256SUMS; every file the crate lists, and nothing else."""
     input:
-        spec=spec("bundle", date=str(CITATION.get("date-released") or "1980-01-01")),
-        crate_spec=rules.crate.input.spec,
         crate=rules.crate.output.metadata,
         folders=[rules.crate.output.inputs, rules.crate.output.source],
         provenance=rules.provenance.output[0],
@@ -269,5 +260,10 @@ rule bundle:
         result("logs", "bundle.log"),
     conda:
         ENVIRONMENT
+    params:
+        # the crate's list of files and rules, as the crate job was given it
+        files=crate_files,
+        rules=CRATE_RULES,
+        date=str(CITATION.get("date-released") or "1980-01-01"),
     script:
         "../scripts/write_bundle.py"

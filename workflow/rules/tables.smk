@@ -2,9 +2,7 @@
 
 # The calibration tables kept in the repository (snakemake calibration remakes them).
 COMMITTED_CALIBRATION = {
-    name: os.path.relpath(
-        Path(workflow.basedir).parent / "docs" / "calibration" / f"{name}.csv"
-    )
+    name: os.path.relpath(REPOSITORY / "docs" / "calibration" / f"{name}.csv")
     for name in ("verdicts", "coverage", "boundary", "mechanics_coverage", "bootstrap")
 }
 
@@ -12,7 +10,6 @@ COMMITTED_CALIBRATION = {
 rule fit_tables:
     """Fit table as Markdown and LaTeX; summary per species and depth (CSV, Markdown, LaTeX)."""
     input:
-        spec=spec("fit_tables", notice=NOTICE),
         fits=rules.fits_table.output[0],
         code=code("make_tables.py"),
     output:
@@ -33,6 +30,8 @@ rule fit_tables:
         result("benchmarks", "fit_tables.tsv")
     conda:
         ENVIRONMENT
+    params:
+        notice=lambda wildcards: NOTICE,
     script:
         "../scripts/make_tables.py"
 
@@ -40,14 +39,6 @@ rule fit_tables:
 rule claims_table:
     """Recompute the paper's claims from the fits, averaged profiles and forces, with verdicts."""
     input:
-        spec=spec(
-            "claims_table",
-            settings={
-                **config["claims"],
-                "force_sd_N": config["mechanics"]["force_sd_N"],
-            },
-            notice=NOTICE,
-        ),
         fits=rules.fits_table.output[0],
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
         noise=rules.noise.output[0],
@@ -71,5 +62,11 @@ rule claims_table:
         result("benchmarks", "claims_table.tsv")
     conda:
         ENVIRONMENT
+    params:
+        settings={
+            **config["claims"],
+            "force_sd_N": config["mechanics"]["force_sd_N"],
+        },
+        notice=lambda wildcards: NOTICE,
     script:
         "../scripts/make_claims.py"

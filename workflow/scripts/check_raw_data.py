@@ -1,6 +1,7 @@
 """Rule check_raw_data: every raw file against the data contract, every problem at once.
 
-Reads the raw folder (lineload.validation.check_dataset) and writes what the
+Reads the raw folder (lineload.validation.check_dataset), the profile and outline
+files as the check_profiles jobs found them batch by batch, and writes what the
 later jobs need to know of it: the depths per subject, the outline depths and
 the warnings.  A refused folder prints one line per problem on stderr (and into
 the log), writes nothing else and exits with 1; every job that reads raw data
@@ -11,6 +12,7 @@ import os
 import sys
 
 from lineload.io import json_text, load_schema, output_to, read_json, write_text
+from lineload.jobparams import given
 from lineload.startup import check_record, file_metadata, portable_path
 from lineload.validation import InputError, check_dataset, report_lines
 
@@ -18,7 +20,21 @@ from lineload.validation import InputError, check_dataset, report_lines
 TABLES = ("subjects", "profiles", "outlines", "forces", "images")
 
 
-def check_raw_data(sheet, files, output, log, input_checks, window_mm, min_points, digitise):
+def merged(batches):
+    """The check_profiles jobs' findings as one, in sheet order (the batches' order)."""
+    checked = {"depths_mm": {}, "outlines": {}, "refused": [], "errors": [], "warnings": []}
+    for path in batches:
+        batch = read_json(path)
+        checked["depths_mm"].update(batch["depths_mm"])
+        checked["outlines"].update(batch["outlines"])
+        for key in ("refused", "errors", "warnings"):
+            checked[key] += batch[key]
+    return checked
+
+
+def check_raw_data(
+    sheet, files, batches, output, log, input_checks, window_mm, min_points, digitise
+):
     """Check the folder of ``sheet``; write the summary (or every problem into ``log``).
     Returns the lines for the user: at most MAX_REPORTED errors and where the rest are."""
     raw_dir = os.path.dirname(sheet)  # as configured: the messages name it so
@@ -30,6 +46,7 @@ def check_raw_data(sheet, files, output, log, input_checks, window_mm, min_point
             plausibility=input_checks,
             window=(window_mm, min_points),
             digitise=digitise,
+            checked=merged(batches),
         )
     except InputError as error:
         for line in report_lines(error, limit=len(error.problems)):
@@ -66,9 +83,10 @@ if __name__ == "__main__":
         said, status = check_raw_data(
             snakemake.input.sheet,
             snakemake.input.files,
+            snakemake.input.batches,
             snakemake.output[0],
             snakemake.log[0],
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
         )
     sys.stderr.write("".join(f"{line}\n" for line in said))  # the user sees them too
     sys.exit(status)

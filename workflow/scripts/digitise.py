@@ -10,18 +10,18 @@ job with one line naming it.
 import os
 import sys
 
-import imageio.v3 as iio
-
 from lineload.figures.data import figure_digitised
 from lineload.figures.style import save_figure
-from lineload.io import json_text, load_schema, output_to, read_json, write_text
+from lineload.io import json_text, load_schema, output_to, write_text
+from lineload.jobparams import given
 from lineload.photographs import (
     ImageError,
     digitise_photographs,
     profile_rows,
     quality_record,
+    read_photograph,
 )
-from lineload.synthetic import reading_distances_mm
+from lineload.readings import reading_distances_mm
 from lineload.validation import (
     InputError,
     check_thin_trials,
@@ -63,7 +63,7 @@ def digitise(sheet, subject, label, magnification, settings, window_mm, notice, 
         pair = mine[mine["depth_mm"].astype(float) == depth_mm]
         rest, loaded = (pair[pair["state"] == state].iloc[0] for state in ("rest", "loaded"))
         names = [os.path.join(folder, str(r["file"])) for r in (rest, loaded)]
-        pictures = [iio.imread(name) for name in names]
+        pictures = [read_photograph(name, name) for name in names]
         ppmm = float(scale.loc[loaded.name])
         trial = digitise_photographs(
             *pictures, ppmm, grid, settings, tip_x_px=loaded.get("tip_x_px"), names=names
@@ -109,16 +109,16 @@ def trial_counts(trial):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        spec = read_json(snakemake.input.spec)
+        values = given(snakemake.params)
         try:
             digitise(
                 snakemake.input.sheet,
-                spec["subject"],
-                spec["label"],
-                float(spec["magnification"]),
-                spec["settings"],
-                float(spec["window_mm"]),
-                spec["notice"],
+                values["subject"],
+                values["label"],
+                float(values["magnification"]),
+                values["settings"],
+                float(values["window_mm"]),
+                values["notice"],
                 snakemake.output,
             )
         except (ImageError, InputError) as error:

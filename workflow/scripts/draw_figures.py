@@ -1,6 +1,6 @@
 """Rules figure_*: draw one group of figures from the registry, each as PDF and PNG.
 
-The job's spec names the group, the PNG resolution, the subject list and the
+The job's params name the group, the PNG resolution, the subject list and the
 settings its figures take; the subjects and depths of Figures 1 and 2 left unset
 there are chosen here from the depths the raw-data check found, and the choice
 is printed to the log with its reason.  The tables they read are the job's named
@@ -19,6 +19,7 @@ from lineload.figures import registry
 from lineload.figures.choices import CHOICE_KEYS, ChoiceError, figure_settings
 from lineload.figures.style import save_figure
 from lineload.io import output_to, read_json, read_results_csv
+from lineload.jobparams import given
 
 
 def choose(settings, group, checked, species_of):
@@ -59,7 +60,7 @@ def draw_figures(inputs, outputs, group, dpi, subjects, settings):
 if __name__ == "__main__":
     try:
         with output_to(snakemake.log[0]):
-            draw_figures(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
+            draw_figures(snakemake.input, snakemake.output, **given(snakemake.params))
     except ChoiceError as error:  # a configured choice the data cannot satisfy: one line
         sys.stderr.write(f"Error: {error}\n")
         sys.exit(1)

@@ -3,6 +3,7 @@
 import os
 
 from lineload.io import output_to, read_json, read_trials, write_rows
+from lineload.jobparams import given
 from lineload.noise import (
     NOISE_COLUMNS,
     estimate_noise,
@@ -52,6 +53,6 @@ if __name__ == "__main__":
         noise_table(
             snakemake.input.averaged,
             snakemake.output[0],
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
             quality=snakemake.input.quality,
         )

@@ -1,6 +1,7 @@
 """Rule mechanics: membrane geometry per trial; pre-tension, stiffness, pre-strain per subject."""
 
-from lineload.io import output_to, read_json, read_results_csv, write_csv
+from lineload.io import output_to, read_results_csv, write_csv
+from lineload.jobparams import given
 from lineload.mechanics import SUBJECT_COLUMNS, TRIAL_COLUMNS, mechanics_tables
 from lineload.validation import read_forces
 
@@ -30,5 +31,5 @@ if __name__ == "__main__":
             snakemake.input.fits,
             list(snakemake.input.forces),
             snakemake.output,
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
         )

@@ -1,11 +1,12 @@
 """Rule fit_models: every model for each subject and depth of a batch, all trials at once."""
 
 from lineload.fitting import FIT_COLUMNS, fit_trials
-from lineload.io import output_to, read_json, read_rows, read_trials, write_rows
+from lineload.io import output_to, read_rows, read_trials, write_rows
+from lineload.jobparams import given
 from lineload.noise import trial_models
 
 
-def fit_models(averaged, noise, output, subjects, window_mm):
+def fit_models(averaged, noise, output, subjects, window_mm, other_windows_mm=()):
     """Fit every trial of the batch's subjects with its noise (the dataset's, with a
     digitised trial's registration error); one row per trial."""
     trials = read_trials(averaged, extra=("n_sides",))  # numpy only: one job per batch
@@ -23,6 +24,7 @@ def fit_models(averaged, noise, output, subjects, window_mm):
         window_mm,
         noise=noise_models,
         n_sides=[k[5] for k in keys],
+        other_windows_mm=other_windows_mm,
     )
     rows = []
     for (subject, species, depth_mm, *_), row in zip(keys, fitted, strict=True):
@@ -44,5 +46,5 @@ if __name__ == "__main__":
             snakemake.input.averaged,
             snakemake.input.noise,
             snakemake.output[0],
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
         )

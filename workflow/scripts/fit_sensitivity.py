@@ -4,7 +4,8 @@ import math
 
 import numpy as np
 
-from lineload.io import output_to, read_json, read_trials, write_rows
+from lineload.io import output_to, read_trials, write_rows
+from lineload.jobparams import given
 from lineload.sensitivity import (
     CHECK_COLUMNS,
     SENSITIVITY_COLUMNS,
@@ -46,5 +47,5 @@ if __name__ == "__main__":
             snakemake.input.averaged,
             snakemake.output.sensitivity,
             snakemake.output.checks,
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
         )

@@ -1,6 +1,7 @@
 """Rule claims_table: recompute the paper's claims with verdicts."""
 
 import sys
+from dataclasses import replace
 
 import pandas as pd
 
@@ -13,8 +14,10 @@ from lineload.claims import (
     compute_claims,
     trial_key,
 )
-from lineload.io import output_to, read_json, read_results_csv, read_rows, write_csv, write_text
+from lineload.io import output_to, read_results_csv, read_rows, write_csv, write_text
+from lineload.jobparams import given
 from lineload.noise import model_from_rows, trial_models
+from lineload.priors import CHANGED_COLUMN, prior_column, refit_at_priors, with_prior_verdicts
 from lineload.validation import read_forces
 
 
@@ -29,12 +32,25 @@ def make_claims(inputs, outputs, settings, notice):
     rows = read_rows(noise_path)
     keys = list(zip(fits["subject"], fits["depth_mm"], strict=True))
     settings = ClaimSettings(
-        **settings,
+        **{**settings, "prior_multiples": tuple(settings.get("prior_multiples", ()))},
         noise_model=model_from_rows(rows),
         trial_noise={trial_key(*k): m for k, m in zip(keys, trial_models(rows, keys), strict=True)},
     )
     claims = compute_claims(fits, averaged, settings, forces=forces)
-    write_csv(claims, outputs.csv, columns=CLAIM_COLUMNS)
+    by_multiple = {}
+    for multiple in settings.prior_multiples:
+        # every trial fitted and every claim judged again with the priors scaled
+        scaled = {key: model.scaled_priors(multiple) for key, model in settings.trial_noise.items()}
+        refitted = refit_at_priors(fits, averaged, [scaled[trial_key(*k)] for k in keys])
+        at_multiple = replace(
+            settings,
+            noise_model=settings.noise_model.scaled_priors(multiple),
+            trial_noise=scaled,
+        )
+        by_multiple[multiple] = compute_claims(refitted, averaged, at_multiple, forces=forces)
+    claims = with_prior_verdicts(claims, by_multiple)
+    columns = [*CLAIM_COLUMNS, *(prior_column(m) for m in by_multiple), CHANGED_COLUMN]
+    write_csv(claims, outputs.csv, columns=columns)
     error_rates = claim_error_rates(
         read_results_csv(inputs.verdict_calibration),
         read_results_csv(inputs.boundary_calibration),
@@ -47,7 +63,7 @@ def make_claims(inputs, outputs, settings, notice):
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
         try:
-            make_claims(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
+            make_claims(snakemake.input, snakemake.output, **given(snakemake.params))
         except InternalError as error:
             # a bug, not a finding: one sentence where the user looks, no claims written
             print(f"Error: {error}")

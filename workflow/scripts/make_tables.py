@@ -1,6 +1,7 @@
 """Rule fit_tables: fit table and species summary as Markdown, LaTeX and CSV."""
 
-from lineload.io import output_to, read_json, read_results_csv, write_csv, write_text
+from lineload.io import output_to, read_results_csv, write_csv, write_text
+from lineload.jobparams import given
 from lineload.tables import (
     SUMMARY_COLUMNS,
     fits_latex,
@@ -25,4 +26,4 @@ def make_tables(fits_path, outputs, notice):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        make_tables(snakemake.input.fits, snakemake.output, **read_json(snakemake.input.spec))
+        make_tables(snakemake.input.fits, snakemake.output, **given(snakemake.params))

@@ -1,7 +1,8 @@
 """Rule prepare_outline: a traced outline (image mm) -> tissue mm."""
 
 from lineload.averaging import OUTLINE_COLUMNS, outline_to_tissue_mm
-from lineload.io import load_schema, output_to, read_json, write_csv
+from lineload.io import load_schema, output_to, write_csv
+from lineload.jobparams import given
 from lineload.validation import read_table
 
 
@@ -18,6 +19,4 @@ def prepare_outline(outline_path, output_path, subject, magnification):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        prepare_outline(
-            snakemake.input.outline, snakemake.output[0], **read_json(snakemake.input.spec)
-        )
+        prepare_outline(snakemake.input.outline, snakemake.output[0], **given(snakemake.params))

@@ -13,7 +13,8 @@ from lineload.averaging import (
     average_subjects,
     tissue_columns,
 )
-from lineload.io import load_schema, output_to, read_json, write_columns
+from lineload.io import load_schema, output_to, write_columns
+from lineload.jobparams import given
 from lineload.validation import check_no_duplicate_readings, read_columns
 
 
@@ -52,7 +53,7 @@ if __name__ == "__main__":
     with output_to(snakemake.log[0]):
         prepare_profiles(
             snakemake.input.profiles,
-            read_json(snakemake.input.spec)["subjects"],
+            given(snakemake.params)["subjects"],
             snakemake.output.converted,
             snakemake.output.averaged,
         )

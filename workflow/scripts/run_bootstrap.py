@@ -8,7 +8,8 @@ from lineload.coverage import (
     calibration_command,
     summarise_coverage,
 )
-from lineload.io import output_to, read_json, read_rows, read_trials, write_rows, write_text
+from lineload.io import output_to, read_rows, read_trials, write_rows, write_text
+from lineload.jobparams import given
 from lineload.noise import model_from_rows, trial_models
 
 #: Each model's fitted parameters, as the fit table names them.
@@ -58,4 +59,4 @@ def bootstrap(inputs, outputs, seed, replicates, window_mm, notice):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        bootstrap(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
+        bootstrap(snakemake.input, snakemake.output, **given(snakemake.params))

@@ -1,36 +1,54 @@
-"""Rule boundary_calibration: each claim's verdicts where the claim just stops being true."""
+"""Rule boundary_calibration: the blocks of every boundary world gathered and summarised."""
+
+import csv
 
 from lineload.calibration import (
     BOUNDARY_COLUMNS,
     BOUNDARY_SUMMARY_COLUMNS,
-    BOUNDARY_WORLDS,
     boundary_markdown,
-    boundary_study,
     summarise_boundary,
 )
 from lineload.coverage import calibration_command
-from lineload.io import output_to, read_json, write_rows, write_text
+from lineload.io import output_to, write_rows, write_text
+from lineload.jobparams import given
+
+#: How the gathered rows' columns are read back (the rest are text).
+_TYPES = {"effect": float, "dataset": int}
+_FLAGS = ("wrong_holds", "wrong_fails")
 
 
-def boundary_calibration(outputs, seed, datasets, window_mm, priors, max_trials, claims):
-    """Run every boundary world; write its datasets' verdicts, the summary and its Markdown."""
-    rows = []
-    for world in BOUNDARY_WORLDS:
-        found = boundary_study(world, seed, datasets, window_mm, priors, max_trials, claims)
-        print(f"{world}: boundary at t = {found[0]['effect']:.6g}")
-        rows.extend(found)
+def _read_block(path):
+    with open(path, newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    for row in rows:
+        for key, kind in _TYPES.items():
+            row[key] = kind(row[key])
+        for key in _FLAGS:
+            row[key] = row[key] == "True"
+    return rows
+
+
+def boundary_calibration(outputs, blocks, seed, datasets):
+    """Gather the blocks; write every dataset's verdict, the summary and its Markdown."""
+    rows = [row for path in blocks for row in _read_block(path)]
+    rows.sort(key=lambda r: (r["world"], r["side"], r["dataset"]))
     summary = summarise_boundary(rows)
+    order = {row["world"]: i for i, row in enumerate(summary)}
+    rows.sort(key=lambda r: (order[r["world"]], r["side"] != "holding", r["dataset"]))
     write_rows(rows, BOUNDARY_COLUMNS, outputs.datasets)
     write_rows(summary, BOUNDARY_SUMMARY_COLUMNS, outputs.summary)
     command = calibration_command(seed, verdict_datasets=datasets)
     write_text(boundary_markdown(summary, command), outputs.markdown)
     for row in summary:
         print(
-            f"{row['world']} ({row['claim']}): truth {row['truth']}, {row['n_wrong']} wrong "
-            f"of {row['n_datasets']} ({row['wrong_rate']:.3f})"
+            f"{row['world']} ({row['claim']}, {row['side']} side): truth {row['truth']}, "
+            f"'holds' wrong in {row['n_wrong_holds']}, 'does not hold' wrong in "
+            f"{row['n_wrong_fails']} of {row['n_datasets']}"
         )
 
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        boundary_calibration(snakemake.output, **read_json(snakemake.input.spec))
+        boundary_calibration(
+            snakemake.output, list(snakemake.input.blocks), **given(snakemake.params)
+        )

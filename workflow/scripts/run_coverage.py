@@ -8,7 +8,8 @@ from lineload.coverage import (
     coverage_study,
     summarise_coverage,
 )
-from lineload.io import output_to, read_json, write_rows, write_text
+from lineload.io import output_to, write_rows, write_text
+from lineload.jobparams import given
 
 
 def coverage(outputs, seed, datasets):
@@ -29,4 +30,4 @@ def coverage(outputs, seed, datasets):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        coverage(snakemake.output, **read_json(snakemake.input.spec))
+        coverage(snakemake.output, **given(snakemake.params))

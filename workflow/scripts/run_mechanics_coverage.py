@@ -8,7 +8,8 @@ from lineload.calibration import (
     summarise_mechanics,
 )
 from lineload.coverage import calibration_command
-from lineload.io import output_to, read_json, write_rows, write_text
+from lineload.io import output_to, write_rows, write_text
+from lineload.jobparams import given
 
 
 def mechanics_coverage(outputs, seed, datasets, window_mm, priors, max_trials, force_sd_N):
@@ -25,4 +26,4 @@ def mechanics_coverage(outputs, seed, datasets, window_mm, priors, max_trials, f
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        mechanics_coverage(snakemake.output, **read_json(snakemake.input.spec))
+        mechanics_coverage(snakemake.output, **given(snakemake.params))

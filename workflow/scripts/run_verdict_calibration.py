@@ -8,7 +8,8 @@ from lineload.calibration import (
     verdict_study,
 )
 from lineload.coverage import calibration_command
-from lineload.io import output_to, read_json, write_rows, write_text
+from lineload.io import output_to, write_rows, write_text
+from lineload.jobparams import given
 
 
 def verdict_calibration(outputs, seed, datasets, window_mm, priors, max_trials, claims):
@@ -28,4 +29,4 @@ def verdict_calibration(outputs, seed, datasets, window_mm, priors, max_trials, 
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        verdict_calibration(snakemake.output, **read_json(snakemake.input.spec))
+        verdict_calibration(snakemake.output, **given(snakemake.params))

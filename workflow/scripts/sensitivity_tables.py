@@ -2,7 +2,8 @@
 
 import pandas as pd
 
-from lineload.io import output_to, read_json, read_results_csv, write_csv, write_text
+from lineload.io import output_to, read_results_csv, write_csv, write_text
+from lineload.jobparams import given
 from lineload.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS
 from lineload.tables import sensitivity_markdown
 
@@ -19,4 +20,4 @@ def sensitivity_tables(inputs, outputs, notice):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        sensitivity_tables(snakemake.input, snakemake.output, **read_json(snakemake.input.spec))
+        sensitivity_tables(snakemake.input, snakemake.output, **given(snakemake.params))

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import typst
 
-from lineload.article import article_facts, photograph_facts
-from lineload.citation import citation_or_default, software_name
+from lineload.article import article_facts, calibration_design, photograph_facts
+from lineload.citation import author_names, citation_or_default, software_name
 from lineload.figures.choices import figure_settings
 from lineload.io import (
     json_text,
@@ -24,6 +24,7 @@ from lineload.io import (
     replaced_atomically,
     write_text,
 )
+from lineload.jobparams import given
 from lineload.noise import reading_noise_mm
 from lineload.provenance import git_state, package_versions
 from lineload.synthetic import DATA_NOTICE
@@ -49,6 +50,9 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
         "name": software_name(citation),
         "version": citation["version"],
         "released": citation.get("date-released", ""),
+        # the byline: a placeholder until a release names the authors, shown as such
+        "authors": author_names(citation)[0],
+        "authors_placeholder": author_names(citation)[1],
         "python": platform.python_version(),
         "packages": package_versions(),
         "git": git_state(repository),
@@ -79,9 +83,11 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
             "boundary": read_results_csv(inputs.boundary_calibration),
             "mechanics": read_results_csv(inputs.mechanics_coverage),
             "bootstrap": read_results_csv(inputs.bootstrap),
+            "design": calibration_design(read_results_csv(inputs.calibration_design)),
         },
         # the generator's own list of what it built in: for its reconstruction only
         read_json(inputs.built_in) if notice == DATA_NOTICE.splitlines()[0] else None,
+        results_name=Path(outputs.facts).resolve().parents[1].name,
     )
     # the subjects read from photographs: how well, and their quality figures
     results = Path(outputs.facts).resolve().parents[1]
@@ -107,6 +113,6 @@ if __name__ == "__main__":
         write_article(
             snakemake.input,
             snakemake.output,
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
             repository=Path(snakemake.scriptdir).parents[1],  # for its git commit
         )

@@ -23,13 +23,12 @@ def bundle(files, rules, provenance, citation, crate_metadata, output, date):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        spec = read_json(snakemake.input.crate_spec)
         bundle(
-            spec["files"],
-            spec["rules"],
+            snakemake.params.files,
+            snakemake.params.rules,
             snakemake.input.provenance,
             snakemake.input.citation,
             snakemake.input.crate,
             snakemake.output[0],
-            **read_json(snakemake.input.spec),
+            date=snakemake.params.date,
         )

@@ -43,10 +43,9 @@ def crate(files, rules, provenance, citation, output, raw_dir, repository):
 
 if __name__ == "__main__":
     with output_to(snakemake.log[0]):
-        spec = read_json(snakemake.input.spec)
         crate(
-            spec["files"],
-            spec["rules"],
+            snakemake.params.files,
+            snakemake.params.rules,
             snakemake.input.provenance,
             snakemake.input.citation,
             snakemake.output,

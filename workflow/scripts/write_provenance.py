@@ -3,7 +3,8 @@
 import os
 from pathlib import Path
 
-from lineload.io import output_to, read_json, write_text
+from lineload.io import output_to, write_text
+from lineload.jobparams import given
 from lineload.provenance import provenance_record, to_json
 
 
@@ -23,6 +24,6 @@ if __name__ == "__main__":
         write_provenance(
             snakemake.input.raw,
             snakemake.output[0],
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
             repository=Path(snakemake.scriptdir).parents[1],  # for its git commit
         )

@@ -13,6 +13,7 @@ from jinja2 import Template
 from lineload.article import group_depths_text
 from lineload.figures import registry
 from lineload.io import output_to, read_json, read_results_csv, write_text
+from lineload.jobparams import given
 from lineload.provenance import git_state, package_versions
 from lineload.reportpages import figure_page, table_page, versions_page
 
@@ -24,7 +25,7 @@ def caption(path, config):
 
 
 def write_report_pages(inputs, outputs, tables, config, notice, subjects, repository):
-    """Write every page listed in the spec into the folder of the job's outputs."""
+    """Write every page listed in the job's params into the folder of the job's outputs."""
     captions = Path(inputs.captions[0]).parent
     folder = Path(outputs[0]).parent
     depths_mm = read_json(inputs.checked)["depths_mm"]
@@ -79,6 +80,6 @@ if __name__ == "__main__":
         write_report_pages(
             snakemake.input,
             snakemake.output,
-            **read_json(snakemake.input.spec),
+            **given(snakemake.params),
             repository=Path(snakemake.scriptdir).parents[1],  # for its git commit
         )

@@ -193,6 +193,15 @@ def figure_residuals(averaged, fits, subjects, fit_window_mm, notice=""):
 # ---------------------------------------------------------------- parabola against arc
 
 
+def _shifted_largest_text(shifted_diff, depth_mm):
+    """'shifted 1.2%', the shifted parabola's largest gap to eq. 19 over W0; where the
+    shifted curve does not exist (``L <= sqrt(6) W0``, no point of it finite) says so."""
+    finite = np.abs(shifted_diff[np.isfinite(shifted_diff)])
+    if not finite.size:
+        return "shifted: none (L ≤ √6 W₀)"
+    return f"shifted {100 * float(finite.max()) / depth_mm:.1f}%"
+
+
 @styled
 def figure_arc_vs_parabola(fits, notice=""):
     """Supplement: the small-slope parabola (eq. 19) against the exact arc, per depth.
@@ -302,7 +311,7 @@ def figure_arc_vs_parabola(fits, notice=""):
             0.04,
             0.96,
             f"largest / W₀:\narc {100 * largest:.1f}%\n"
-            f"shifted {100 * float(np.nanmax(np.abs(shifted_diff))) / depth_mm:.1f}%",
+            + _shifted_largest_text(shifted_diff, depth_mm),
             transform=bottom.transAxes,
             ha="left",
             va="top",
@@ -612,18 +621,8 @@ def figure_coordinates(fits, checks, noise=None, noise_mm=None, notice=""):
                 gid=f"gap:{model}",
             )
             gaps.extend(values[np.isfinite(values)])
+    # the noise line is named in the legend: a label on the line would sit on the points
     ax_gap.axhline(noise_mm, color="0.5", linestyle=":", linewidth=0.8)
-    ax_gap.annotate(
-        # two significant figures: the measured noise is known to a few per cent
-        f"digitising noise of one reading ({1000 * noise_mm:.2g} µm)",
-        xy=(0.02, noise_mm),
-        xycoords=("axes fraction", "data"),
-        xytext=(0, 2),
-        textcoords="offset points",
-        va="bottom",
-        fontsize=7,
-        color="0.4",
-    )
     if depths:
         ax_gap.set_xticks(depths, [f"{d:g}" for d in depths])
         ax_gap.set_xlim(depths[0] - 0.3, depths[-1] + 0.3)
@@ -653,8 +652,20 @@ def figure_coordinates(fits, checks, noise=None, noise_mm=None, notice=""):
             label=SPECIES_PLURAL[species],
         )
         for species, marker in SPECIES_MARKERS.items()
+        if len(checks) and (checks["species"] == species).any()  # only those drawn
     ]
-    fig.legend(handles=handles, loc="outside upper center", ncols=4)
+    handles.append(
+        Line2D(
+            [],
+            [],
+            color="0.5",
+            linestyle=":",
+            linewidth=0.8,
+            # two significant figures: the measured noise is known to a few per cent
+            label=f"(b) digitising noise of one reading ({1000 * noise_mm:.2g} µm)",
+        )
+    )
+    fig.legend(handles=handles, loc="outside upper center", ncols=3)
     add_footer(fig, notice)
     return fig
 
