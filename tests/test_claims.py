@@ -884,3 +884,60 @@ def test_table_rules_end_to_end(tmp_path, small_build):
     assert again.returncode == 0, again.stderr[-3000:]
     assert "claims_table" in again.stderr and "fit_tables" in again.stderr  # really rerun
     assert {name: (out / "tables" / name).read_bytes() for name in names} == before
+
+
+# ------------------------------------------------------------ C13, the bending skin
+
+
+def bending_subjects(bending_length_mm, seed=11):
+    """Four monkeys at 0.5-2 mm made by the bending skin with ``bending_length_mm(depth)``,
+    small noise; fitted by the workflow's code, the bending fits beside the fit table."""
+    from lineload.bending import bending_deflection_mm
+    from lineload.bending_fit import fit_bending_trials, with_bending
+
+    rng = np.random.default_rng(seed)
+    trials = []
+    for subject, L_mm in (("A", 10.0), ("B", 11.0), ("C", 12.0), ("D", 13.0)):
+        for d in (0.5, 1.0, 1.5, 2.0):
+            lb_mm = bending_length_mm(d)
+            w = (
+                bending_deflection_mm(GRID_MM, d, L_mm, lb_mm)
+                if lb_mm > 0
+                else (models.waterbed_deflection_mm(GRID_MM, d, L_mm))
+            )
+            trials.append((subject, "monkey", d, w + rng.normal(0, 0.002, GRID_MM.size)))
+    fits, averaged = fitted_dataset(trials)
+    rows = fit_bending_trials(
+        [GRID_MM] * len(trials), [t[3] for t in trials], [t[2] for t in trials], 3.0
+    )
+    bending = pd.DataFrame(
+        [{"subject": t[0], "species": t[1], **r} for t, r in zip(trials, rows, strict=True)]
+    )
+    return with_bending(fits, bending), averaged
+
+
+def test_c13_holds_where_the_skin_bends_more_the_deeper_the_wedge():
+    fits, averaged = bending_subjects(lambda d: 0.1 * d**2)
+    row = CLAIM_FUNCTIONS["C13"](fits, averaged, ClaimSettings(noise_mm=0.002))
+    assert row["verdict"] == HOLDS, row["our_value"]
+    assert row["kind"] == "the paper's closing suggestion"
+
+
+def test_c13_does_not_hold_where_bending_matters_less_the_deeper_the_wedge():
+    fits, averaged = bending_subjects(lambda d: 0.3 / d**2)
+    row = CLAIM_FUNCTIONS["C13"](fits, averaged, ClaimSettings(noise_mm=0.002))
+    assert row["verdict"] == FAILS, row["our_value"]
+
+
+def test_c13_is_not_made_to_hold_by_noise_on_a_membrane():
+    # the paper's membrane itself: the extra parameter only fits noise, whose share the
+    # rule removes; the relative correction is largest at the smallest depth
+    for seed in (1, 2, 3):
+        fits, averaged = bending_subjects(lambda d: 0.0, seed=seed)
+        row = CLAIM_FUNCTIONS["C13"](fits, averaged, ClaimSettings(noise_mm=0.002))
+        assert row["verdict"] != HOLDS, row["our_value"]
+
+
+def test_c13_without_bending_fits_cannot_be_checked():
+    fits, averaged = shape_subjects(lambda d, e: power_profile_mm(d, e))
+    assert verdict("C13", fits, averaged) == UNTESTABLE

@@ -32,6 +32,7 @@ from .tables import (
 
 __all__ = [
     "article_facts",
+    "bending_facts",
     "calibration_design",
     "counted",
     "dataset_design",
@@ -695,4 +696,47 @@ def _mechanics_facts(mechanics):
         "with_contact_lengths": with_lengths,
         "any_exact": bool((mechanics["dof"].to_numpy(int) == 0).any()),
         "rows": rows,
+    }
+
+
+def bending_facts(bending, fits, claims):
+    """What the article says of the bending skin (issue: the paper's closing suggestion).
+
+    Parameters
+    ----------
+    bending : pandas.DataFrame or None
+        The bending table (``tables/bending.csv``); None or empty without one.
+    fits : pandas.DataFrame
+        The fit table (the waterbed's AICc, for the comparison on the same points).
+    claims : pandas.DataFrame
+        The claims table (C13's verdict).
+
+    Returns
+    -------
+    dict or None
+        Counts and ranges as text: trials fitted, how many bending lengths lie at the
+        range's end (not told from the membrane), the range of the others, how many
+        trials the bending skin wins by AICc on the same points, C13's verdict.
+    """
+    if bending is None or not len(bending):
+        return None
+    fitted = bending[np.isfinite(bending["bending_length_mm"].astype(float))]
+    at_end = fitted["bending_length_at_bound"].astype(float) > 0
+    free = fitted[~at_end]
+    merged = fitted.merge(
+        fits[["subject", "depth_mm", "waterbed_aicc"]], on=["subject", "depth_mm"], how="left"
+    )
+    better = int((merged["bending_aicc"] < merged["waterbed_aicc"]).sum())
+    c13 = claims.loc[claims["claim"] == "C13", "verdict"]
+    return {
+        "n": counted(len(fitted), "trial"),
+        "every": every(len(fitted), "trial"),
+        "at_end": counted(int(at_end.sum()), "trial"),
+        "all_at_end": bool(at_end.all()),
+        "none_at_end": not bool(at_end.any()),
+        "free": counted(len(free), "trial"),
+        "free_range": span_text(free["bending_length_mm"].to_numpy(float), 3),
+        "better_aicc": f"{better} of {counted(len(fitted), 'trial')}",
+        "wall": str(fitted["wall"].iloc[0]) if "wall" in fitted and len(fitted) else "clamped",
+        "c13": str(c13.iloc[0]) if len(c13) else "",
     }

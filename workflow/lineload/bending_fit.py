@@ -40,7 +40,13 @@ from .bending import bending_deflection_mm
 from .fitting import FitResult, goodness_of_fit
 from .optimize import CHI2_1DOF_95
 
-__all__ = ["BENDING_COLUMNS", "BENDING_LENGTH_BOUNDS_MM", "fit_bending", "fit_bending_trials"]
+__all__ = [
+    "BENDING_COLUMNS",
+    "BENDING_LENGTH_BOUNDS_MM",
+    "fit_bending",
+    "fit_bending_trials",
+    "with_bending",
+]
 
 #: Default range of the bending length searched (mm).  The lower end stands for the
 #: paper's membrane: there the profile lies within ``4 W0 l_b / L`` (below 0.1 um at
@@ -346,3 +352,31 @@ def fit_bending_trials(
             }
         )
     return rows
+
+
+def with_bending(fits, bending):
+    """The fit table with the bending fits' columns beside it, row for row.
+
+    Parameters
+    ----------
+    fits : pandas.DataFrame
+        The fit table (``subject``, ``depth_mm``, ...).
+    bending : pandas.DataFrame
+        A table with the ``bending_*`` columns (:data:`BENDING_COLUMNS`) by subject and
+        depth: the bending table, or a fit table that already carries them.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``fits`` in its order with the ``bending_*`` columns of the same trial (NaN for
+        a trial the bending table lacks), replacing any it had.
+    """
+    columns = [c for c in bending.columns if c.startswith("bending_")]
+    keep = fits.drop(columns=[c for c in columns if c in fits.columns])
+    right = bending[["subject", "depth_mm", *columns]].copy()
+    right["depth_mm"] = right["depth_mm"].astype(float).round(9)
+    left = keep.assign(_depth=keep["depth_mm"].astype(float).round(9))
+    merged = left.merge(
+        right.rename(columns={"depth_mm": "_depth"}), on=["subject", "_depth"], how="left"
+    )
+    return merged.drop(columns="_depth").set_axis(fits.index)

@@ -78,6 +78,7 @@ __all__ = [
     "FORCE_CLAIMS",
     "MARGIN_GRID",
     "PAPER_CLAIM",
+    "PAPER_SUGGESTION",
     "VERDICTS",
     "ClaimSettings",
     "InternalError",
@@ -109,6 +110,7 @@ PAPER_CLAIM = "paper claim"
 METHOD_PROPERTY = "property of the method"
 METHOD_IDENTITY = "identity of the method"
 MODEL_CHECK = "model-consistency check"
+PAPER_SUGGESTION = "the paper's closing suggestion"
 #: What each row is.  Only the paper's claims about fingers are counted as evidence
 #: (:func:`verdict_counts`); the others are checked and reported apart:
 #:
@@ -126,6 +128,7 @@ CLAIM_KINDS = {
     "C6": METHOD_PROPERTY,
     "C7": METHOD_IDENTITY,
     "C11": MODEL_CHECK,
+    "C13": PAPER_SUGGESTION,
 }
 
 #: The margins searched for the smallest at which an equivalence test holds (C2, C6, C10).
@@ -230,6 +233,14 @@ CLAIM_TEXT = {
         f"{min(paper.DEPTHS_MM):g}-{max(paper.DEPTHS_MM):g} mm: at most "
         f"{paper.FORCE_RANGE_N[1] / paper.FORCE_RANGE_N[0]:.2f} times more force at one depth "
         "than at another",
+    ),
+    "C13": (
+        "(The paper's closing suggestion) The skin's bending stiffness accounts for the "
+        "waterbed's worsening with depth: a skin that bends describes the profiles better "
+        "than the membrane by more, relative to the deformation, the deeper the wedge.",
+        "Discussion, last paragraph",
+        "a suggestion, no number: for more accuracy the skin's thickness and bending "
+        "rigidity may have to be modelled",
     ),
 }
 
@@ -1495,13 +1506,8 @@ def claim_c8(fits, averaged, settings):
         subject = str(fit["subject"])
         species_of[subject] = str(fit["species"])
         relative.setdefault(subject, []).append((depth_mm, (rmse_mm**2 - variance) / depth_mm**2))
-    slopes = {}
-    for subject, values in relative.items():
-        depths = np.array([d for d, _ in values])
-        if np.unique(depths).size >= 2:
-            slopes[subject] = float(np.polyfit(depths, [q for _, q in values], 1)[0])
-    species = sorted({species_of[s] for s in slopes})
-    df = len(slopes) - len(species)
+    test = _slopes_across_subjects(relative, species_of, alpha)
+    slopes, species, df = test["slopes"], test["species"], test["df"]
     per_depth = {}
     for values in relative.values():
         for depth_mm, value in values:
@@ -1519,17 +1525,8 @@ def claim_c8(fits, averaged, settings):
             f"subjects (at least {len(species) + 1 if species else 2} are needed).",
             rule,
         )
-    groups = {sp: np.array([v for s, v in slopes.items() if species_of[s] == sp]) for sp in species}
-    group_means = np.array([g.mean() for g in groups.values()])
-    residual = np.concatenate([g - g.mean() for g in groups.values()])
-    variance = float(np.sum(residual**2)) / df
-    # the contrast: mean over species of each species' mean slope
-    weights = np.array([1.0 / len(species) / g.size for g in groups.values()])
-    estimate = float(group_means.mean())
-    se = math.sqrt(variance * float(np.sum(weights**2 * [g.size for g in groups.values()])))
-    t_value = estimate / se if se > 0 else math.copysign(math.inf, estimate)
-    p_value = float(student_t.sf(t_value, df))
-    upper = estimate + float(student_t.ppf(1.0 - alpha, df)) * se
+    estimate, se, t_value = test["estimate"], test["se"], test["t"]
+    p_value, upper = test["p"], test["upper"]
     per_subject = ", ".join(f"{s} {format_fixed(100 * v, 3)}" for s, v in slopes.items())
     our = (
         f"relative excess misfit (RMSE² − s²) / W₀² (%), mean per depth: {means}; slope "
@@ -1558,6 +1555,58 @@ def claim_c8(fits, averaged, settings):
         "neither shown to be above zero nor below it."
     )
     return _row("C8", our, UNTESTABLE, reason, rule)
+
+
+def _slopes_across_subjects(relative, species_of, alpha):
+    """Per-subject slopes of a per-trial statistic against depth, tested across subjects.
+
+    Each subject with two or more depths gives the least-squares slope; the slopes are
+    regressed on species (a fixed effect) and the mean of the species' mean slopes is
+    tested one-sided by Student's t, with ``subjects - species`` degrees of freedom.
+
+    Parameters
+    ----------
+    relative : dict
+        Subject -> list of ``(depth_mm, value)``.
+    species_of : dict
+        Subject -> species.
+    alpha : float
+        Significance of the one-sided test.
+
+    Returns
+    -------
+    dict
+        ``slopes`` (subject -> slope), ``species``, ``df``; with ``df >= 1`` also
+        ``estimate``, ``se``, ``t``, ``p`` (one-sided, above zero) and ``upper`` (the
+        one-sided ``1 - alpha`` upper bound).
+    """
+    slopes = {}
+    for subject, values in relative.items():
+        depths = np.array([d for d, _ in values])
+        if np.unique(depths).size >= 2:
+            slopes[subject] = float(np.polyfit(depths, [q for _, q in values], 1)[0])
+    species = sorted({species_of[s] for s in slopes})
+    df = len(slopes) - len(species)
+    test = {"slopes": slopes, "species": species, "df": df}
+    if df < 1:
+        return test
+    groups = {sp: np.array([v for s, v in slopes.items() if species_of[s] == sp]) for sp in species}
+    group_means = np.array([g.mean() for g in groups.values()])
+    residual = np.concatenate([g - g.mean() for g in groups.values()])
+    variance = float(np.sum(residual**2)) / df
+    # the contrast: mean over species of each species' mean slope
+    weights = np.array([1.0 / len(species) / g.size for g in groups.values()])
+    estimate = float(group_means.mean())
+    se = math.sqrt(variance * float(np.sum(weights**2 * [g.size for g in groups.values()])))
+    t_value = estimate / se if se > 0 else math.copysign(math.inf, estimate)
+    test.update(
+        estimate=estimate,
+        se=se,
+        t=t_value,
+        p=float(student_t.sf(t_value, df)),
+        upper=estimate + float(student_t.ppf(1.0 - alpha, df)) * se,
+    )
+    return test
 
 
 def _p_text(p_value):
@@ -1960,6 +2009,101 @@ def claim_c11(fits, averaged, settings, forces=None):
     return _row("C11", our, UNTESTABLE, reason + ".", rule)
 
 
+def claim_c13(fits, averaged, settings):
+    """C13: the bending skin's advantage over the waterbed, relative to the deformation,
+    grows with depth (the paper's closing suggestion, :mod:`lineload.bending`).
+
+    The statistic of a trial is ``b = (RMSE_w**2 - RMSE_b**2 - s**2 / (2 n)) / W0**2``:
+    how much less mean square misfit the bending skin leaves than the waterbed (the
+    waterbed being the bending skin's limit ``l_b -> 0``, the difference is never
+    negative beyond rounding), over W0**2 as C8 measures the waterbed's misfit.  Fitting
+    pure noise, the extra parameter takes ``s**2 / 2`` of the sum of squares on average
+    (half the time the fit stays at the membrane, the range's end, and takes nothing;
+    Self and Liang 1987), ``s**2`` the mean noise variance of the points: that is
+    subtracted, so noise alone gives no trend.  The slopes of ``b`` against depth are
+    tested across subjects exactly as C8's (:func:`_slopes_across_subjects`).
+    """
+    alpha = settings.significance
+    rule = (
+        "Per trial: the bending skin's advantage b = (RMSE²(waterbed) − RMSE²(bending) − "
+        "s²/(2n)) / W₀² over the same fit window, s² the mean noise variance of the averaged "
+        "points under the trial's covariance (s²/2 is what the extra parameter takes from "
+        "noise alone, on average). Per subject with two or more depths: the least-squares "
+        "slope of b against depth; across subjects: the slopes regressed on species, the "
+        "mean of the species' mean slopes tested one-sided with Student's t (significance "
+        f"= {alpha:g}), as in C8. Holds if the slope is significantly above zero (bending "
+        "accounts for more of the misfit the deeper the wedge); does not hold if its upper "
+        f"one-sided {format_fixed(100 * (1 - alpha), 0)} % bound is below zero; cannot be "
+        "checked otherwise, without bending fits, or with fewer subjects measured at two "
+        "depths than species + 1."
+    )
+    if "bending_rmse_mm" not in fits:
+        return _row(
+            "C13",
+            "no bending fits",
+            UNTESTABLE,
+            "The bending skin was not fitted to these data.",
+            rule,
+        )
+    relative, species_of = {}, {}
+    for fit, points in _trials(fits, averaged):
+        waterbed, bending = float(fit["waterbed_rmse_mm"]), float(fit["bending_rmse_mm"])
+        depth_mm = float(fit["depth_mm"])
+        if points.empty or not (math.isfinite(waterbed) and math.isfinite(bending)):
+            continue
+        if not depth_mm > 0:
+            continue
+        x, w, sides = _window_points(fit, points)
+        if x.size < 2:
+            continue
+        noise = float(np.mean(np.diag(_averaged_covariance_mm2(x, sides, w, fit, settings))))
+        value = (waterbed**2 - bending**2 - noise / (2 * x.size)) / depth_mm**2
+        subject = str(fit["subject"])
+        species_of[subject] = str(fit["species"])
+        relative.setdefault(subject, []).append((depth_mm, value))
+    test = _slopes_across_subjects(relative, species_of, alpha)
+    slopes, species, df = test["slopes"], test["species"], test["df"]
+    if df < 1:
+        return _row(
+            "C13",
+            f"{_n(len(slopes), 'subject')} measured at two or more depths, "
+            f"{_n(len(species), 'species', 'species')}: no degree of freedom for the t-test",
+            UNTESTABLE,
+            "Too few subjects were measured at two or more depths to test the slope across "
+            f"subjects (at least {len(species) + 1 if species else 2} are needed).",
+            rule,
+        )
+    estimate, se, p_value, upper = test["estimate"], test["se"], test["p"], test["upper"]
+    per_subject = ", ".join(f"{s} {format_fixed(100 * v, 3)}" for s, v in slopes.items())
+    our = (
+        f"bending skin's advantage over the waterbed, slope against depth per subject "
+        f"(% of W₀² per mm): {per_subject}; mean slope {format_fixed(100 * estimate, 3)} ± "
+        f"{format_fixed(100 * se, 3)} (t = {format_fixed(test['t'], 2)}, "
+        f"{counted(df, 'degree of freedom', 'degrees of freedom')}, one-sided p "
+        f"{_p_text(p_value)})"
+    )
+    if p_value < alpha:
+        reason = (
+            f"Across {_n(len(slopes), 'subject')} the bending skin's advantage over the "
+            "membrane, relative to the depth, grows with depth (one-sided p "
+            f"{_p_text(p_value)})."
+        )
+        return _row("C13", our, HOLDS, reason, rule)
+    if upper < 0:
+        reason = (
+            f"Across {_n(len(slopes), 'subject')} the bending skin's advantage, relative to "
+            f"the depth, shrinks with depth (upper bound {format_fixed(100 * upper, 3)} % of "
+            "W₀² per mm): bending does not account for the worsening."
+        )
+        return _row("C13", our, FAILS, reason, rule)
+    reason = (
+        f"Across {_n(len(slopes), 'subject')} the mean slope of the bending skin's advantage "
+        f"({format_fixed(100 * estimate, 3)} ± {format_fixed(100 * se, 3)} % of W₀² per mm) "
+        "is neither shown to be above zero nor below it."
+    )
+    return _row("C13", our, UNTESTABLE, reason, rule)
+
+
 CLAIM_FUNCTIONS = {
     "C1": claim_c1,
     "C2": claim_c2,
@@ -1972,6 +2116,7 @@ CLAIM_FUNCTIONS = {
     "C9": claim_c9,
     "C10": claim_c10,
     "C11": claim_c11,
+    "C13": claim_c13,
 }
 
 #: Claims that also take the force readings (keyword ``forces``).

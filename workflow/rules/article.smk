@@ -10,6 +10,7 @@ rule article:
         citation=CITATION_FILES,
         checked=checked_raw_data,
         fits=rules.fits_table.output[0],
+        bending=rules.bending_table.output[0],
         claims=rules.claims_table.output.csv,
         checks=rules.sensitivity_tables.output.checks,
         noise=rules.noise.output[0],
@@ -21,10 +22,7 @@ rule article:
         bootstrap=COMMITTED_CALIBRATION["bootstrap"],
         # its trials: the design the calibration was computed for
         calibration_design=os.path.relpath(
-            Path(workflow.basedir).parent
-            / "docs"
-            / "calibration"
-            / "bootstrap_trials.csv"
+            REPOSITORY / "docs" / "calibration" / "bootstrap_trials.csv"
         ),
         # what the reconstruction's generator built in (read only for its data)
         built_in=os.path.relpath(REPOSITORY / "data" / "built_in_verdicts.json"),

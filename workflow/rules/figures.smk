@@ -26,6 +26,7 @@ FIGURE_TABLES = {
     "mechanics": [rules.mechanics.output.subjects],
     "mechanics_trials": [rules.mechanics.output.trials],
     "noise": [rules.noise.output[0]],
+    "bending": [rules.bending_table.output[0]],
 }
 # Per group: the settings its figures take; the subject sheet ([subject, species,
 # label] in sheet order) if they take it; its named inputs (the raw-data check, the
@@ -75,6 +76,7 @@ FIGURE_FILES = [f for group in registry.GROUPS for f in GROUP_FILES[group]]
 #   figure_schematics  Figures 3-5: the waterbed model, material point, free body (eq. 19)
 #   figure_fits        Figures 2, 6 and 7: averaged profiles against the fitted models
 #   figure_supplements residuals, parabola against arc, sensitivity, coordinates
+#   figure_bending     the bending skin beside the other families; its bending lengths
 for group in registry.GROUPS:
 
     rule:

@@ -76,6 +76,53 @@ rule fits_table:
         "../scripts/concat_tables.py"
 
 
+# The bending skin (the paper's closing suggestion, lineload.bending): a table of its
+# own, beside the fit table, so that the `fits` target stays the paper's models.
+rule fit_bending:
+    """Fit the bending skin's L and bending length to each trial of a batch."""
+    input:
+        averaged=rules.prepare_profiles.output.averaged,
+        noise=rules.noise.output[0],
+        code=code("fit_bending.py"),
+    output:
+        result("fits", "bending", "{batch}.csv"),
+    log:
+        result("logs", "fit_bending", "{batch}.log"),
+    benchmark:
+        result("benchmarks", "fit_bending", "{batch}.tsv")
+    conda:
+        ENVIRONMENT
+    params:
+        subjects=batch_subjects,
+        window_mm=config["fit_window_mm"],
+        wall=config["bending"]["wall"],
+    script:
+        "../scripts/fit_bending.py"
+
+
+rule bending_table:
+    """Collect every batch's bending fits into results/tables/bending.csv."""
+    input:
+        tables=expand(rules.fit_bending.output[0], batch=BATCH_IDS),
+        code=code("concat_tables.py"),
+    output:
+        report_item(
+            result("tables", "bending.csv"),
+            caption="../report/bending.rst",
+            category="Fits",
+            subcategory="CSV files",
+            labels={"table": "bending skin per subject and depth"},
+        ),
+    log:
+        result("logs", "bending_table.log"),
+    benchmark:
+        result("benchmarks", "bending_table.tsv")
+    conda:
+        ENVIRONMENT
+    script:
+        "../scripts/concat_tables.py"
+
+
 rule fit_sensitivity:
     """Refit a batch with other windows, W0 free, in measured coordinates; U shift and reach."""
     input:

@@ -10,6 +10,11 @@ REPORT_TABLES = {
         "Claims",
     ),
     "fits": ("Fits per subject and depth", rules.fits_table.output[0], "Fits"),
+    "bending": (
+        "The bending skin per subject and depth",
+        rules.bending_table.output[0],
+        "Fits",
+    ),
     "summary": (
         "Summary per species and depth",
         rules.fit_tables.output.summary_csv,
@@ -120,6 +125,7 @@ JOB_WILDCARDS = {
     "prepare_profiles": {"batch": BATCH_IDS},
     "prepare_outline": {"subject": OUTLINED},
     "fit_models": {"batch": BATCH_IDS},
+    "fit_bending": {"batch": BATCH_IDS},
     "fit_sensitivity": {"batch": BATCH_IDS},
 }
 #: Every output of the default build by the rule that writes it, from the rules defined

@@ -5,6 +5,7 @@ from dataclasses import replace
 
 import pandas as pd
 
+from lineload.bending_fit import with_bending
 from lineload.calibration import claim_error_rates
 from lineload.claims import (
     CLAIM_COLUMNS,
@@ -26,7 +27,7 @@ def make_claims(inputs, outputs, settings, notice):
     (with each rule's error rate from the committed calibration)."""
     fits_path, averaged_paths, noise_path = inputs.fits, inputs.averaged, inputs.noise
     forces_paths = list(inputs.forces)
-    fits = read_results_csv(fits_path)
+    fits = with_bending(read_results_csv(fits_path), read_results_csv(inputs.bending))
     averaged = pd.concat([read_results_csv(path) for path in averaged_paths], ignore_index=True)
     forces = read_forces(forces_paths[0]) if forces_paths else None
     rows = read_rows(noise_path)
@@ -42,6 +43,8 @@ def make_claims(inputs, outputs, settings, notice):
         # every trial fitted and every claim judged again with the priors scaled
         scaled = {key: model.scaled_priors(multiple) for key, model in settings.trial_noise.items()}
         refitted = refit_at_priors(fits, averaged, [scaled[trial_key(*k)] for k in keys])
+        # least squares: the bending fits (C13) do not move with the priors
+        refitted = with_bending(refitted, fits)
         at_multiple = replace(
             settings,
             noise_model=settings.noise_model.scaled_priors(multiple),

@@ -12,7 +12,12 @@ from pathlib import Path
 
 import typst
 
-from lineload.article import article_facts, calibration_design, photograph_facts
+from lineload.article import (
+    article_facts,
+    bending_facts,
+    calibration_design,
+    photograph_facts,
+)
 from lineload.citation import author_names, citation_or_default, software_name
 from lineload.figures.choices import figure_settings
 from lineload.io import (
@@ -95,6 +100,12 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
         [read_json(path) for path in inputs.digitised],
         subjects,
         [Path(path).resolve().relative_to(results).as_posix() for path in inputs.digitised_figures],
+    )
+    # the bending skin, the paper's closing suggestion
+    facts["bending"] = bending_facts(
+        read_results_csv(inputs.bending),
+        read_results_csv(inputs.fits),
+        read_results_csv(inputs.claims),
     )
     write_text(json_text(facts), outputs.facts)
     with replaced_atomically(outputs.source) as temporary:

@@ -156,7 +156,7 @@ def figure_bending_examples(averaged, fits, bending, subjects, fit_window_mm, no
         label = table.loc[subject, "label"] if subject in table.index else subject
         lb_mm = float(bent["bending_length_mm"])
         at_bound = float(bent.get("bending_length_at_bound", 0.0)) > 0
-        lb_text = "not told from a membrane's" if at_bound else f"{lb_mm:.3g} mm"
+        lb_text = "at its lower bound (a membrane)" if at_bound else f"{lb_mm:.3g} mm"
         ax.set_title(
             f"{panel_title(label, species)}, {depth_mm:g} mm depth\nbending length {lb_text}",
             loc="left",

@@ -35,7 +35,7 @@ __all__ = [
 KINDS = ("file", "dataset", "setting")
 
 #: The jobs that draw figures, each a group of figures drawn in one process.
-GROUPS = ("outlines", "schematics", "fits", "supplements")
+GROUPS = ("outlines", "schematics", "fits", "supplements", "bending")
 
 #: Report categories of the figures.
 CATEGORIES = ("Paper figures", "Supplement")
@@ -112,6 +112,9 @@ ARGUMENTS = {
         "setting", "digitising noise of one reading (mm) as configured; None: the noise table's"
     ),
     "noise": Argument("file", "the digitising noise, measured and priors (tables/noise.csv)"),
+    "bending": Argument(
+        "file", "the bending skin's fits, one row per subject and depth (tables/bending.csv)"
+    ),
 }
 
 
@@ -126,7 +129,7 @@ class Figure:
     group : str
         The job that draws it, one of :data:`GROUPS`.
     module : str
-        ``data``, ``schematics`` or ``supplements``: the module
+        ``data``, ``schematics``, ``supplements`` or ``bending``: the module
         ``lineload.figures.<module>`` that holds the function.
     function : str
         Name of the figure function in that module.
@@ -284,6 +287,24 @@ FIGURES = (
         ("mechanics_trials", "mechanics", "subjects", "notice"),
         category="Supplement",
         title="Force on the wedge against depth: readings, stress-free and pre-tensioned membrane",
+    ),
+    Figure(
+        "supplement_bending",
+        "bending",
+        "bending",
+        "figure_bending_examples",
+        ("averaged", "fits", "bending", "subjects", "fit_window_mm", "notice"),
+        category="Supplement",
+        title="Every model family, the bending skin's included, on a monkey and a human",
+    ),
+    Figure(
+        "supplement_bending_lengths",
+        "bending",
+        "bending",
+        "figure_bending_lengths",
+        ("bending", "averaged", "subjects", "notice"),
+        category="Supplement",
+        title="The skin's fitted bending length by species and depth, with its interval",
     ),
 )
 
