@@ -125,7 +125,7 @@ def alternating_mm(size, amplitude_mm):
 # ------------------------------------------------------------------- the whole table
 
 
-def test_claims_table_has_c1_to_c11_with_allowed_verdicts():
+def test_claims_table_has_c1_to_c11_and_c13_with_allowed_verdicts():
     fits, averaged = fitted_dataset(
         [
             ("MK", "monkey", 0.5, power_profile_mm(0.5, 4.0)),
@@ -137,7 +137,7 @@ def test_claims_table_has_c1_to_c11_with_allowed_verdicts():
     )
     result = compute_claims(fits, averaged, SETTINGS)
     assert list(result.columns) == CLAIM_COLUMNS
-    assert list(result["claim"]) == [f"C{i}" for i in range(1, 12)]
+    assert list(result["claim"]) == [*(f"C{i}" for i in range(1, 12)), "C13"]
     assert set(result["verdict"]) <= set(VERDICTS)
     text = [c for c in CLAIM_COLUMNS if c != "smallest_margin"]
     assert result[text].map(lambda cell: isinstance(cell, str) and cell != "").all().all()
@@ -149,7 +149,7 @@ def test_claims_table_has_c1_to_c11_with_allowed_verdicts():
     assert compute_claims(fits, averaged, SETTINGS).equals(result)
     md = claims_markdown(result, notice="Synthetic, for testing")
     body = [ln for ln in md.splitlines() if ln.startswith("| C") and not ln.startswith("| Claim")]
-    assert [ln.split(" | ")[0] for ln in body] == [f"| C{i}" for i in range(1, 12)]
+    assert [ln.split(" | ")[0] for ln in body] == [*(f"| C{i}" for i in range(1, 12)), "| C13"]
     assert md.rstrip().endswith("Note: Synthetic, for testing")
     assert "Note" not in claims_markdown(result, notice="")
 
@@ -857,7 +857,7 @@ def test_table_rules_end_to_end(tmp_path, small_build):
     for log in ("fit_tables.log", "claims_table.log"):
         assert (out / "logs" / log).is_file()
     claims = pd.read_csv(out / "tables" / "claims.csv")
-    assert list(claims["claim"]) == [f"C{i}" for i in range(1, 12)]
+    assert list(claims["claim"]) == [*(f"C{i}" for i in range(1, 12)), "C13"]
     assert set(claims["verdict"]) <= set(VERDICTS)
     summary = pd.read_csv(out / "tables" / "summary.csv")
     assert list(zip(summary["species"], summary["n_trials"], strict=True)) == [
@@ -941,3 +941,15 @@ def test_c13_is_not_made_to_hold_by_noise_on_a_membrane():
 def test_c13_without_bending_fits_cannot_be_checked():
     fits, averaged = shape_subjects(lambda d, e: power_profile_mm(d, e))
     assert verdict("C13", fits, averaged) == UNTESTABLE
+
+
+def test_c13_is_not_made_to_hold_by_its_own_noise_correction():
+    """Subjects alike, the skin a membrane: every bending length stays at the range's end,
+    so each trial's value is the correction -s²/(2n W0²), rising with depth the same way
+    in every subject; agreeing subjects must not make that a finding (the slopes' noise
+    sets a floor under their standard error)."""
+    fits, averaged = bending_subjects(lambda d: 0.0, seed=4)
+    same = fits.copy()
+    same["bending_rmse_mm"] = same["waterbed_rmse_mm"]  # the fit took nothing, in every trial
+    row = CLAIM_FUNCTIONS["C13"](same, averaged, ClaimSettings(noise_mm=0.002))
+    assert row["verdict"] != HOLDS, row["our_value"]

@@ -1557,7 +1557,7 @@ def claim_c8(fits, averaged, settings):
     return _row("C8", our, UNTESTABLE, reason, rule)
 
 
-def _slopes_across_subjects(relative, species_of, alpha):
+def _slopes_across_subjects(relative, species_of, alpha, variances=None):
     """Per-subject slopes of a per-trial statistic against depth, tested across subjects.
 
     Each subject with two or more depths gives the least-squares slope; the slopes are
@@ -1572,6 +1572,12 @@ def _slopes_across_subjects(relative, species_of, alpha):
         Subject -> species.
     alpha : float
         Significance of the one-sided test.
+    variances : dict, optional
+        Subject -> list of the noise variance of each trial's value (in the order of
+        ``relative``): where given, the slopes' own noise (propagated through each
+        least-squares slope) sets a floor under the standard error, so that a value
+        whose trend is the noise correction's, alike in every subject, is not taken
+        for a finding because the subjects agree.
 
     Returns
     -------
@@ -1580,11 +1586,15 @@ def _slopes_across_subjects(relative, species_of, alpha):
         ``estimate``, ``se``, ``t``, ``p`` (one-sided, above zero) and ``upper`` (the
         one-sided ``1 - alpha`` upper bound).
     """
-    slopes = {}
+    slopes, slope_variances = {}, {}
     for subject, values in relative.items():
         depths = np.array([d for d, _ in values])
         if np.unique(depths).size >= 2:
             slopes[subject] = float(np.polyfit(depths, [q for _, q in values], 1)[0])
+            if variances is not None:
+                centred = depths - depths.mean()
+                c = centred / float(np.sum(centred**2))
+                slope_variances[subject] = float(np.sum(c**2 * np.asarray(variances[subject])))
     species = sorted({species_of[s] for s in slopes})
     df = len(slopes) - len(species)
     test = {"slopes": slopes, "species": species, "df": df}
@@ -1598,6 +1608,12 @@ def _slopes_across_subjects(relative, species_of, alpha):
     weights = np.array([1.0 / len(species) / g.size for g in groups.values()])
     estimate = float(group_means.mean())
     se = math.sqrt(variance * float(np.sum(weights**2 * [g.size for g in groups.values()])))
+    if slope_variances:
+        weight_of = {sp: 1.0 / len(species) / g.size for sp, g in groups.items()}
+        noise_se = math.sqrt(
+            sum(weight_of[species_of[s]] ** 2 * v for s, v in slope_variances.items())
+        )
+        se = max(se, noise_se)
     t_value = estimate / se if se > 0 else math.copysign(math.inf, estimate)
     test.update(
         estimate=estimate,
@@ -2020,8 +2036,12 @@ def claim_c13(fits, averaged, settings):
     pure noise, the extra parameter takes ``s**2 / 2`` of the sum of squares on average
     (half the time the fit stays at the membrane, the range's end, and takes nothing;
     Self and Liang 1987), ``s**2`` the mean noise variance of the points: that is
-    subtracted, so noise alone gives no trend.  The slopes of ``b`` against depth are
-    tested across subjects exactly as C8's (:func:`_slopes_across_subjects`).
+    subtracted, so noise alone gives no trend on average.  A trial whose bending length
+    stays at the membrane has ``b = -s**2 / (2 n W0**2)`` exactly, a value that rises with
+    depth alike in every subject: the slopes' standard error is therefore at least what
+    the noise gives them (``n b W0**2 / s**2`` varies as ``1/2 chi2_0 + 1/2 chi2_1``,
+    variance 1.25), not only their spread between subjects.  The slopes of ``b`` against
+    depth are tested across subjects as C8's (:func:`_slopes_across_subjects`).
     """
     alpha = settings.significance
     rule = (
@@ -2031,7 +2051,9 @@ def claim_c13(fits, averaged, settings):
         "noise alone, on average). Per subject with two or more depths: the least-squares "
         "slope of b against depth; across subjects: the slopes regressed on species, the "
         "mean of the species' mean slopes tested one-sided with Student's t (significance "
-        f"= {alpha:g}), as in C8. Holds if the slope is significantly above zero (bending "
+        f"= {alpha:g}), as in C8, its standard error at least what the noise alone gives "
+        "the slopes (noise alone makes n(RMSE²(waterbed) − RMSE²(bending)) vary as 1.25 s⁴). "
+        "Holds if the slope is significantly above zero (bending "
         "accounts for more of the misfit the deeper the wedge); does not hold if its upper "
         f"one-sided {format_fixed(100 * (1 - alpha), 0)} % bound is below zero; cannot be "
         "checked otherwise, without bending fits, or with fewer subjects measured at two "
@@ -2045,7 +2067,7 @@ def claim_c13(fits, averaged, settings):
             "The bending skin was not fitted to these data.",
             rule,
         )
-    relative, species_of = {}, {}
+    relative, species_of, variances = {}, {}, {}
     for fit, points in _trials(fits, averaged):
         waterbed, bending = float(fit["waterbed_rmse_mm"]), float(fit["bending_rmse_mm"])
         depth_mm = float(fit["depth_mm"])
@@ -2061,7 +2083,9 @@ def claim_c13(fits, averaged, settings):
         subject = str(fit["subject"])
         species_of[subject] = str(fit["species"])
         relative.setdefault(subject, []).append((depth_mm, value))
-    test = _slopes_across_subjects(relative, species_of, alpha)
+        # noise alone: n (RMSE_w² - RMSE_b²) ~ s² (½χ²₀ + ½χ²₁), variance 1.25 s⁴
+        variances.setdefault(subject, []).append(1.25 * (noise / (x.size * depth_mm**2)) ** 2)
+    test = _slopes_across_subjects(relative, species_of, alpha, variances)
     slopes, species, df = test["slopes"], test["species"], test["df"]
     if df < 1:
         return _row(
