@@ -532,6 +532,7 @@ def every_figure(notice):
         "schematic_depth_ratio": 0.15,
         "noise_mm": None,
         "noise": noise_table(),
+        "bending": bending_table(fits),
     }
     assert set(values) == set(registry.ARGUMENTS)
     figures = {}
@@ -644,7 +645,31 @@ def layout_values(n_per_species, n_depths, notice=NOTICE):
         "noise": noise_table(),
         "mechanics": mechanics,
         "mechanics_trials": mechanics_trials,
+        "bending": bending_table(fits),
     }, with_intervals
+
+
+def bending_table(fits):
+    """A bending table for the figures: each trial's waterbed L, a bending length resolved
+    in every other trial and at the range's end in the rest (one-sided interval)."""
+    rows = []
+    for k, (_, fit) in enumerate(fits.iterrows()):
+        at_end = k % 2 == 1
+        lb = 1e-4 if at_end else 0.05 * (1 + k % 3)
+        rows.append(
+            {
+                "subject": fit["subject"],
+                "species": fit["species"],
+                "depth_mm": fit["depth_mm"],
+                "wall": "clamped",
+                "bending_L_mm": fit["waterbed_L_mm"],
+                "bending_length_mm": lb,
+                "bending_length_ci_low_mm": 1e-4 if at_end else lb / 2,
+                "bending_length_ci_high_mm": 0.03 if at_end else lb * 2,
+                "bending_length_at_bound": float(at_end),
+            }
+        )
+    return pd.DataFrame(rows)
 
 
 def drawn_texts(fig):
@@ -850,13 +875,14 @@ def test_registry_lists_each_figure_once_in_its_group():
             "supplement_sensitivity",
             "supplement_mechanics",
         ],
+        "bending": ["supplement_bending", "supplement_bending_lengths"],  # Figures 13-14
     }
     # the paper's figures in its order, then the supplements
     assert names[:7] == [f"figure{i}" for i in range(1, 8)]
     categories = [figure.category for figure in registry.FIGURES]
-    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 5
+    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 7
     for figure in registry.FIGURES:
-        assert figure.module in ("data", "schematics", "supplements"), figure.name
+        assert figure.module in ("data", "schematics", "supplements", "bending"), figure.name
         assert figure.title and "\n" not in figure.title, figure.name
     used = {name for figure in registry.FIGURES for name in figure.arguments}
     assert used == set(registry.ARGUMENTS)  # no argument is described but never taken

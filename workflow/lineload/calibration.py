@@ -60,6 +60,7 @@ __all__ = [
     "MECHANICS_SUMMARY_COLUMNS",
     "SUMMARY_COLUMNS",
     "TRUTH_SCALE",
+    "UNCALIBRATED_CLAIMS",
     "boundary_effect",
     "boundary_markdown",
     "boundary_study",
@@ -97,6 +98,11 @@ SUMMARY_COLUMNS = [
 
 #: The opposite of each evidence verdict: saying it when the other is true is wrong.
 _OPPOSITE = {HOLDS: FAILS, FAILS: HOLDS}
+
+#: Claims the calibration does not judge: C13 needs the bending skin's fits, which the
+#: reconstructions analysed in memory here do not make (its error rates are not yet
+#: measured; the claims table and the article say "not calibrated").
+UNCALIBRATED_CLAIMS = ("C13",)
 
 
 def _trials_of(averaged):
@@ -212,9 +218,11 @@ def reconstruction_claims(
         subjects, seed, window_mm, priors, max_trials, errors
     )
     forces = synthetic.force_table(subjects, seed, errors=errors)
-    return compute_claims(
+    claims = compute_claims(
         fits, pd.DataFrame(averaged), ClaimSettings(**settings, noise_model=noise), forces=forces
     )
+    # the reconstructions do not fit the bending skin: its claim is not calibrated here
+    return claims[~claims["claim"].isin(UNCALIBRATED_CLAIMS)].reset_index(drop=True)
 
 
 def verdict_study(
