@@ -13,6 +13,7 @@ estimate at the range's end, drawn open with its one-sided interval) and
 from __future__ import annotations
 
 import numpy as np
+from matplotlib import ticker
 from matplotlib.lines import Line2D
 
 from ..bending import bending_deflection_mm
@@ -266,6 +267,9 @@ def figure_bending_lengths(bending, averaged, subjects, notice=""):
         if np.isfinite(first_mm):
             ax.axhline(first_mm, gid="first-reading", **WINDOW_STYLE)
         ax.set_yscale("log")
+        # plain numbers: a power of ten's exponent would print below the 7-point floor
+        ax.yaxis.set_major_formatter(ticker.FuncFormatter(lambda value, _: f"{value:g}"))
+        ax.yaxis.set_minor_formatter(ticker.NullFormatter())
         ax.set_ylim(low_end / 2, high_end * 40)  # room above for the subjects' key
         ax.set_xticks(depths, [f"{d:g}" for d in depths])
         ax.set_xlabel("indentation depth W₀ (mm)")
