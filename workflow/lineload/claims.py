@@ -1516,15 +1516,7 @@ def claim_c8(fits, averaged, settings):
         f"{d:g} mm {format_fixed(100 * np.mean(v), 3)}" for d, v in sorted(per_depth.items())
     )
     if df < 1:
-        return _row(
-            "C8",
-            f"{_n(len(slopes), 'subject')} measured at two or more depths, "
-            f"{_n(len(species), 'species', 'species')}: no degree of freedom for the t-test",
-            UNTESTABLE,
-            "Too few subjects were measured at two or more depths to test the slope across "
-            f"subjects (at least {len(species) + 1 if species else 2} are needed).",
-            rule,
-        )
+        return _too_few_subjects("C8", slopes, species, rule)
     estimate, se, t_value = test["estimate"], test["se"], test["t"]
     p_value, upper = test["p"], test["upper"]
     per_subject = ", ".join(f"{s} {format_fixed(100 * v, 3)}" for s, v in slopes.items())
@@ -1623,6 +1615,19 @@ def _slopes_across_subjects(relative, species_of, alpha, variances=None):
         upper=estimate + float(student_t.ppf(1.0 - alpha, df)) * se,
     )
     return test
+
+
+def _too_few_subjects(claim, slopes, species, rule):
+    """The row of a slope test across subjects (C8, C13) with no degree of freedom left."""
+    return _row(
+        claim,
+        f"{_n(len(slopes), 'subject')} measured at two or more depths, "
+        f"{_n(len(species), 'species', 'species')}: no degree of freedom for the t-test",
+        UNTESTABLE,
+        "Too few subjects were measured at two or more depths to test the slope across "
+        f"subjects (at least {len(species) + 1 if species else 2} are needed).",
+        rule,
+    )
 
 
 def _p_text(p_value):
@@ -2088,15 +2093,7 @@ def claim_c13(fits, averaged, settings):
     test = _slopes_across_subjects(relative, species_of, alpha, variances)
     slopes, species, df = test["slopes"], test["species"], test["df"]
     if df < 1:
-        return _row(
-            "C13",
-            f"{_n(len(slopes), 'subject')} measured at two or more depths, "
-            f"{_n(len(species), 'species', 'species')}: no degree of freedom for the t-test",
-            UNTESTABLE,
-            "Too few subjects were measured at two or more depths to test the slope across "
-            f"subjects (at least {len(species) + 1 if species else 2} are needed).",
-            rule,
-        )
+        return _too_few_subjects("C13", slopes, species, rule)
     estimate, se, p_value, upper = test["estimate"], test["se"], test["p"], test["upper"]
     per_subject = ", ".join(f"{s} {format_fixed(100 * v, 3)}" for s, v in slopes.items())
     our = (
