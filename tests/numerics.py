@@ -3,7 +3,7 @@
 Two code paths (a trial alone or in a batch, one CPU's vector kernels or
 another's) evaluate the same least-squares objective with different rounding.
 The objective's rounding error is bounded here from the sizes of the numbers it
-is made of; :func:`lineload.optimize.solution_tolerance` turns that bound into how
+is made of; :func:`lineload.fitting.optimize.solution_tolerance` turns that bound into how
 far the minimiser and the interval's ends may move.  Nothing here is tuned to
 make a comparison pass: every term has its reason in a docstring.
 """
@@ -14,8 +14,9 @@ import math
 
 import numpy as np
 
-from lineload import fitting, models
-from lineload.optimize import CHI2_1DOF_95, solution_tolerance
+from lineload import models
+from lineload.fitting import batch as fitting
+from lineload.fitting.optimize import CHI2_1DOF_95, solution_tolerance
 
 EPS = np.finfo(float).eps
 
@@ -60,7 +61,7 @@ def fit_rounding_mm2(y_mm, model_mm, scale_mm=None):
 
 
 #: Relative step of the central differences that give the sandwich's Jacobian
-#: (``lineload.fitting._sandwich_delta``).
+#: (``lineload.fitting.batch._sandwich_delta``).
 SANDWICH_STEP = 1e-4
 
 
@@ -288,7 +289,7 @@ def fit_row_tolerances(row, x_mm, y_mm, sandwich=False):
     Parameters
     ----------
     row : dict
-        A row of :func:`lineload.fitting.fit_trials` (the reference).
+        A row of :func:`lineload.fitting.batch.fit_trials` (the reference).
     x_mm, y_mm : array_like
         The trial's averaged profile (all of its points).
     sandwich : bool, optional

@@ -10,11 +10,11 @@ from pypdf import PdfReader
 
 import pdflayout
 from conftest import REPO, SHARED_NOTICE
-from lineload.article import article_facts, join_words, number_words, shown, span_text
-from lineload.claims import CLAIM_COLUMNS, CLAIM_KINDS
+from lineload.claims.rules import CLAIM_COLUMNS, CLAIM_KINDS
 from lineload.figures.registry import FIGURES
 from lineload.figures.style import MIN_FONT_PT, SCHEMATIC_MM
-from lineload.fitting import FIT_COLUMNS
+from lineload.fitting.batch import FIT_COLUMNS
+from lineload.publishing.article import article_facts, join_words, number_words, shown, span_text
 
 
 def test_words_for_the_text():
@@ -134,7 +134,7 @@ def test_article_reports_the_claims_table_and_the_data(build, request):
 
 
 def test_a_subject_measured_at_fewer_depths_is_named_not_folded_into_its_species():
-    from lineload.article import group_depths_text
+    from lineload.publishing.article import group_depths_text
 
     depths = {"H1": [0.5, 1.0, 1.5, 2.0], "H2": [0.5, 1.0, 1.5, 2.0], "H3": [1.0, 2.0]}
     assert group_depths_text(["H1", "H2", "H3"], depths) == (
@@ -144,7 +144,7 @@ def test_a_subject_measured_at_fewer_depths_is_named_not_folded_into_its_species
 
 
 def test_claim_lists_name_every_item_up_to_a_dozen():
-    from lineload.claims import _list
+    from lineload.claims.rules import _list
 
     trials = [f"M{k} at 2 mm" for k in range(1, 9)]
     assert _list(trials) == ", ".join(trials[:-1]) + " and M8 at 2 mm"  # all eight named
@@ -153,7 +153,7 @@ def test_claim_lists_name_every_item_up_to_a_dozen():
 
 
 def test_the_appendix_prints_each_trials_fits_up_to_its_limit():
-    from lineload import article
+    from lineload.publishing import article
 
     def trial(k):
         return {
@@ -276,7 +276,7 @@ def test_the_article_places_the_figures_in_the_registry_order_the_report_numbers
 
 
 def test_counts_and_small_values_are_written_once_and_right():
-    from lineload.tables import counted, every, percent_text
+    from lineload.publishing.tables import counted, every, percent_text
 
     assert counted(1, "degree of freedom", "degrees of freedom") == "1 degree of freedom"
     assert counted(5, "degree of freedom", "degrees of freedom") == "5 degrees of freedom"
@@ -291,7 +291,7 @@ def test_counts_and_small_values_are_written_once_and_right():
 
 
 def test_the_text_compares_the_models_as_the_counts_say():
-    from lineload.article import _comparison_text, _coordinates_text, _ratio_decimals
+    from lineload.publishing.article import _comparison_text, _coordinates_text, _ratio_decimals
 
     # a ratio is never printed as 0.0: the smallest keeps two significant digits
     assert _ratio_decimals([2.5, 9.4]) == 1 and _ratio_decimals([0.02, 0.05]) == 3
@@ -310,7 +310,7 @@ def test_the_text_compares_the_models_as_the_counts_say():
 
 
 def test_the_calibration_is_printed_only_for_the_design_it_was_computed_for():
-    from lineload.article import calibration_design, dataset_design, design_text
+    from lineload.publishing.article import calibration_design, dataset_design, design_text
 
     fits, *_ = small_tables()
     ours = dataset_design(fits)
@@ -330,7 +330,7 @@ def test_the_calibration_is_printed_only_for_the_design_it_was_computed_for():
 
 
 def test_the_byline_is_the_citation_files_authors_or_a_placeholder_shown_as_one():
-    from lineload.citation import PLACEHOLDER_AUTHOR, author_names
+    from lineload.publishing.citation import PLACEHOLDER_AUTHOR, author_names
 
     assert author_names({"authors": [{"name": PLACEHOLDER_AUTHOR}]}) == (PLACEHOLDER_AUTHOR, True)
     assert author_names({}) == ("", True)

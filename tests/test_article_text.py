@@ -9,7 +9,7 @@ import pytest
 
 import articletext
 from conftest import REPO, reading_grid_mm, run_snakemake, shared, shared_build
-from lineload.article import calibration_design
+from lineload.publishing.article import calibration_design
 
 TEMPLATE = REPO / "workflow" / "article" / "reproduction.typ"
 OUTPUTS = ["tables/fits.csv", "tables/claims.csv", "article/reproduction.pdf"]

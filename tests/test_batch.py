@@ -18,9 +18,12 @@ import pytest
 
 import reference_averaging
 from conftest import REPO
-from lineload import averaging, fitting, io, models, sensitivity, synthetic
-from lineload.coverage import TRUE_NOISE
-from lineload.validation import check_no_duplicate_readings, read_columns, read_table
+from lineload import averaging, io, models
+from lineload.fitting import batch as fitting
+from lineload.fitting import sensitivity
+from lineload.rawdata.validation import check_no_duplicate_readings, read_columns, read_table
+from lineload.simulation import synthetic
+from lineload.simulation.coverage import TRUE_NOISE
 from numerics import assert_rows_agree, fit_rounding_mm2, fit_row_tolerances
 
 PROFILE_SCHEMA = io.load_schema("profiles")

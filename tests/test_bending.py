@@ -13,7 +13,7 @@ from lineload.bending import (
     bending_load_per_tension,
 )
 from lineload.bending_exact import bending_finite_profile
-from lineload.bending_fit import BENDING_LENGTH_BOUNDS_MM, fit_bending, fit_bending_trials
+from lineload.fitting.bending import BENDING_LENGTH_BOUNDS_MM, fit_bending, fit_bending_trials
 from lineload.models import arc_deflection_mm, waterbed_deflection_mm
 
 L_MM, DEPTH_MM = 12.0, 1.0
@@ -201,7 +201,7 @@ def test_the_finite_slope_skin_tends_to_the_membranes_exact_arc(wall):
 def test_the_papers_membrane_is_the_bending_fits_special_case():
     """The waterbed is the bending skin at l_b -> 0: on any profile, the bending fit's sum
     of squares is at most the waterbed's (plus the 0.1 um the range's end leaves)."""
-    from lineload.fitting import fit_waterbed
+    from lineload.fitting.batch import fit_waterbed
 
     x = reading_grid_mm(3.0)
     rng = np.random.default_rng(11)

@@ -6,11 +6,16 @@ import pandas as pd
 import pytest
 
 from lineload import models
-from lineload.claims import CLAIM_FUNCTIONS, ClaimSettings
+from lineload.claims.rules import CLAIM_FUNCTIONS, ClaimSettings
 from lineload.figures import supplements
-from lineload.fitting import FIT_COLUMNS, at_search_bound, fit_trials, fit_windowed
+from lineload.fitting.batch import FIT_COLUMNS, at_search_bound, fit_trials, fit_windowed
 from lineload.noise import NoiseModel
-from lineload.tables import AT_BOUND_MARK, fits_markdown, summarise_fits, summary_markdown
+from lineload.publishing.tables import (
+    AT_BOUND_MARK,
+    fits_markdown,
+    summarise_fits,
+    summary_markdown,
+)
 
 UNTESTABLE = "cannot be checked on these data"
 DISTANCE_MM = np.linspace(0.2, 3.0, 15)

@@ -7,10 +7,11 @@ import pandas as pd
 import pytest
 
 from conftest import REPO
-from lineload import article, calibration, synthetic
-from lineload.claims import FAILS, HOLDS, IDENTITY, UNTESTABLE
-from lineload.coverage import binomial_interval
+from lineload.claims.rules import FAILS, HOLDS, IDENTITY, UNTESTABLE
 from lineload.io import config_defaults
+from lineload.publishing import article
+from lineload.simulation import calibration, synthetic
+from lineload.simulation.coverage import binomial_interval
 
 PRIORS = {k: v for k, v in config_defaults("noise").items() if k != "max_trials"}
 MAX_TRIALS = config_defaults("noise")["max_trials"]
@@ -246,7 +247,7 @@ def test_error_rates_name_each_claims_calibration_and_its_boundary():
         [{"claim": "C2", "statement": "s", "paper_location": "p", "paper_value": "v",
           "our_value": "o", "verdict": HOLDS, "reason": "r", "rule": "rule"}]
     )  # fmt: skip
-    from lineload.claims import claims_markdown
+    from lineload.claims.rules import claims_markdown
 
     assert f"- **C2**: {rates['C2']}." in claims_markdown(claims, error_rates=rates)
     assert "How often each rule is wrong" not in claims_markdown(claims)

@@ -10,9 +10,9 @@ import pytest
 from scipy.optimize import brentq
 
 from conftest import copy_build, reading_grid_mm, run_snakemake
-from lineload import fitting, mechanics, models
+from lineload import mechanics, models
 from lineload.averaging import AVERAGED_COLUMNS
-from lineload.claims import (
+from lineload.claims.rules import (
     CLAIM_COLUMNS,
     CLAIM_FUNCTIONS,
     CLAIM_KINDS,
@@ -32,7 +32,8 @@ from lineload.claims import (
     verdict_counts,
     waterbed_zero_crossing_mm,
 )
-from lineload.fitting import FIT_COLUMNS, fit_trial
+from lineload.fitting import batch as fitting
+from lineload.fitting.batch import FIT_COLUMNS, fit_trial
 from lineload.noise import NoiseModel
 
 HOLDS, FAILS = "holds", "does not hold"
@@ -893,7 +894,7 @@ def bending_subjects(bending_length_mm, seed=11):
     """Four monkeys at 0.5-2 mm made by the bending skin with ``bending_length_mm(depth)``,
     small noise; fitted by the workflow's code, the bending fits beside the fit table."""
     from lineload.bending import bending_deflection_mm
-    from lineload.bending_fit import fit_bending_trials, with_bending
+    from lineload.fitting.bending import fit_bending_trials, with_bending
 
     rng = np.random.default_rng(seed)
     trials = []

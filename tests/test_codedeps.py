@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pytest
 
-from lineload import codedeps
+from lineload.runtime import codedeps
 
 
 def write(folder, files):
@@ -98,9 +98,10 @@ def test_modules_imported_by_name_at_run_time(tmp_path, package):
 def test_the_workflow_scripts_see_their_modules():
     # on the real package: the fit job runs the models, not the claims
     script = codedeps.PACKAGE_DIR.parents[0] / "scripts" / "fit_models.py"
-    files = {Path(f).name for f in codedeps.script_dependencies(script)}
-    assert {"fitting.py", "models.py"} <= files
-    assert "claims.py" not in files
+    package = codedeps.PACKAGE_DIR
+    files = {Path(f).relative_to(package).as_posix() for f in codedeps.script_dependencies(script)}
+    assert {"fitting/batch.py", "fitting/__init__.py", "models.py"} <= files
+    assert not any(f.startswith("claims/") for f in files)
 
 
 def test_import_statements_over_several_lines_and_look_alikes(tmp_path, package):

@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from conftest import REPO
-from lineload import fitting
-from lineload.coverage import TRUE_NOISE
+from lineload.fitting import batch as fitting
+from lineload.simulation.coverage import TRUE_NOISE
 from numerics import assert_rows_agree
 from test_batch import averaged_trials, edge_trials
 
@@ -27,8 +27,8 @@ import json, sys
 sys.path[:0] = [{tests!r}]
 from test_batch import averaged_trials, edge_trials
 from conftest import REPO
-from lineload import fitting
-from lineload.coverage import TRUE_NOISE
+from lineload.fitting import batch as fitting
+from lineload.simulation.coverage import TRUE_NOISE
 trials = [(t[2], t[3], t[1]) for t in averaged_trials(REPO / "data" / "raw")] + edge_trials()
 x, y, depth = zip(*trials)
 json.dump(

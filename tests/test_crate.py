@@ -17,9 +17,9 @@ from rocrate.rocrate import ROCrate
 from urllib3 import HTTPResponse
 
 from conftest import REPO, copy_build, run_snakemake
-from lineload.bundle import CHECKSUMS, bundle_name, checksums_text, write_bundle
-from lineload.citation import read_citation
-from lineload.crate import (
+from lineload.publishing.bundle import CHECKSUMS, bundle_name, checksums_text, write_bundle
+from lineload.publishing.citation import read_citation
+from lineload.publishing.crate import (
     MAIN_WORKFLOW,
     build_crate,
     crate_json,

@@ -22,7 +22,7 @@ from lineload.averaging import OUTLINE_COLUMNS, outline_to_tissue_mm
 from lineload.figures import data, registry, schematics, style, supplements
 from lineload.io import load_schema
 from lineload.noise import NoiseModel
-from lineload.validation import read_table
+from lineload.rawdata.validation import read_table
 
 NOTICE = "Made-up numbers for a test of the footer; they describe no finger at all, anywhere."
 WINDOW_MM = 3.0
@@ -769,7 +769,7 @@ SENSITIVITY_TRIALS = [
 
 def sensitivity_inputs(trials=SENSITIVITY_TRIALS, seed=4):
     """Sensitivity refits and checks of waterbed profiles with known L, as the rules write them."""
-    from lineload import sensitivity as sens
+    from lineload.fitting import sensitivity as sens
 
     rng = np.random.default_rng(seed)
     rows, checks = [], []

@@ -3,7 +3,9 @@
 import numpy as np
 import pytest
 
-from lineload import fitting, models, synthetic
+from lineload import models
+from lineload.fitting import batch as fitting
+from lineload.simulation import synthetic
 
 # the reading grid of the study within the 3 mm fit window (tissue mm)
 DISTANCE_MM = np.round(np.r_[np.arange(0.05, 0.5001, 0.05), np.arange(0.75, 3.0001, 0.25)], 6)

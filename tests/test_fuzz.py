@@ -1,7 +1,7 @@
 """Fuzzing the raw-data check: seeded mutations of a raw folder, each refused in one line
 (one per column it breaks) or accepted and then fitted to finite, plausible numbers.
 
-The check (``lineload.validation.check_dataset``) is what stands between a lab's files
+The check (``lineload.rawdata.validation.check_dataset``) is what stands between a lab's files
 and the fits, so it runs alone here, in process, on a few hundred mutated folders: the
 kinds of mistake a spreadsheet, a script or a tired hand makes to a digitised profile
 (magnitudes, types, encodings, missing and extra rows and columns, thin trials).  A
@@ -24,9 +24,9 @@ import pytest
 
 from conftest import write_small_dataset
 from lineload.averaging import average_subjects, tissue_columns
-from lineload.fitting import fit_trials
+from lineload.fitting.batch import fit_trials
 from lineload.io import load_schema
-from lineload.validation import InputError, check_dataset, read_columns, report_lines
+from lineload.rawdata.validation import InputError, check_dataset, read_columns, report_lines
 
 #: Mutated folders per run; each is one seeded draw, so a failure names its number.
 N_MUTATIONS = 300

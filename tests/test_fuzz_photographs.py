@@ -6,7 +6,7 @@ folder of photographs - cells of images.csv (numbers, units, names, states), the
 sheet's saving (a BOM, semicolons, UTF-16, a header in capitals, rows lost or doubled,
 empty columns), the images' bytes (cut short, damaged, another mode or bit depth,
 copied, swapped, blank) and links (out of the folder, to /dev/zero) - go through
-``lineload.validation.check_dataset`` in process.  A mutation it refuses must be refused
+``lineload.rawdata.validation.check_dataset`` in process.  A mutation it refuses must be refused
 with ``Error:`` lines of one line each, naming the folder, and no traceback; one it
 accepts is digitised as the job reads it, and its readings must lie within 20 um of the
 true deflections (images/truth.csv of the clean example) over the fit window.
@@ -23,15 +23,15 @@ import pytest
 
 from conftest import REPO
 from lineload.io import load_schema
-from lineload.photographs import digitise_photographs, read_photograph
-from lineload.synthetic import reading_distances_mm
-from lineload.validation import (
+from lineload.rawdata.photographs import digitise_photographs, read_photograph
+from lineload.rawdata.validation import (
     InputError,
     check_dataset,
     image_scale_px_per_mm,
     read_table,
     report_lines,
 )
+from lineload.simulation.synthetic import reading_distances_mm
 
 #: Mutated folders per run; each is one seeded draw, so a failure names its number.
 N_MUTATIONS = 60
@@ -254,7 +254,7 @@ def test_every_photograph_mutation_is_refused_in_one_line_or_read_right(tmp_path
 def test_the_photograph_fuzz_test_catches_a_check_that_lets_everything_through(
     tmp_path, monkeypatch
 ):
-    from lineload import validation
+    from lineload.rawdata import validation
 
     # the check's photograph part accepts every pair and every file as it is
     monkeypatch.setattr(validation, "links_outside", lambda *a, **k: [])

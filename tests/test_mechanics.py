@@ -13,9 +13,10 @@ import pandas as pd
 import pytest
 
 from conftest import refused_run, run_snakemake, write_small_dataset
-from lineload import mechanics, models, synthetic
+from lineload import mechanics, models
 from lineload.io import load_schema
-from lineload.validation import InputError, check_dataset, check_forces, read_forces
+from lineload.rawdata.validation import InputError, check_dataset, check_forces, read_forces
+from lineload.simulation import synthetic
 
 SCHEMAS = {name: load_schema(name) for name in ("subjects", "profiles", "outlines", "forces")}
 DEPTHS_MM = np.array([0.5, 1.0, 1.5, 2.0])

@@ -189,8 +189,10 @@ class TestBoussinesq:
 
 
 def test_every_fitted_model_is_named_once_and_styled():
-    from lineload import fitting, sensitivity, tables
     from lineload.figures import style, supplements
+    from lineload.fitting import batch as fitting
+    from lineload.fitting import sensitivity
+    from lineload.publishing import tables
 
     assert set(fitting.MODELS) == set(models.MODELS) == set(supplements.REFIT_COLOURS)
     assert sensitivity.MODELS == models.MODELS

@@ -9,7 +9,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lineload import coverage, synthetic
 from lineload.noise import (
     NoiseModel,
     draw_side_errors_mm,
@@ -20,6 +19,7 @@ from lineload.noise import (
     trial_differences,
     trial_models,
 )
+from lineload.simulation import coverage, synthetic
 
 REPO = Path(__file__).resolve().parents[1]
 GRID_MM = synthetic.reading_distances_mm(3.2)

@@ -10,8 +10,8 @@ import pandas as pd
 import pytest
 
 from conftest import REPO, refused_run, run_snakemake
-from lineload.fitting import fit_waterbed
-from lineload.photographs import (
+from lineload.fitting.batch import fit_waterbed
+from lineload.rawdata.photographs import (
     Camera,
     ImageError,
     Scene,
@@ -19,7 +19,7 @@ from lineload.photographs import (
     render_photograph,
     skin_outline_mm,
 )
-from lineload.synthetic import reading_distances_mm, true_deflection_mm
+from lineload.simulation.synthetic import reading_distances_mm, true_deflection_mm
 
 #: The field of view of the test photographs: 80 pixels per tissue mm (12.5 um a pixel),
 #: 17 mm wide, enough to see 2.5 mm of untouched skin beyond the deformed region.
@@ -214,7 +214,7 @@ def test_the_rendering_is_seeded():
 
 def photograph_folder(folder):
     """The photograph example's raw folder, written from the generator into ``folder``."""
-    from lineload.synthetic import photograph_dataset
+    from lineload.simulation.synthetic import photograph_dataset
 
     for relative, content in photograph_dataset().items():
         path = folder / relative
@@ -228,7 +228,7 @@ def photograph_folder(folder):
 
 def test_the_shipped_photograph_example_is_the_generators():
     """data/photographs/ is what the seeded generator writes, byte for byte."""
-    from lineload.synthetic import photograph_dataset
+    from lineload.simulation.synthetic import photograph_dataset
 
     shipped = REPO / "data" / "photographs"
     files = photograph_dataset()
@@ -242,7 +242,7 @@ def test_the_shipped_photograph_example_is_the_generators():
 
 @pytest.mark.e2e
 def test_the_photograph_example_builds_from_images_to_article(tmp_path):
-    from lineload.synthetic import (
+    from lineload.simulation.synthetic import (
         PHOTOGRAPH_DEPTHS_MM,
         PHOTOGRAPH_SUBJECTS,
         shipped_subjects,
@@ -407,7 +407,7 @@ def example_copy(folder):
 def problems_of(raw, digitise=None, **settings):
     """The raw-data check's lines for a folder (empty when it passes)."""
     from lineload.io import load_schema
-    from lineload.validation import InputError, check_dataset
+    from lineload.rawdata.validation import InputError, check_dataset
 
     schemas = {n: load_schema(n) for n in ("subjects", "profiles", "outlines", "forces", "images")}
     try:
@@ -574,7 +574,7 @@ def test_a_sheet_naming_a_file_outside_is_refused(tmp_path):
     raw = example_copy(tmp_path / "raw")
     sheet = raw / "images" / "images.csv"
     sheet.write_text(sheet.read_text().replace("M1_1mm_rest.png", "../../../../etc/passwd"))
-    from lineload.validation import photograph_files
+    from lineload.rawdata.validation import photograph_files
 
     assert all("passwd" not in f for f in photograph_files(str(raw))["M1"])
     problems = one_line_each(problems_of(raw))
@@ -719,7 +719,7 @@ def test_a_photograph_mistake_is_refused_with_its_likely_cause(tmp_path, mistake
 
 def test_readings_past_the_deflection_bound_are_refused_as_a_profile_file_is():
     """The bounds of trial_problem, on readings made to break each one."""
-    from lineload.photographs import DigitisedTrial, trial_problem
+    from lineload.rawdata.photographs import DigitisedTrial, trial_problem
 
     def trial(near, far, residual_mm=0.002):
         distances = np.array([0.05, 1.0])

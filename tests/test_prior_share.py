@@ -5,7 +5,7 @@ priors removed or scaled."""
 import numpy as np
 import pytest
 
-from lineload.fitting import fit_trials
+from lineload.fitting.batch import fit_trials
 from lineload.models import arc_deflection_mm
 from lineload.noise import NoiseModel
 

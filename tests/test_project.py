@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from lineload.citation import read_citation, zenodo_json
-from lineload.fitting import FIT_COLUMNS
+from lineload.fitting.batch import FIT_COLUMNS
+from lineload.publishing.citation import read_citation, zenodo_json
 
 REPO = Path(__file__).resolve().parents[1]
 #: The test environment's own programs (check-jsonschema), beside its Python.
@@ -144,7 +144,7 @@ def test_citation_check_can_fail(tmp_path):
 
 
 def test_zenodo_metadata_is_the_citation_files():
-    """.zenodo.json is generated from CITATION.cff (python -m lineload.citation)."""
+    """.zenodo.json is generated from CITATION.cff (python -m lineload.publishing.citation)."""
     citation = read_citation(REPO / "CITATION.cff")
     assert (REPO / ".zenodo.json").read_text() == zenodo_json(citation)
     zenodo = json.loads((REPO / ".zenodo.json").read_text())
@@ -190,7 +190,7 @@ def test_a_copy_without_the_citation_file_names_the_package(tmp_path):
     package's name and version stand in, and no date, licence or author is claimed."""
     from importlib import metadata
 
-    from lineload.citation import citation_or_default
+    from lineload.publishing.citation import citation_or_default
 
     fallback = citation_or_default([])
     assert fallback["title"] == "lineload"

@@ -4,7 +4,7 @@ import json
 import re
 
 from conftest import write_small_dataset
-from lineload import provenance
+from lineload.publishing import provenance
 
 
 def test_record_hashes_every_raw_file(tmp_path):

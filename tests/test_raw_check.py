@@ -83,7 +83,7 @@ def test_a_refused_run_removes_no_folder_it_did_not_make(tmp_path, snakemake_ava
 
 
 def test_cleanup_removes_only_the_folders_the_run_made(tmp_path):
-    from lineload import startup
+    from lineload.runtime import startup
 
     root = tmp_path / "results"
     (root / "logs" / "old").mkdir(parents=True)  # the user's, empty
@@ -319,7 +319,7 @@ def test_what_start_up_imports_leaves_pandas_out(tmp_path):
 
 
 def test_a_link_loop_or_a_notice_not_in_utf8_stops_start_up_with_one_sentence(tmp_path, capsys):
-    from lineload import startup
+    from lineload.runtime import startup
 
     raw = write_small_dataset(tmp_path / "raw")
     (raw / "outlines").mkdir()
@@ -346,7 +346,7 @@ def test_a_link_loop_or_a_notice_not_in_utf8_stops_start_up_with_one_sentence(tm
 
 
 def test_the_report_command_is_read_as_snakemake_reads_it(tmp_path, capsys):
-    from lineload import startup
+    from lineload.runtime import startup
 
     assert startup.report_argument(["snakemake", "--report", "out/r.html"]) == "out/r.html"
     assert startup.report_argument(["snakemake", "--report=r.html", "-c1"]) == "r.html"
@@ -393,7 +393,7 @@ def test_nan_and_infinities_in_the_config_are_refused_with_one_line(tmp_path, se
 
 
 def test_config_problem_sees_what_the_schema_cannot():
-    from lineload.startup import config_problem
+    from lineload.runtime.startup import config_problem
 
     assert config_problem({"raw_data": "data/raw", "results": "results", "a": [1.0, 2]}) is None
     assert "key 'a/1'" in config_problem({"a": [1.0, float("nan")]})
@@ -438,7 +438,7 @@ def test_start_up_refuses_a_link_out_of_the_dataset_before_reading_it(tmp_path, 
 
 HOLD = """
 import sys, time
-from lineload import buildlock
+from lineload.runtime import buildlock
 fd, held = buildlock.acquire(sys.argv[1], buildlock.this_build(sys.argv))
 print("held" if fd is not None else held, flush=True)
 time.sleep(120)
@@ -463,7 +463,7 @@ def holder(results, cwd):
 def test_the_lock_is_taken_once_and_taken_over_from_a_killed_holder(tmp_path):
     import signal
 
-    from lineload.buildlock import LOCK_NAME, acquire, release
+    from lineload.runtime.buildlock import LOCK_NAME, acquire, release
 
     results = tmp_path / "results"
     other = holder(results, tmp_path)
@@ -514,7 +514,7 @@ def test_a_second_build_on_one_results_folder_is_refused_naming_the_first(tmp_pa
 
 
 def test_where_to_look_names_first_what_the_target_built(tmp_path):
-    from lineload import startup
+    from lineload.runtime import startup
 
     zipped, article = tmp_path / "b.zip", tmp_path / "a.pdf"
     article.write_text("%PDF")

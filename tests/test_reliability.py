@@ -15,7 +15,7 @@ from conftest import (
     without_log_hashes,
     write_small_dataset,
 )
-from lineload.provenance import verify
+from lineload.publishing.provenance import verify
 
 pytestmark = pytest.mark.e2e
 

@@ -2,7 +2,7 @@
 
 import math
 
-from lineload.reportpages import error_columns, table_page, with_supported_digits
+from lineload.publishing.reportpages import error_columns, table_page, with_supported_digits
 
 COLUMNS = [
     "subject",
@@ -40,7 +40,7 @@ def test_values_keep_two_significant_digits_of_their_uncertainty():
 
 
 def test_headers_carry_words_and_units_and_values_the_articles_digits():
-    from lineload.reportpages import column_label
+    from lineload.publishing.reportpages import column_label
 
     assert column_label("waterbed_L_ci_low_mm") == "waterbed L 95 % CI low (mm)"
     assert column_label("boussinesq_x0_mm") == "Boussinesq x₀ (mm)"

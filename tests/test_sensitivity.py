@@ -5,7 +5,9 @@ import pandas as pd
 import pytest
 
 from conftest import run_snakemake, write_small_dataset
-from lineload import fitting, models, sensitivity
+from lineload import models
+from lineload.fitting import batch as fitting
+from lineload.fitting import sensitivity
 
 DISTANCE_MM = np.round(
     np.r_[np.arange(0.05, 0.5001, 0.05), np.arange(0.75, 3.0001, 0.25), np.arange(3.5, 8.01, 0.5)],

@@ -11,7 +11,7 @@ import textwrap
 import pytest
 
 from conftest import REPO, job_params, run_snakemake, write_small_dataset
-from lineload.settings import apply_command_line, typed_value
+from lineload.runtime.settings import apply_command_line, typed_value
 
 
 def snakemake_config(entries):

@@ -14,7 +14,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from lineload import fitting, synthetic
+from lineload.fitting import batch as fitting
+from lineload.simulation import synthetic
 
 ROOT = Path(__file__).resolve().parents[1]
 RAW = ROOT / "data" / "raw"
@@ -418,7 +419,7 @@ def test_outlines():
 
 
 def test_shipped_data_pass_the_contract(subjects):
-    validation = pytest.importorskip("lineload.validation")
+    validation = pytest.importorskip("lineload.rawdata.validation")
     io = pytest.importorskip("lineload.io")
     sheet = validation.read_table(RAW / "subjects.csv", io.load_schema("subjects"))
     validation.check_subjects(sheet, "subjects.csv", str(RAW / "profiles"))

@@ -6,9 +6,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from lineload import tables
-from lineload.fitting import FIT_COLUMNS
-from lineload.tables import (
+from lineload.fitting.batch import FIT_COLUMNS
+from lineload.publishing import tables
+from lineload.publishing.tables import (
     SUMMARY_COLUMNS,
     escape_latex,
     escape_markdown,

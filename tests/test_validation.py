@@ -8,7 +8,7 @@ Two layers:
   no traceback and leave no results folder behind; a lab's export with
   several things broken gets every problem in one run, and files no subject
   reads get ``Warning:`` lines;
-* unit: ``lineload.validation`` called directly (fast), for typing, line
+* unit: ``lineload.rawdata.validation`` called directly (fast), for typing, line
   numbers, the rules that span rows or files, and the plausibility of units.
 
 Line numbers in the expectations are computed from where the test puts the
@@ -29,7 +29,7 @@ import pytest
 
 from conftest import refused_run, run_snakemake, write_small_dataset
 from lineload.io import load_schema
-from lineload.validation import (
+from lineload.rawdata.validation import (
     InputError,
     Problems,
     check_dataset,
@@ -1217,7 +1217,7 @@ def test_a_check_that_raises_is_folded_into_the_pass():
 
 
 def test_folders_apart_are_accepted_and_nested_ones_refused(tmp_path):
-    from lineload.startup import folder_problem
+    from lineload.runtime.startup import folder_problem
 
     raw = tmp_path / "raw"
     # side by side, one named like the other's start, or relative: accepted
@@ -1241,7 +1241,7 @@ def test_a_results_folder_on_a_read_only_disk_is_refused_before_anything_runs(
 ):
     # root may write anywhere and CI runs as root, so the operating system's answer for a
     # read-only disk is played by os.access; the folder asked about is the nearest that exists
-    from lineload import startup
+    from lineload.runtime import startup
 
     asked = []
 

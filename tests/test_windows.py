@@ -5,8 +5,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from lineload.claims import CLAIM_FUNCTIONS, ClaimSettings
-from lineload.fitting import FIT_COLUMNS, fit_trials, fit_windowed
+from lineload.claims.rules import CLAIM_FUNCTIONS, ClaimSettings
+from lineload.fitting.batch import FIT_COLUMNS, fit_trials, fit_windowed
 from lineload.models import arc_deflection_mm
 
 DISTANCE_MM = np.concatenate([np.arange(1, 11) * 0.05, np.arange(0.75, 8.01, 0.25)])

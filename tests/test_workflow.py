@@ -9,7 +9,7 @@ import pytest
 
 from conftest import REPO, reading_grid_mm, run_snakemake, write_small_dataset
 from lineload import models
-from lineload.fitting import FIT_COLUMNS
+from lineload.fitting.batch import FIT_COLUMNS
 
 pytestmark = pytest.mark.e2e  # every test here runs Snakemake
 
@@ -102,7 +102,7 @@ def test_shipped_verdicts_are_those_the_generator_built_in(shipped_results):
     # data/built_in_verdicts.json, written by the generator, is what data/README.md and
     # the article say the reconstruction holds: the claims table must agree with it
     built_in = json.loads((REPO / "data" / "built_in_verdicts.json").read_text())
-    from lineload.calibration import UNCALIBRATED_CLAIMS
+    from lineload.simulation.calibration import UNCALIBRATED_CLAIMS
 
     claims = pd.read_csv(shipped_results / "tables" / "claims.csv").set_index("claim")
     claims = claims.drop(index=list(UNCALIBRATED_CLAIMS))  # not in the generator's analysis

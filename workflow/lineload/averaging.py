@@ -56,7 +56,7 @@ def tissue_columns(profile, subject, magnification):
     ----------
     profile : mapping
         Column name to values (a DataFrame, or the columns of
-        :func:`lineload.validation.read_columns`): ``depth_mm``, ``side``,
+        :func:`lineload.rawdata.validation.read_columns`): ``depth_mm``, ``side``,
         ``distance_image_mm`` and ``deflection_image_mm``.
     subject : str
         Subject id, copied into every row.

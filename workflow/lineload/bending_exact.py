@@ -37,7 +37,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import solve_bvp
 
-from .bending import bending_coefficients, bending_deflection_mm, bending_load_per_tension
+from lineload.bending import bending_coefficients, bending_deflection_mm, bending_load_per_tension
 
 __all__ = ["SMALL_SLOPE_COLUMNS", "bending_finite_profile", "small_slope_error"]
 
@@ -137,7 +137,7 @@ def small_slope_error(depth_mm, L_mm, bending_length_mm, distance_mm, wall="clam
 
     The finite-slope profile (:func:`bending_finite_profile`) is read at
     ``distance_mm`` as a photograph would read it (at the deformed position), and the
-    small-slope model is fitted to it (:func:`lineload.bending_fit.fit_bending`) with
+    small-slope model is fitted to it (:func:`lineload.fitting.bending.fit_bending`) with
     W0 at the depth, as the workflow fits readings.
 
     Parameters
@@ -155,7 +155,7 @@ def small_slope_error(depth_mm, L_mm, bending_length_mm, distance_mm, wall="clam
         between the two profiles at the readings, and the small-slope fit's ``L``,
         ``l_b`` and RMSE on the finite-slope profile.
     """
-    from .bending_fit import fit_bending
+    from lineload.fitting.bending import fit_bending
 
     distance_mm = np.asarray(distance_mm, dtype=float)
     exact = bending_finite_profile(depth_mm, L_mm, bending_length_mm, wall)

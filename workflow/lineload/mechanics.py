@@ -73,8 +73,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from . import paper
-from .models import arc_geometry, waterbed_load_angle_rad, waterbed_strain
+from lineload import paper
+from lineload.models import arc_geometry, waterbed_load_angle_rad, waterbed_strain
 
 __all__ = [
     "INTERVAL_Z",
@@ -608,7 +608,7 @@ def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=None)
         forces at two or more depths with a finite arc L and L interval.
     """
     if force_sd_N is None:
-        from .io import config_defaults
+        from lineload.io import config_defaults
 
         force_sd_N = config_defaults("mechanics")["force_sd_N"]
     lookup = _force_lookup(forces)

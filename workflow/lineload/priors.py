@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .fitting import FIT_COLUMNS, fit_trials
+from lineload.fitting.batch import FIT_COLUMNS, fit_trials
 
 __all__ = [
     "CHANGED_COLUMN",
@@ -52,7 +52,7 @@ def refit_at_priors(fits, averaged, noise_models):
     Returns
     -------
     pandas.DataFrame
-        Columns :data:`lineload.fitting.FIT_COLUMNS`, rows as in ``fits``; L's range
+        Columns :data:`lineload.fitting.batch.FIT_COLUMNS`, rows as in ``fits``; L's range
         across the other windows (least squares, free of the noise) copied from ``fits``.
     """
     points = {

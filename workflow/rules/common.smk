@@ -8,10 +8,11 @@ from snakemake.exceptions import IncompleteCheckpointException, WorkflowError
 from snakemake.io import strip_wildcard_constraints
 from snakemake.utils import min_version, validate
 
-from lineload import buildlock, codedeps, settings, startup, validation
-from lineload.interrupt import stop_on_sigterm
+from lineload.runtime import buildlock, codedeps, settings, startup
+from lineload.rawdata import validation
+from lineload.runtime.interrupt import stop_on_sigterm
 from lineload.io import load_schema
-from lineload.validation import InputError
+from lineload.rawdata.validation import InputError
 
 min_version("9.0")
 
@@ -180,7 +181,7 @@ def boundary_blocks():
     """Jobs of the boundary calibration: '{world}.{first}' per world and block of
     datasets (config calibration: verdict_datasets, block_datasets); the worlds are
     imported only when the calibration is asked for."""
-    from lineload.calibration import BOUNDARY_WORLDS
+    from lineload.simulation.calibration import BOUNDARY_WORLDS
 
     total = config["calibration"]["verdict_datasets"]
     step = config["calibration"]["block_datasets"]

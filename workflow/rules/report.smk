@@ -190,10 +190,10 @@ rule provenance:
 
 # ------------------------------------------------------------------ the run as an RO-Crate
 
-from lineload.bundle import bundle_name
-from lineload.citation import citation_or_default, software_name
-from lineload.crate import source_files
-from lineload.provenance import git_state
+from lineload.publishing.bundle import bundle_name
+from lineload.publishing.citation import citation_or_default, software_name
+from lineload.publishing.crate import source_files
+from lineload.publishing.provenance import git_state
 
 CITATION = citation_or_default(CITATION_FILES)
 #: The workflow's source as the crate and the bundle carry it (a copy under source/,

@@ -1,7 +1,7 @@
 """Rule check_profiles: one batch's profile and outline files against the data contract.
 
 The raw-data check's part that reads the large files, run batch by batch so that it
-uses every core (and the cluster): lineload.validation.check_subject_files on the
+uses every core (and the cluster): lineload.rawdata.validation.check_subject_files on the
 batch's subjects.  The problems are written down, not raised: rule check_raw_data
 gathers every batch's, with the checks of the whole folder, and refuses the folder
 with all of them at once.
@@ -10,8 +10,8 @@ with all of them at once.
 import os
 
 from lineload.io import json_text, load_schema, output_to, write_text
-from lineload.jobparams import given
-from lineload.validation import Problems, check_subject_files, plausibility_defaults
+from lineload.rawdata.validation import Problems, check_subject_files, plausibility_defaults
+from lineload.runtime.jobparams import given
 
 
 def check_profiles(sheet, output, subjects, input_checks, window_mm, min_points):

@@ -1,6 +1,6 @@
 """Rule check_raw_data: every raw file against the data contract, every problem at once.
 
-Reads the raw folder (lineload.validation.check_dataset), the profile and outline
+Reads the raw folder (lineload.rawdata.validation.check_dataset), the profile and outline
 files as the check_profiles jobs found them batch by batch, and writes what the
 later jobs need to know of it: the depths per subject, the outline depths and
 the warnings.  A refused folder prints one line per problem on stderr (and into
@@ -12,9 +12,9 @@ import os
 import sys
 
 from lineload.io import json_text, load_schema, output_to, read_json, write_text
-from lineload.jobparams import given
-from lineload.startup import check_record, file_metadata, portable_path
-from lineload.validation import InputError, check_dataset, report_lines
+from lineload.rawdata.validation import InputError, check_dataset, report_lines
+from lineload.runtime.jobparams import given
+from lineload.runtime.startup import check_record, file_metadata, portable_path
 
 #: The tables of the data contract, each with its row schema.
 TABLES = ("subjects", "profiles", "outlines", "forces", "images")
@@ -65,7 +65,7 @@ def check_raw_data(
     }
     write_text(json_text(summary), output)
     # size and time of every file checked: a file later put back with an old time is
-    # noticed at the next start (lineload.startup.restored_files)
+    # noticed at the next start (lineload.runtime.startup.restored_files)
     write_text(json_text(file_metadata(files, raw_dir)), check_record(log))  # sheet included
     trials = sum(len(d) for d in dataset["depths_mm"].values())
     print(

@@ -1,6 +1,6 @@
 """Rule digitise: a photographed subject's readings from its rest and loaded photographs.
 
-Each depth's pair is read with lineload.photographs.digitise_pair; the readings are
+Each depth's pair is read with lineload.rawdata.photographs.digitise_pair; the readings are
 written in the profile contract's form (image units: tissue mm times the subject's
 magnification) and checked as a raw profile file is, and a record of how well each
 trial was digitised is written beside them.  A photograph that cannot be read stops the
@@ -13,22 +13,22 @@ import sys
 from lineload.figures.data import figure_digitised
 from lineload.figures.style import save_figure
 from lineload.io import json_text, load_schema, output_to, write_text
-from lineload.jobparams import given
-from lineload.photographs import (
+from lineload.rawdata.photographs import (
     ImageError,
     digitise_photographs,
     profile_rows,
     quality_record,
     read_photograph,
 )
-from lineload.readings import reading_distances_mm
-from lineload.validation import (
+from lineload.rawdata.readings import reading_distances_mm
+from lineload.rawdata.validation import (
     InputError,
     check_thin_trials,
     image_scale_px_per_mm,
     read_columns,
     read_table,
 )
+from lineload.runtime.jobparams import given
 
 
 def truth_of(folder, subject):

@@ -19,7 +19,7 @@ from lineload.figures import registry
 from lineload.figures.choices import CHOICE_KEYS, ChoiceError, figure_settings
 from lineload.figures.style import save_figure
 from lineload.io import output_to, read_json, read_results_csv
-from lineload.jobparams import given
+from lineload.runtime.jobparams import given
 
 
 def choose(settings, group, checked, species_of):

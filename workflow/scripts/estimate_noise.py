@@ -3,7 +3,6 @@
 import os
 
 from lineload.io import output_to, read_json, read_trials, write_rows
-from lineload.jobparams import given
 from lineload.noise import (
     NOISE_COLUMNS,
     estimate_noise,
@@ -11,6 +10,7 @@ from lineload.noise import (
     noise_trials,
     registration_rows,
 )
+from lineload.runtime.jobparams import given
 
 
 def registrations(quality):

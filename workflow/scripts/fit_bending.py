@@ -1,9 +1,9 @@
 """Rule fit_bending: the bending skin fitted to each subject and depth of a batch."""
 
-from lineload.bending_fit import BENDING_COLUMNS, fit_bending_trials
+from lineload.fitting.bending import BENDING_COLUMNS, fit_bending_trials
 from lineload.io import output_to, read_rows, read_trials, write_rows
-from lineload.jobparams import given
 from lineload.noise import trial_models
+from lineload.runtime.jobparams import given
 
 
 def fit_bending(averaged, noise, output, subjects, window_mm, wall):

@@ -1,9 +1,9 @@
 """Rule mechanics: membrane geometry per trial; pre-tension, stiffness, pre-strain per subject."""
 
 from lineload.io import output_to, read_results_csv, write_csv
-from lineload.jobparams import given
 from lineload.mechanics import SUBJECT_COLUMNS, TRIAL_COLUMNS, mechanics_tables
-from lineload.validation import read_forces
+from lineload.rawdata.validation import read_forces
+from lineload.runtime.jobparams import given
 
 
 def fit_mechanics(fits_path, forces_paths, outputs, contact_length_mm, force_sd_N):

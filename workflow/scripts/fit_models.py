@@ -1,9 +1,9 @@
 """Rule fit_models: every model for each subject and depth of a batch, all trials at once."""
 
-from lineload.fitting import FIT_COLUMNS, fit_trials
+from lineload.fitting.batch import FIT_COLUMNS, fit_trials
 from lineload.io import output_to, read_rows, read_trials, write_rows
-from lineload.jobparams import given
 from lineload.noise import trial_models
+from lineload.runtime.jobparams import given
 
 
 def fit_models(averaged, noise, output, subjects, window_mm, other_windows_mm=()):

@@ -4,14 +4,14 @@ import math
 
 import numpy as np
 
-from lineload.io import output_to, read_trials, write_rows
-from lineload.jobparams import given
-from lineload.sensitivity import (
+from lineload.fitting.sensitivity import (
     CHECK_COLUMNS,
     SENSITIVITY_COLUMNS,
     sensitivity_rows_batch,
     trial_checks_batch,
 )
+from lineload.io import output_to, read_trials, write_rows
+from lineload.runtime.jobparams import given
 
 
 def fit_sensitivity(averaged, sensitivity, checks, subjects, window_mm, windows_mm, reach_fraction):

@@ -5,9 +5,7 @@ from dataclasses import replace
 
 import pandas as pd
 
-from lineload.bending_fit import with_bending
-from lineload.calibration import claim_error_rates
-from lineload.claims import (
+from lineload.claims.rules import (
     CLAIM_COLUMNS,
     ClaimSettings,
     InternalError,
@@ -15,11 +13,13 @@ from lineload.claims import (
     compute_claims,
     trial_key,
 )
+from lineload.fitting.bending import with_bending
 from lineload.io import output_to, read_results_csv, read_rows, write_csv, write_text
-from lineload.jobparams import given
 from lineload.noise import model_from_rows, trial_models
 from lineload.priors import CHANGED_COLUMN, prior_column, refit_at_priors, with_prior_verdicts
-from lineload.validation import read_forces
+from lineload.rawdata.validation import read_forces
+from lineload.runtime.jobparams import given
+from lineload.simulation.calibration import claim_error_rates
 
 
 def make_claims(inputs, outputs, settings, notice):

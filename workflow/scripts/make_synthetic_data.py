@@ -18,7 +18,7 @@ each trial a resting and a loaded side view rendered from the true profiles)::
 
 ``--print-parameters`` prints the true parameters (per subject, then per
 trial, then the membranes behind the forces) as Markdown tables instead of
-writing files.  The generator itself is ``lineload.synthetic``.
+writing files.  The generator itself is ``lineload.simulation.synthetic``.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ import argparse
 import sys
 from pathlib import Path
 
-import lineload.synthetic as synthetic
+import lineload.simulation.synthetic as synthetic
 from lineload.io import json_text, replaced_atomically, write_text
 
 #: Sub-folders whose CSV files the generator owns.

@@ -1,8 +1,7 @@
 """Rule fit_tables: fit table and species summary as Markdown, LaTeX and CSV."""
 
 from lineload.io import output_to, read_results_csv, write_csv, write_text
-from lineload.jobparams import given
-from lineload.tables import (
+from lineload.publishing.tables import (
     SUMMARY_COLUMNS,
     fits_latex,
     fits_markdown,
@@ -10,6 +9,7 @@ from lineload.tables import (
     summary_latex,
     summary_markdown,
 )
+from lineload.runtime.jobparams import given
 
 
 def make_tables(fits_path, outputs, notice):

@@ -2,8 +2,8 @@
 
 from lineload.averaging import OUTLINE_COLUMNS, outline_to_tissue_mm
 from lineload.io import load_schema, output_to, write_csv
-from lineload.jobparams import given
-from lineload.validation import read_table
+from lineload.rawdata.validation import read_table
+from lineload.runtime.jobparams import given
 
 
 def prepare_outline(outline_path, output_path, subject, magnification):

@@ -14,8 +14,8 @@ from lineload.averaging import (
     tissue_columns,
 )
 from lineload.io import load_schema, output_to, write_columns
-from lineload.jobparams import given
-from lineload.validation import check_no_duplicate_readings, read_columns
+from lineload.rawdata.validation import check_no_duplicate_readings, read_columns
+from lineload.runtime.jobparams import given
 
 
 def prepare_profiles(profiles, subjects, converted_path, averaged_path):

@@ -1,6 +1,9 @@
 """Rule bootstrap: a parametric bootstrap of the data's own fits - do its intervals cover?"""
 
-from lineload.coverage import (
+from lineload.io import output_to, read_rows, read_trials, write_rows, write_text
+from lineload.noise import model_from_rows, trial_models
+from lineload.runtime.jobparams import given
+from lineload.simulation.coverage import (
     COVERAGE_COLUMNS,
     TRIAL_COLUMNS,
     bootstrap_markdown,
@@ -8,9 +11,6 @@ from lineload.coverage import (
     calibration_command,
     summarise_coverage,
 )
-from lineload.io import output_to, read_rows, read_trials, write_rows, write_text
-from lineload.jobparams import given
-from lineload.noise import model_from_rows, trial_models
 
 #: Each model's fitted parameters, as the fit table names them.
 FITTED = {

@@ -1,8 +1,8 @@
 """Rule boundary_block: one boundary world, both sides, on one block of datasets."""
 
-from lineload.calibration import BOUNDARY_COLUMNS, boundary_study
 from lineload.io import output_to, write_rows
-from lineload.jobparams import given
+from lineload.runtime.jobparams import given
+from lineload.simulation.calibration import BOUNDARY_COLUMNS, boundary_study
 
 
 def boundary_block(

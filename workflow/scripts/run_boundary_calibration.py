@@ -2,15 +2,15 @@
 
 import csv
 
-from lineload.calibration import (
+from lineload.io import output_to, write_rows, write_text
+from lineload.runtime.jobparams import given
+from lineload.simulation.calibration import (
     BOUNDARY_COLUMNS,
     BOUNDARY_SUMMARY_COLUMNS,
     boundary_markdown,
     summarise_boundary,
 )
-from lineload.coverage import calibration_command
-from lineload.io import output_to, write_rows, write_text
-from lineload.jobparams import given
+from lineload.simulation.coverage import calibration_command
 
 #: How the gathered rows' columns are read back (the rest are text).
 _TYPES = {"effect": float, "dataset": int}

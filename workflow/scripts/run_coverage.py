@@ -1,6 +1,8 @@
 """Rule coverage: do the intervals cover?  Simulated datasets, fitted as the workflow fits."""
 
-from lineload.coverage import (
+from lineload.io import output_to, write_rows, write_text
+from lineload.runtime.jobparams import given
+from lineload.simulation.coverage import (
     COVERAGE_COLUMNS,
     TRIAL_COLUMNS,
     calibration_command,
@@ -8,8 +10,6 @@ from lineload.coverage import (
     coverage_study,
     summarise_coverage,
 )
-from lineload.io import output_to, write_rows, write_text
-from lineload.jobparams import given
 
 
 def coverage(outputs, seed, datasets):

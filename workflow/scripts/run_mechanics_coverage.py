@@ -1,15 +1,15 @@
 """Rule mechanics_coverage: do the membrane's intervals cover its true N0, E, pre-strain?"""
 
-from lineload.calibration import (
+from lineload.io import output_to, write_rows, write_text
+from lineload.runtime.jobparams import given
+from lineload.simulation.calibration import (
     MECHANICS_COLUMNS,
     MECHANICS_SUMMARY_COLUMNS,
     mechanics_markdown,
     mechanics_study,
     summarise_mechanics,
 )
-from lineload.coverage import calibration_command
-from lineload.io import output_to, write_rows, write_text
-from lineload.jobparams import given
+from lineload.simulation.coverage import calibration_command
 
 
 def mechanics_coverage(outputs, seed, datasets, window_mm, priors, max_trials, force_sd_N):

@@ -1,15 +1,15 @@
 """Rule verdict_calibration: how often each claim's rule reaches the right verdict."""
 
-from lineload.calibration import (
+from lineload.io import output_to, write_rows, write_text
+from lineload.runtime.jobparams import given
+from lineload.simulation.calibration import (
     DATASET_COLUMNS,
     SUMMARY_COLUMNS,
     summarise_verdicts,
     verdict_markdown,
     verdict_study,
 )
-from lineload.coverage import calibration_command
-from lineload.io import output_to, write_rows, write_text
-from lineload.jobparams import given
+from lineload.simulation.coverage import calibration_command
 
 
 def verdict_calibration(outputs, seed, datasets, window_mm, priors, max_trials, claims):

@@ -2,10 +2,10 @@
 
 import pandas as pd
 
+from lineload.fitting.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS
 from lineload.io import output_to, read_results_csv, write_csv, write_text
-from lineload.jobparams import given
-from lineload.sensitivity import CHECK_COLUMNS, SENSITIVITY_COLUMNS
-from lineload.tables import sensitivity_markdown
+from lineload.publishing.tables import sensitivity_markdown
+from lineload.runtime.jobparams import given
 
 
 def sensitivity_tables(inputs, outputs, notice):

@@ -12,13 +12,6 @@ from pathlib import Path
 
 import typst
 
-from lineload.article import (
-    article_facts,
-    bending_facts,
-    calibration_design,
-    photograph_facts,
-)
-from lineload.citation import author_names, citation_or_default, software_name
 from lineload.figures.choices import figure_settings
 from lineload.io import (
     json_text,
@@ -29,10 +22,17 @@ from lineload.io import (
     replaced_atomically,
     write_text,
 )
-from lineload.jobparams import given
 from lineload.noise import reading_noise_mm
-from lineload.provenance import git_state, package_versions
-from lineload.synthetic import DATA_NOTICE
+from lineload.publishing.article import (
+    article_facts,
+    bending_facts,
+    calibration_design,
+    photograph_facts,
+)
+from lineload.publishing.citation import author_names, citation_or_default, software_name
+from lineload.publishing.provenance import git_state, package_versions
+from lineload.runtime.jobparams import given
+from lineload.simulation.synthetic import DATA_NOTICE
 
 
 def compile_pdf(source, root):

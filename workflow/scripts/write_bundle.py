@@ -3,10 +3,10 @@
 import os
 from pathlib import Path
 
-from lineload.bundle import write_bundle
-from lineload.citation import citation_or_default
-from lineload.crate import METADATA, build_crate, crate_json
 from lineload.io import output_to, read_json
+from lineload.publishing.bundle import write_bundle
+from lineload.publishing.citation import citation_or_default
+from lineload.publishing.crate import METADATA, build_crate, crate_json
 
 
 def bundle(files, rules, provenance, citation, crate_metadata, output, date):

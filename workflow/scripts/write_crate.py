@@ -9,9 +9,9 @@ import os
 import shutil
 from pathlib import Path
 
-from lineload.citation import citation_or_default
-from lineload.crate import build_crate, write_crate
 from lineload.io import output_to, read_json
+from lineload.publishing.citation import citation_or_default
+from lineload.publishing.crate import build_crate, write_crate
 
 
 def copy_into(files, root, raw_dir, repository):

@@ -4,8 +4,8 @@ import os
 from pathlib import Path
 
 from lineload.io import output_to, write_text
-from lineload.jobparams import given
-from lineload.provenance import provenance_record, to_json
+from lineload.publishing.provenance import provenance_record, to_json
+from lineload.runtime.jobparams import given
 
 
 def write_provenance(raw_files, output, config, repository):

@@ -10,12 +10,12 @@ from pathlib import Path
 from docutils.core import publish_parts
 from jinja2 import Template
 
-from lineload.article import group_depths_text
 from lineload.figures import registry
 from lineload.io import output_to, read_json, read_results_csv, write_text
-from lineload.jobparams import given
-from lineload.provenance import git_state, package_versions
-from lineload.reportpages import figure_page, table_page, versions_page
+from lineload.publishing.article import group_depths_text
+from lineload.publishing.provenance import git_state, package_versions
+from lineload.publishing.reportpages import figure_page, table_page, versions_page
+from lineload.runtime.jobparams import given
 
 
 def caption(path, config):

@@ -17,7 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from lineload.bending_exact import small_slope_error
-from lineload.readings import reading_distances_mm
+from lineload.rawdata.readings import reading_distances_mm
 
 DEPTHS_MM = (0.5, 1.0, 2.0)
 HALF_WIDTHS_MM = (8.0, 12.0, 16.0)

@@ -6,7 +6,7 @@ study, on a reading grid of the paper's design (every 0.05 mm to 0.5 mm, then ev
 reconstruction's.  Each dataset's noise is measured from its own left-right differences
 (:func:`lineload.noise.estimate_noise`), the priors are stated as these data have them
 (the sizes they were made with), and each trial is fitted with
-:func:`lineload.fitting.fit_windowed`.  An interval covers when it holds the L the
+:func:`lineload.fitting.batch.fit_windowed`.  An interval covers when it holds the L the
 profile was made with; the count gets a Clopper-Pearson interval.  Beside it: the SD of
 ``(L - truth) / SE`` (SE the interval's half-width over 1.96), which is 1 when the
 intervals are as wide as the scatter of L says, and the mean share of the variance from
@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 from scipy.stats import binomtest
 
-from lineload.fitting import fit_windowed
+from lineload.fitting.batch import fit_windowed
 from lineload.io import config_defaults
 from lineload.models import arc_deflection_mm
 from lineload.noise import PRIORS, NoiseModel, estimate_noise, trial_differences

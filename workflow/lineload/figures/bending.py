@@ -16,9 +16,9 @@ import numpy as np
 from matplotlib import ticker
 from matplotlib.lines import Line2D
 
-from ..bending import bending_deflection_mm
-from .data import fit_row, model_curve_mm, trial_points
-from .style import (
+from lineload.bending import bending_deflection_mm
+from lineload.figures.data import fit_row, model_curve_mm, trial_points
+from lineload.figures.style import (
     DATA_COLOUR,
     DEFLECTION_LABEL,
     DOUBLE_COLUMN_MM,

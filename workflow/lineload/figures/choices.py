@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..paper import EXAMPLE_DEPTH_MM, SPECIES
+from lineload.paper import EXAMPLE_DEPTH_MM, SPECIES
 
 __all__ = [
     "CHOICE_KEYS",

@@ -18,8 +18,8 @@ import numpy as np
 from matplotlib import patches
 from matplotlib.lines import Line2D
 
-from .. import models
-from .style import (
+from lineload import models
+from lineload.figures.style import (
     DATA_COLOUR,
     DEFLECTION_LABEL,
     DISTANCE_LABEL,
@@ -516,7 +516,7 @@ def figure_digitised(subject, trials, notice=""):
     trials : list of dict
         Per depth: ``depth_mm``, ``image`` (the loaded photograph, 2-D), ``extent_mm``
         (``x0, x1, z0, z1`` of the image in tissue mm), ``outlines`` and ``readings``
-        and ``tip_x_mm`` of :class:`lineload.photographs.DigitisedTrial`; optionally
+        and ``tip_x_mm`` of :class:`lineload.rawdata.photographs.DigitisedTrial`; optionally
         ``truth``, side -> ``(distance_mm, deflection_mm)``.
     notice : str, optional
         Footer text; empty for none.

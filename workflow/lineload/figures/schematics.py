@@ -15,8 +15,8 @@ import numpy as np
 from matplotlib import patches
 from matplotlib.lines import Line2D
 
-from .. import models
-from .style import (
+from lineload import models
+from lineload.figures.style import (
     DATA_COLOUR,
     MODEL_COLOURS,
     REST_COLOUR,

@@ -37,8 +37,8 @@ from matplotlib.figure import Figure
 from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.lines import Line2D
 
-from .. import models
-from ..io import replaced_atomically
+from lineload import models
+from lineload.io import replaced_atomically
 
 __all__ = [
     "DATA_COLOUR",
@@ -105,7 +105,7 @@ MODEL_COLOURS = {
     "boussinesq": "#D55E00",
 }
 #: Legend name of each model of the fit table (the sensitivity refits have their
-#: own names, in :data:`lineload.sensitivity.MODEL_NAMES`).
+#: own names, in :data:`lineload.fitting.sensitivity.MODEL_NAMES`).
 MODEL_NAMES = {model: models.MODEL_NAMES[model].legend for model in models.TABLE_MODELS}
 #: Line style of each model where several are drawn over each other.
 MODEL_LINESTYLES = {"waterbed": "-", "shifted": "-.", "arc": "--", "boussinesq": "-"}

@@ -21,12 +21,9 @@ from matplotlib import ticker
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from .. import models, paper
-from ..noise import reading_noise_mm
-from ..sensitivity import MODEL_NAMES as REFIT_NAMES
-from ..sensitivity import MODELS as REFIT_MODELS
-from .data import fit_row, model_curve_mm, trial_points
-from .style import (
+from lineload import models, paper
+from lineload.figures.data import fit_row, model_curve_mm, trial_points
+from lineload.figures.style import (
     DATA_COLOUR,
     DOUBLE_COLUMN_MM,
     MODEL_COLOURS,
@@ -47,6 +44,9 @@ from .style import (
     styled,
     subject_table,
 )
+from lineload.fitting.sensitivity import MODEL_NAMES as REFIT_NAMES
+from lineload.fitting.sensitivity import MODELS as REFIT_MODELS
+from lineload.noise import reading_noise_mm
 
 __all__ = [
     "figure_arc_vs_parabola",
@@ -56,7 +56,7 @@ __all__ = [
     "figure_sensitivity",
 ]
 
-#: Colour of each model of the sensitivity refits (:data:`lineload.sensitivity.MODELS`,
+#: Colour of each model of the sensitivity refits (:data:`lineload.fitting.sensitivity.MODELS`,
 #: drawn in that order and named as the sensitivity tables name them).
 REFIT_COLOURS = {**MODEL_COLOURS, "waterbed_free_depth": "#56B4E9"}
 #: Depths side by side in the residual and parabola-against-arc supplements; more wrap.
@@ -386,9 +386,9 @@ def figure_sensitivity(sensitivity, checks, notice=""):
     Parameters
     ----------
     sensitivity : pandas.DataFrame
-        Rows of ``lineload.sensitivity.SENSITIVITY_COLUMNS``.
+        Rows of ``lineload.fitting.sensitivity.SENSITIVITY_COLUMNS``.
     checks : pandas.DataFrame
-        Rows of ``lineload.sensitivity.CHECK_COLUMNS``.
+        Rows of ``lineload.fitting.sensitivity.CHECK_COLUMNS``.
     notice : str, optional
         Footer text; empty for none.
 

@@ -1,9 +1,9 @@
 """Verdict calibration: how often each claim's rule reaches the right verdict.
 
-The claims table (:mod:`lineload.claims`) gives each statement of the paper a
+The claims table (:mod:`lineload.claims.rules`) gives each statement of the paper a
 verdict.  A verdict is only worth as much as the rate at which its rule reaches
 the right one, so this module measures that rate on datasets whose truth is
-known: the seven fingers of the shipped reconstruction (:mod:`lineload.synthetic`)
+known: the seven fingers of the shipped reconstruction (:mod:`lineload.simulation.synthetic`)
 with their true profiles unchanged, each dataset read with a fresh draw of every
 digitising error (reading and tracing errors, side and shared offsets, shared
 tilt, rotation, depth error, misplaced wedge, force noise).  Every dataset goes
@@ -33,9 +33,8 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 
-from . import synthetic
-from .averaging import average_subjects, tissue_columns
-from .claims import (
+from lineload.averaging import average_subjects, tissue_columns
+from lineload.claims.rules import (
     CLAIM_KINDS,
     EVIDENCE_VERDICTS,
     FAILS,
@@ -46,10 +45,11 @@ from .claims import (
     ClaimSettings,
     compute_claims,
 )
-from .coverage import TRUE_NOISE, binomial_interval, percent_interval
-from .fitting import fit_trials
-from .mechanics import mechanics_tables
-from .noise import estimate_noise, model_from_rows, noise_rows, trial_differences
+from lineload.fitting.batch import fit_trials
+from lineload.mechanics import mechanics_tables
+from lineload.noise import estimate_noise, model_from_rows, noise_rows, trial_differences
+from lineload.simulation import synthetic
+from lineload.simulation.coverage import TRUE_NOISE, binomial_interval, percent_interval
 
 __all__ = [
     "BOUNDARY_COLUMNS",
@@ -207,7 +207,7 @@ def reconstruction_claims(
     Returns
     -------
     pandas.DataFrame
-        The claims table (columns of :data:`lineload.claims.CLAIM_COLUMNS`).
+        The claims table (columns of :data:`lineload.claims.rules.CLAIM_COLUMNS`).
     """
     subjects = synthetic.shipped_subjects() if subjects is None else subjects
     settings = dict(claims or {})
@@ -303,7 +303,7 @@ def summarise_verdicts(rows):
         truth can differ between datasets: it depends on each dataset's reading
         grid), claims in table order, then ``any``: datasets with at least one
         wrong verdict among the paper's claims (kind ``paper claim``; the checks of
-        method and model, :data:`lineload.claims.CLAIM_KINDS`, apart).
+        method and model, :data:`lineload.claims.rules.CLAIM_KINDS`, apart).
     """
     by_claim, wrong_in = {}, {}
     for row in rows:
@@ -369,7 +369,7 @@ def _percent_interval(row):
 
 def verdict_markdown(summary, command, notice=""):
     """The verdict calibration as a Markdown table with the command that made it."""
-    from .tables import markdown_table
+    from lineload.publishing.tables import markdown_table
 
     header = ["claim", *_COUNT_HEADER]
     cells = []
@@ -834,7 +834,7 @@ def _wrong_cell(row, prefix):
 
 def boundary_markdown(summary, command, notice=""):
     """The boundary study's summary as a Markdown table with the command that made it."""
-    from .tables import markdown_table
+    from lineload.publishing.tables import markdown_table
 
     header = [
         "claim",
@@ -1056,7 +1056,7 @@ def summarise_mechanics(rows):
 
 def mechanics_markdown(summary, command, notice=""):
     """The membrane's coverage as a Markdown table with the command that made it."""
-    from .tables import markdown_table
+    from lineload.publishing.tables import markdown_table
 
     cells = [
         [

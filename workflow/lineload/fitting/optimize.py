@@ -1,6 +1,6 @@
 """Bounded one-dimensional minimisation and root finding for many problems at once.
 
-The fits of :mod:`lineload.fitting` each reduce to a least-squares objective in one
+The fits of :mod:`lineload.fitting.batch` each reduce to a least-squares objective in one
 length, the membrane half-width L.  The routines here solve thousands of such
 problems together (one row per problem), in the manner of :mod:`scipy.optimize`
 but vectorised across problems, which is what makes fitting 10,000 subjects cheap.

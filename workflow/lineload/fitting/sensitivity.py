@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import models
-from .fitting import fit_windowed
-from .models import arc_deflection_mm, shifted_deflection_mm, waterbed_deflection_mm
+from lineload import models
+from lineload.fitting.batch import fit_windowed
+from lineload.models import arc_deflection_mm, shifted_deflection_mm, waterbed_deflection_mm
 
 __all__ = [
     "CHECK_COLUMNS",

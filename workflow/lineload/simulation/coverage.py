@@ -1,7 +1,7 @@
 """Do the intervals cover?  Simulated datasets with digitising errors, fitted as the workflow fits.
 
 Each simulated dataset has the shipped design (the subjects and depths of
-:func:`lineload.synthetic.shipped_subjects`).  Every trial's true profile comes
+:func:`lineload.simulation.synthetic.shipped_subjects`).  Every trial's true profile comes
 from one model - the paper's parabola (eq. 19), the exact arc, or the modified
 Boussinesq form - with parameters drawn in the paper's ranges, and is read on
 the shipped reading grid with every error of :mod:`lineload.noise`: independent
@@ -24,10 +24,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import synthetic
-from .fitting import fit_windowed
-from .models import arc_deflection_mm, boussinesq_deflection_mm, waterbed_deflection_mm
-from .noise import PRIORS, NoiseModel, draw_side_errors_mm, estimate_noise, trial_differences
+from lineload.fitting.batch import fit_windowed
+from lineload.models import arc_deflection_mm, boussinesq_deflection_mm, waterbed_deflection_mm
+from lineload.noise import (
+    PRIORS,
+    NoiseModel,
+    draw_side_errors_mm,
+    estimate_noise,
+    trial_differences,
+)
+from lineload.simulation import synthetic
 
 __all__ = [
     "COVERAGE_COLUMNS",
@@ -415,7 +421,7 @@ def coverage_study(seed, n_datasets, models=tuple(CHECKED), scenarios=SCENARIOS,
 
 def coverage_markdown(summary, command, notice=""):
     """The pooled coverage rows as a Markdown table with the command that made them."""
-    from .tables import markdown_table
+    from lineload.publishing.tables import markdown_table
 
     pooled = [r for r in summary if r["species"] == "all"]
     header = ["errors simulated", "model", "parameter", "trials", "covered", "coverage (95 % CI)"]
@@ -446,7 +452,7 @@ def coverage_markdown(summary, command, notice=""):
 
 def bootstrap_markdown(summary, command, n_trials, notice=""):
     """The parametric bootstrap's pooled coverage as Markdown, with the command."""
-    from .tables import markdown_table
+    from lineload.publishing.tables import markdown_table
 
     pooled = [r for r in summary if r["species"] == "all"]
     header = ["model", "parameter", "trials x replicates", "covered", "coverage (95 % CI)"]

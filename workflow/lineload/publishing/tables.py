@@ -1,7 +1,7 @@
 """Fit tables and the per-species summary as CSV, Markdown and LaTeX text.
 
 Pure functions: a fit table (one row per subject and depth, the columns of
-:data:`lineload.fitting.FIT_COLUMNS`) goes in, text or a DataFrame comes out.
+:data:`lineload.fitting.batch.FIT_COLUMNS`) goes in, text or a DataFrame comes out.
 Numbers are rounded to fixed decimals so that the same inputs always give the
 same bytes; writing files is left to :mod:`lineload.io`.
 
@@ -17,8 +17,8 @@ import re
 import numpy as np
 import pandas as pd
 
-from . import paper
-from .models import MODEL_NAMES
+from lineload import paper
+from lineload.models import MODEL_NAMES
 
 __all__ = [
     "AT_BOUND_MARK",
@@ -440,7 +440,7 @@ def fits_markdown(fits, notice=""):
     Parameters
     ----------
     fits : pandas.DataFrame
-        Fit table (columns of :data:`lineload.fitting.FIT_COLUMNS`), rows in the
+        Fit table (columns of :data:`lineload.fitting.batch.FIT_COLUMNS`), rows in the
         order they are to be shown.
     notice : str, optional
         Data notice; when non-empty it is added as a footer line.
@@ -660,9 +660,9 @@ def sensitivity_markdown(sensitivity, checks, notice=""):
     Parameters
     ----------
     sensitivity : pandas.DataFrame
-        Rows of :data:`lineload.sensitivity.SENSITIVITY_COLUMNS` for every trial.
+        Rows of :data:`lineload.fitting.sensitivity.SENSITIVITY_COLUMNS` for every trial.
     checks : pandas.DataFrame
-        Rows of :data:`lineload.sensitivity.CHECK_COLUMNS` for every trial.
+        Rows of :data:`lineload.fitting.sensitivity.CHECK_COLUMNS` for every trial.
     notice : str, optional
         Footer line about the data (empty for none).
 

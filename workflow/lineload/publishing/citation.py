@@ -1,7 +1,7 @@
 """Citation metadata: ``CITATION.cff`` is the one source, Zenodo's ``.zenodo.json`` follows it.
 
 The version and the release date the article prints come from the citation file too, so
-a release changes them in one place.  ``python -m lineload.citation`` prints the
+a release changes them in one place.  ``python -m lineload.publishing.citation`` prints the
 ``.zenodo.json`` the citation file implies (the tests compare it with the committed one).
 """
 

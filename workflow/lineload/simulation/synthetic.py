@@ -21,7 +21,7 @@ slope: there is no bulge.  Per subject, ``e`` and ``p`` vary linearly with depth
 between their values at 0.5 and 2 mm, and ``beta`` grows linearly from 0 at
 0.5 mm; each side's edge is ``e (1 + a)`` (left) or ``e (1 - a)`` (right).
 
-The calibration's boundary worlds (:mod:`lineload.calibration`) also blend in,
+The calibration's boundary worlds (:mod:`lineload.simulation.calibration`) also blend in,
 with weight ``c``, the circle that meets the resting surface at the edge with
 zero slope and passes through the depth at the wedge (``circle_fraction``;
 zero for the shipped fingers): ``w = (1 - c) w_above + c w_circle``.
@@ -49,11 +49,11 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from . import paper
-from .io import csv_text
-from .noise import NoiseModel, draw_side_errors_mm
-from .readings import GRID_TICK_MM, reading_distances_mm
-from .tables import markdown_table
+from lineload import paper
+from lineload.io import csv_text
+from lineload.noise import NoiseModel, draw_side_errors_mm
+from lineload.publishing.tables import markdown_table
+from lineload.rawdata.readings import GRID_TICK_MM, reading_distances_mm
 
 __all__ = [
     "DEFAULT_SEED",
@@ -549,7 +549,7 @@ def trial_forces(subject, seed=DEFAULT_SEED):
     """The membrane behind each trial's force, its true force and the force as read.
 
     At each depth the membrane takes the ``L`` of the exact arc fitted
-    (:func:`lineload.fitting.fit_arc`) to :func:`noise_free_mean_profile`, and
+    (:func:`lineload.fitting.batch.fit_arc`) to :func:`noise_free_mean_profile`, and
     pushes back on the wedge with ``F = 2 l (N0 + E eps) sin(theta0)`` (exact
     arc geometry, :func:`lineload.mechanics.force_terms`).  The reading adds
     Gaussian noise of SD :data:`FORCE_NOISE_SD_N` (stream 4 of the subject) and
@@ -568,8 +568,8 @@ def trial_forces(subject, seed=DEFAULT_SEED):
         Per depth: ``depth_mm``, ``L_mm``, ``load_angle_rad``, ``strain``,
         ``true_force_N``, ``force_N`` (as read).
     """
-    from .fitting import fit_arc
-    from .mechanics import arc_load_angle_rad, arc_strain
+    from lineload.fitting.batch import fit_arc
+    from lineload.mechanics import arc_load_angle_rad, arc_strain
 
     if subject.contact_length_mm is None:
         raise ValueError(f"subject {subject.subject} has no membrane (no contact length)")
@@ -1104,7 +1104,7 @@ DATA_NOTICE = (
 #: What the generator puts into the shipped reconstruction, claim by claim: the verdict
 #: the claims table should reach on the shipped data, the truth of its noise-free world
 #: (what the rules conclude from the true profiles on the same reading grids,
-#: :func:`lineload.calibration.reconstruction_claims` without errors), and how it comes
+#: :func:`lineload.simulation.calibration.reconstruction_claims` without errors), and how it comes
 #: about.  ``tuned``: the generator's parameters were chosen so that
 #: the claim comes out this way (a test of the workflow, not evidence); ``by
 #: construction``: not aimed at, but fixed by a choice of the generator's (the
@@ -1252,8 +1252,8 @@ PHOTOGRAPH_NOTICE = (
 
 
 def photograph_scene():
-    """The :class:`lineload.photographs.Scene` of every example photograph."""
-    from .photographs import Scene
+    """The :class:`lineload.rawdata.photographs.Scene` of every example photograph."""
+    from lineload.rawdata.photographs import Scene
 
     x0, z0, width, height = PHOTOGRAPH_VIEW_MM
     ppmm = PHOTOGRAPH_PIXELS_PER_MM
@@ -1288,7 +1288,7 @@ def photograph_dataset(seed=DEFAULT_SEED, camera=None):
 
     Two monkeys of the reconstruction (:data:`PHOTOGRAPH_SUBJECTS`) at two depths, each
     trial a resting and a loaded side view rendered from the true profiles with what a
-    camera adds (:class:`lineload.photographs.Camera`, its defaults unless given), the
+    camera adds (:class:`lineload.rawdata.photographs.Camera`, its defaults unless given), the
     loaded shot moved a little against the resting one, seeded per trial.
 
     Returns
@@ -1302,7 +1302,7 @@ def photograph_dataset(seed=DEFAULT_SEED, camera=None):
 
     import imageio.v3 as iio
 
-    from .photographs import Camera, render_photograph
+    from lineload.rawdata.photographs import Camera, render_photograph
 
     camera = camera or Camera()
     scene = photograph_scene()

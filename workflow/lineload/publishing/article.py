@@ -15,11 +15,10 @@ import math
 
 import numpy as np
 
-from . import paper
-from .calibration import claim_error_rates
-from .claims import EVIDENCE_VERDICTS, PAPER_CLAIM, summary_sentence, verdict_counts
-from .priors import changed_claims
-from .tables import (
+from lineload import paper
+from lineload.claims.rules import EVIDENCE_VERDICTS, PAPER_CLAIM, summary_sentence, verdict_counts
+from lineload.priors import changed_claims
+from lineload.publishing.tables import (
     AT_BOUND_MARK,
     at_bound,
     counted,
@@ -29,6 +28,7 @@ from .tables import (
     percent_text,
     span_text,
 )
+from lineload.simulation.calibration import claim_error_rates
 
 __all__ = [
     "article_facts",

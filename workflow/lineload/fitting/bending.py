@@ -18,7 +18,7 @@ times the membrane's slope at the load).  A fit that ends at a bound says so
 
 Intervals
 ---------
-Profile-likelihood intervals, as :mod:`lineload.fitting` gives the waterbed: for
+Profile-likelihood intervals, as :mod:`lineload.fitting.batch` gives the waterbed: for
 one parameter, the other is fitted again at each value, and the interval holds
 the values whose sum of squares stays within a threshold of the minimum.  Without
 a covariance of the points the threshold is ``n ln(SSE / SSE_min) <= chi2`` (errors
@@ -36,9 +36,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq, least_squares
 
-from .bending import bending_deflection_mm
-from .fitting import FitResult, goodness_of_fit
-from .optimize import CHI2_1DOF_95
+from lineload.bending import bending_deflection_mm
+from lineload.fitting.batch import FitResult, goodness_of_fit
+from lineload.fitting.optimize import CHI2_1DOF_95
 
 __all__ = [
     "BENDING_COLUMNS",
@@ -318,7 +318,7 @@ def fit_bending_trials(
         One row per trial with the columns of :data:`BENDING_COLUMNS` but ``subject``
         and ``species``; NaN where a trial has fewer than four points.
     """
-    from .fitting import in_fit_window
+    from lineload.fitting.batch import in_fit_window
 
     rows = []
     for k, (x, y, depth) in enumerate(zip(distance_mm, deflection_mm, depth_mm, strict=True)):

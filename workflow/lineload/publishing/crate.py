@@ -24,8 +24,8 @@ import json
 import os
 from pathlib import Path, PurePosixPath
 
-from .io import write_text
-from .provenance import file_sha256
+from lineload.io import write_text
+from lineload.publishing.provenance import file_sha256
 
 # rocrate (0.14 s to import) is imported where a crate is built, not here: Snakemake's
 # start-up imports this module for source_files on every run
@@ -202,7 +202,7 @@ def run_crate(
     parameters : dict
         ``{"section.key": value}`` (:func:`flat_parameters` of the config in force).
     citation : dict
-        ``CITATION.cff`` as :func:`lineload.citation.read_citation` reads it.
+        ``CITATION.cff`` as :func:`lineload.publishing.citation.read_citation` reads it.
     software : dict
         ``python`` (version) and ``packages`` (name -> version; ``snakemake`` among them).
     commit : str or None
@@ -475,7 +475,7 @@ def build_crate(files, rules, record, citation, root, logs=True):
     record : dict
         The provenance record (``config``, ``python``, ``packages``, ``git``).
     citation : dict
-        ``CITATION.cff`` as :func:`lineload.citation.read_citation` reads it.
+        ``CITATION.cff`` as :func:`lineload.publishing.citation.read_citation` reads it.
     root : str or os.PathLike
         The crate's root (the results folder).
     logs : bool, optional

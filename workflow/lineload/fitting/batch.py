@@ -48,9 +48,9 @@ Every algorithm here runs on many trials at once (:func:`fit_trials`,
 :func:`fit_windowed`, :func:`fit_batch`); the single-trial functions
 (:func:`fit_waterbed`, :func:`fit_trial`, ...) are the same code with a batch
 of one.  The trials' points are padded to a common length and each step is done
-for all trials together by :mod:`lineload.optimize`.  A trial's numbers do not
+for all trials together by :mod:`lineload.fitting.optimize`.  A trial's numbers do not
 depend on its batch beyond rounding: two batchings agree to the tolerance of
-:func:`lineload.optimize.solution_tolerance`, not to the last bit.
+:func:`lineload.fitting.optimize.solution_tolerance`, not to the last bit.
 """
 
 from __future__ import annotations
@@ -60,7 +60,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .models import (
+from lineload.fitting.optimize import CHI2_1DOF_95, likelihood_interval, minimize_bounded
+from lineload.models import (
     MAX_ONE_TO_ONE_RATIO,
     TABLE_MODELS,
     arc_deflection_mm,
@@ -69,7 +70,6 @@ from .models import (
     shifted_deflection_mm,
     waterbed_deflection_mm,
 )
-from .optimize import CHI2_1DOF_95, likelihood_interval, minimize_bounded
 
 __all__ = [
     "AT_BOUND_RTOL",
@@ -573,7 +573,7 @@ def _prior_share(trials, J, spread):
 
 #: Relative distance from a bound of the search within which a fitted L is taken to
 #: lie on it: far above the search's own tolerance (``rtol`` 1e-9 of
-#: :func:`lineload.optimize.minimize_bounded`), far below any interval's width.
+#: :func:`lineload.fitting.optimize.minimize_bounded`), far below any interval's width.
 AT_BOUND_RTOL = 1e-6
 
 
@@ -1300,7 +1300,7 @@ def fit_arc(distance_mm, deflection_mm, depth_mm, covariance_mm2=None):
     """Fit the exact circular-arc waterbed with W0 fixed and L free.
 
     The one-dimensional least-squares problem in ``L`` over
-    ``[max(x), 1000 max(x)]`` is solved by :func:`lineload.optimize.minimize_bounded`.
+    ``[max(x), 1000 max(x)]`` is solved by :func:`lineload.fitting.optimize.minimize_bounded`.
 
     Parameters
     ----------

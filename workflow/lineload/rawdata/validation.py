@@ -39,10 +39,10 @@ import math
 import os
 import re
 
-from .lazy import lazy_import
+from lineload.runtime.lazy import lazy_import
 
 # numpy when first used: Snakemake reads the subject sheet at start-up with this module
-# (lineload.startup), where numpy may not be installed (snakemake --lint; lazy.py)
+# (lineload.runtime.startup), where numpy may not be installed (snakemake --lint; lazy.py)
 np = lazy_import("numpy")
 
 __all__ = [
@@ -72,7 +72,7 @@ MAX_REPORTED = 20
 
 def plausibility_defaults():
     """The plausibility limits' defaults: the config schema's ``input_checks``."""
-    from .io import config_defaults
+    from lineload.io import config_defaults
 
     return config_defaults("input_checks")
 
@@ -1065,7 +1065,7 @@ def check_images(
         it, so that a photograph without an edge, without a wedge or without skin
         beyond ``reach_mm`` is refused here, before any job runs (reading a pair takes
         a few hundredths of a second); and its readings are held to the bounds of a
-        profile file (:func:`lineload.photographs.trial_problem`).
+        profile file (:func:`lineload.rawdata.photographs.trial_problem`).
     plausibility : dict, optional
         The config's ``input_checks`` (:func:`plausibility_defaults` for any not
         given): the depths' range and the deflection factor.
@@ -1096,7 +1096,7 @@ def check_images(
             return {}
         truth_path = os.path.join(raw_dir, "images", "truth.csv")
         if os.path.isfile(truth_path):  # optional: the truth, where it is known
-            from .io import load_schema
+            from lineload.io import load_schema
 
             truth = read_table(truth_path, load_schema("truth"), f"{shown}/images/truth.csv", found)
             if truth is not None:
@@ -1236,7 +1236,7 @@ NAME_MAX = 255
 
 def _photograph_file_problem(path, name, shown, raw_dir):
     """Why a photograph the sheet names cannot be read, from its name and header, or None."""
-    from .photographs import photograph_problem
+    from lineload.rawdata.photographs import photograph_problem
 
     longest = max(name.replace("\\", "/").split("/"), key=lambda part: len(part.encode()))
     if len(longest.encode()) > NAME_MAX:
@@ -1265,9 +1265,14 @@ def _digitising_problem(
     """Why a pair cannot be read, or is no plausible indentation (one line), or None.
 
     The pair is read as its job reads it, over the same distances, and its readings held
-    to the profile files' bounds (:func:`lineload.photographs.trial_problem`)."""
-    from .photographs import ImageError, digitise_photographs, read_photograph, trial_problem
-    from .readings import reading_distances_mm
+    to the profile files' bounds (:func:`lineload.rawdata.photographs.trial_problem`)."""
+    from lineload.rawdata.photographs import (
+        ImageError,
+        digitise_photographs,
+        read_photograph,
+        trial_problem,
+    )
+    from lineload.rawdata.readings import reading_distances_mm
 
     paths = (rest_path, loaded_path)
     names = [path.replace(raw_dir.rstrip("/"), shown, 1) for path in paths]
@@ -1582,7 +1587,7 @@ def check_thin_trials(profile, path, magnification, window_mm, min_points, probl
         Without a collector: one line for the file, at the first reading of the
         first thin depth (naming the other thin depths).
     """
-    from .averaging import DISTANCE_TOLERANCE_MM
+    from lineload.averaging import DISTANCE_TOLERANCE_MM
 
     with collecting(problems) as found:
         columns, lines = _as_columns(profile)
@@ -1986,7 +1991,7 @@ def read_forces(path):
     pandas.DataFrame
         The three columns (any others dropped), in file order, default index.
     """
-    from .io import load_schema
+    from lineload.io import load_schema
 
     table = read_table(path, load_schema("forces"))
     return table[["subject", "depth_mm", "force_N"]].reset_index(drop=True)
@@ -1994,13 +1999,13 @@ def read_forces(path):
 
 def _forces_schema():
     """The row schema of ``forces.csv`` (for callers that pass no ``forces`` schema)."""
-    from .io import load_schema
+    from lineload.io import load_schema
 
     return load_schema("forces")
 
 
 def _images_schema():
     """The row schema of ``images/images.csv`` (for callers that pass none)."""
-    from .io import load_schema
+    from lineload.io import load_schema
 
     return load_schema("images")

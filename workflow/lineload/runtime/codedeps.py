@@ -20,7 +20,7 @@ __all__ = ["PACKAGE", "PACKAGE_DIR", "module_files", "script_dependencies"]
 
 PACKAGE = "lineload"
 #: The folder of this package.
-PACKAGE_DIR = Path(__file__).resolve().parent
+PACKAGE_DIR = Path(__file__).resolve().parents[1]
 
 
 def module_files(module, package_dir=PACKAGE_DIR):
@@ -120,7 +120,7 @@ def _imported_modules(path, package_dir):
             else:
                 stem = node.module or ""
             yield stem
-            # `from lineload import fitting` imports the module lineload.fitting
+            # `from lineload import fitting` imports the module lineload.fitting.batch
             for alias in node.names:
                 yield f"{stem}.{alias.name}"
 

@@ -13,7 +13,7 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
-from .startup import portable_path
+from lineload.runtime.startup import portable_path
 
 __all__ = [
     "PACKAGES",

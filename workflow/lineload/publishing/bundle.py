@@ -15,8 +15,8 @@ import hashlib
 import zipfile
 from pathlib import PurePosixPath
 
-from .io import replaced_atomically
-from .provenance import file_sha256
+from lineload.io import replaced_atomically
+from lineload.publishing.provenance import file_sha256
 
 __all__ = ["CHECKSUMS", "bundle_name", "checksums_text", "write_bundle"]
 

@@ -24,7 +24,7 @@ Inputs
 ------
 fits : pandas.DataFrame
     The fit table, one row per subject and depth (columns of
-    :data:`lineload.fitting.FIT_COLUMNS`; ``fit_window_mm`` says which points
+    :data:`lineload.fitting.batch.FIT_COLUMNS`; ``fit_window_mm`` says which points
     were fitted).
 averaged : pandas.DataFrame
     The averaged profiles of every subject, stacked (columns of
@@ -45,19 +45,19 @@ from scipy.optimize import brentq
 from scipy.stats import norm
 from scipy.stats import t as student_t
 
-from . import mechanics, paper
-from .fitting import in_fit_window
-from .io import config_defaults
-from .models import (
+from lineload import mechanics, paper
+from lineload.fitting.batch import in_fit_window
+from lineload.fitting.sensitivity import curve_gap_mm
+from lineload.io import config_defaults
+from lineload.models import (
     arc_deflection_mm,
     boussinesq_deflection_mm,
     shifted_deflection_mm,
     waterbed_deflection_mm,
     waterbed_shift_mm,
 )
-from .noise import NoiseModel
-from .sensitivity import curve_gap_mm
-from .tables import (
+from lineload.noise import NoiseModel
+from lineload.publishing.tables import (
     at_bound,
     counted,
     every,
@@ -67,7 +67,7 @@ from .tables import (
     notice_footer,
     percent_text,
 )
-from .tables import span_text as _span
+from lineload.publishing.tables import span_text as _span
 
 __all__ = [
     "CLAIM_COLUMNS",
@@ -330,10 +330,10 @@ def _pct(fraction, decimals=1):
     return percent_text(fraction, decimals)
 
 
-#: '1 trial', '3 trials' (:func:`lineload.tables.counted`).
+#: '1 trial', '3 trials' (:func:`lineload.publishing.tables.counted`).
 _n = counted
 
-#: 'the one trial', 'both trials', 'all 3 trials' (:func:`lineload.tables.every`).
+#: 'the one trial', 'both trials', 'all 3 trials' (:func:`lineload.publishing.tables.every`).
 _every = every
 
 
@@ -1067,7 +1067,7 @@ def claim_c4(fits, averaged, settings):
 def _scaled_interval(fit, model, z):
     """A trial's interval on L at another level: each side of the fit's 95 % profile
     interval scaled by ``z / z_0.975`` (the profile is close to quadratic at these
-    widths; :mod:`lineload.coverage` measures the 95 % interval's coverage)."""
+    widths; :mod:`lineload.simulation.coverage` measures the 95 % interval's coverage)."""
     L_mm = float(fit[f"{model}_L_mm"])
     scale = z / norm.ppf(0.975)
     low = float(fit.get(f"{model}_L_ci_low_mm", math.nan))
@@ -1767,7 +1767,7 @@ def claim_c10(fits, averaged, settings):
         "window) are split at half the largest fitted distance; the whole window and each half "
         "with at least 5 points get the curvature of their best-fitting circle, with standard "
         "errors from the noise table's covariance (correlated errors included; "
-        "lineload.claims.chord_curvature). The statistic is the relative change r = (inner - "
+        "lineload.claims.rules.chord_curvature). The statistic is the relative change r = (inner - "
         "outer) / whole, zero for a circle; its standard error by first order. Pooled over "
         "trials (inverse-variance weights): the skin is circular to the margin if the "
         f"{format_fixed(100 * (1 - 2 * alpha), 0)} % interval of the pooled r lies inside "
@@ -2219,7 +2219,7 @@ def claims_markdown(claims, notice="", error_rates=None):
     notice : str, optional
         Data notice; when non-empty it is added as a footer line.
     error_rates : dict, optional
-        Claim -> sentence, from :func:`lineload.calibration.claim_error_rates`
+        Claim -> sentence, from :func:`lineload.simulation.calibration.claim_error_rates`
         (the calibration kept in ``docs/calibration/``); no section if None.
 
     Returns

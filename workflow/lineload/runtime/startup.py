@@ -40,7 +40,7 @@ __all__ = [
 ]
 
 #: Sub-folders of the raw-data folder whose files the check reads ("" is the top level).
-from .validation import DATA_FOLDERS as RAW_SUBFOLDERS
+from lineload.rawdata.validation import DATA_FOLDERS as RAW_SUBFOLDERS
 
 
 def abort(message):
@@ -61,18 +61,18 @@ def abort(message):
 
 
 def abort_inputs(error):
-    """Print every problem of an :class:`~lineload.validation.InputError` (one line each) and stop.
+    """Print every problem of an input error (one line each) and stop.
 
     Parameters
     ----------
-    error : lineload.validation.InputError
+    error : lineload.rawdata.validation.InputError
 
     Raises
     ------
     SystemExit
         Always, with status 1.
     """
-    from .validation import report_lines
+    from lineload.rawdata.validation import report_lines
 
     sys.stderr.write("".join(f"{line}\n" for line in report_lines(error)))
     raise SystemExit(1)
@@ -291,10 +291,10 @@ def read_subject_sheet(raw_dir, schema):
 
     Raises
     ------
-    lineload.validation.InputError
+    lineload.rawdata.validation.InputError
         Every problem of the sheet, one line each naming line and column.
     """
-    from .validation import read_columns
+    from lineload.rawdata.validation import read_columns
 
     path = f"{raw_dir.rstrip('/')}/subjects.csv"
     try:
@@ -359,7 +359,7 @@ def list_raw_files(raw_dir):
         ``forces`` and ``notice``: the path of ``forces.csv`` and
         ``NOTICE.txt``, or None.
     """
-    from .validation import links_outside
+    from lineload.rawdata.validation import links_outside
 
     if away := links_outside(raw_dir):  # nothing is read from outside the dataset
         more = f" (and {len(away) - 1} more such links)" if len(away) > 1 else ""
