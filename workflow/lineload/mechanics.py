@@ -75,6 +75,7 @@ import pandas as pd
 
 from lineload import paper
 from lineload.models import arc_geometry, waterbed_load_angle_rad, waterbed_strain
+from lineload.trials import trial_key
 
 __all__ = [
     "INTERVAL_Z",
@@ -572,11 +573,11 @@ def pooled_force_sd(groups, prior_sd_N):
 
 
 def _force_lookup(forces):
-    """(subject, depth rounded) -> force, from a table with subject, depth_mm, force_N."""
+    """Force by trial (:func:`lineload.trials.trial_key`), from subject, depth_mm, force_N."""
     if forces is None or len(forces) == 0:
         return {}
     return {
-        (str(s), round(float(d), 9)): float(f)
+        trial_key(s, d): float(f)
         for s, d, f in zip(forces["subject"], forces["depth_mm"], forces["force_N"], strict=True)
     }
 
@@ -623,7 +624,7 @@ def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=None)
         L_sd = sd_from_interval(
             rows[f"{WATERBED_VARIANT}_L_ci_low_mm"], rows[f"{WATERBED_VARIANT}_L_ci_high_mm"]
         )
-        force = np.array([lookup.get((str(subject), round(d, 9)), math.nan) for d in depth])
+        force = np.array([lookup.get(trial_key(subject, d), math.nan) for d in depth])
         usable = np.isfinite(force) & np.isfinite(arc_load_angle_rad(depth, L_mm))
         usable &= np.isfinite(L_sd)
         if np.unique(depth[usable]).size >= 2:
@@ -638,7 +639,7 @@ def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=None)
         L_sd = sd_from_interval(
             rows[f"{WATERBED_VARIANT}_L_ci_low_mm"], rows[f"{WATERBED_VARIANT}_L_ci_high_mm"]
         )
-        force = np.array([lookup.get((subject, round(d, 9)), math.nan) for d in depth])
+        force = np.array([lookup.get(trial_key(subject, d), math.nan) for d in depth])
         length = lengths.get(subject, math.nan)
         angle = arc_load_angle_rad(depth, L_mm)
         strain = arc_strain(depth, L_mm)

@@ -58,6 +58,8 @@ from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
+from lineload.trials import trial_label
+
 __all__ = [
     "MEASURED",
     "MIN_DIFFERENCES",
@@ -626,11 +628,6 @@ def noise_rows(estimate, priors, overrides=None):
     return rows
 
 
-def _trial_scope(subject, depth_mm):
-    """The scope of a trial's own rows in the noise table: ``"M1 at 1 mm"``."""
-    return f"{subject} at {float(depth_mm):g} mm"
-
-
 def registration_rows(records, n_trials, n_differences):
     """Rows of the noise table for digitised trials: each registration's own error.
 
@@ -654,7 +651,7 @@ def registration_rows(records, n_trials, n_differences):
     """
     return [
         {
-            "scope": _trial_scope(subject, depth_mm),
+            "scope": trial_label(subject, depth_mm),
             "parameter": "shared_offset_sd_mm",
             "value": float(sd_mm),
             "se": math.nan,
@@ -698,7 +695,7 @@ def trial_models(rows, keys):
         own.setdefault(scope, {})[row["parameter"]] = value
     return [
         dataset.with_priors(**own[scope])
-        if (scope := _trial_scope(subject, depth_mm)) in own
+        if (scope := trial_label(subject, depth_mm)) in own
         else dataset
         for subject, depth_mm in keys
     ]

@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from lineload.fitting.batch import FIT_COLUMNS, fit_trials
+from lineload.trials import profiles_by_trial, trial_key
 
 __all__ = [
     "CHANGED_COLUMN",
@@ -55,13 +56,10 @@ def refit_at_priors(fits, averaged, noise_models):
         Columns :data:`lineload.fitting.batch.FIT_COLUMNS`, rows as in ``fits``; L's range
         across the other windows (least squares, free of the noise) copied from ``fits``.
     """
-    points = {
-        (str(subject), float(depth)): group
-        for (subject, depth), group in averaged.groupby(["subject", "depth_mm"], sort=False)
-    }
+    points = profiles_by_trial(averaged)
     distance, deflection, sides = [], [], []
     for subject, depth_mm in zip(fits["subject"], fits["depth_mm"], strict=True):
-        trial = points.get((str(subject), float(depth_mm)))
+        trial = points.get(trial_key(subject, depth_mm))
         if trial is None:
             trial = averaged.iloc[:0]
         distance.append(trial["distance_mm"].to_numpy(float))
