@@ -147,9 +147,10 @@ def test_config_readme_tables_are_generated_from_the_schema():
     assert updated_readme(text, schema) != text
 
 
-def test_shipped_config_states_only_what_the_schema_does_not():
+@pytest.mark.parametrize("name", ["config.yaml", "photographs.yaml"])
+def test_shipped_configs_state_only_what_the_schema_does_not(name):
     schema = yaml.safe_load(CONFIG_SCHEMA.read_text())
-    config = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
+    config = yaml.safe_load((REPO / "config" / name).read_text())
     known = dict(schema_defaults(schema["properties"]))
     assert POINTED_AT <= set(config)
     assert {key for key, _ in leaves(config)} <= set(known)
