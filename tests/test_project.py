@@ -86,10 +86,16 @@ def test_readme_main_command_installs_and_builds():
 
 
 def test_every_fit_column_is_in_the_data_dictionary():
-    text = (REPO / "README.md").read_text()
-    dictionary = text[text.index("## Data dictionary") :]
+    text = (REPO / "docs" / "outputs.md").read_text()
+    dictionary = text[text.index("## `results/tables/fits.csv`") :]
     documented = set(re.findall(r"^\| `([A-Za-z0-9_]+)` \|", dictionary, re.M))
     assert set(FIT_COLUMNS) <= documented
+
+
+CONFIG_SCHEMA = REPO / "workflow" / "schemas" / "config.schema.yaml"
+#: What the shipped config states although the schema has a default for it: the two
+#: folders a run points at, the first keys a lab changes.
+POINTED_AT = {"raw_data", "results"}
 
 
 def schema_defaults(properties, prefix=""):
@@ -101,17 +107,57 @@ def schema_defaults(properties, prefix=""):
             yield f"{prefix}{key}", rules["default"]
 
 
-def test_config_readme_documents_every_key_with_its_default():
-    schema = yaml.safe_load((REPO / "workflow" / "schemas" / "config.schema.yaml").read_text())
+def leaves(config, prefix=""):
+    """Every leaf of a config as (dotted key, value)."""
+    for key, value in config.items():
+        if isinstance(value, dict):
+            yield from leaves(value, f"{prefix}{key}.")
+        else:
+            yield f"{prefix}{key}", value
+
+
+def restated_defaults(config, schema):
+    """The keys of ``config`` that only repeat the schema's default (the folders aside)."""
+    defaults = dict(schema_defaults(schema["properties"]))
+    return sorted(
+        key
+        for key, value in leaves(config)
+        if key not in POINTED_AT and key in defaults and value == defaults[key]
+    )
+
+
+def test_config_readme_tables_are_generated_from_the_schema():
+    from lineload.publishing.configdoc import updated_readme
+
+    schema = yaml.safe_load(CONFIG_SCHEMA.read_text())
     text = (REPO / "config" / "README.md").read_text()
-    rows = dict(re.findall(r"^\| `(\w+)` \| [^|]* \| `([^`]*)` \|", text, re.M))
+    assert updated_readme(text, schema) == text, (
+        "config/README.md is out of date: python -m lineload.publishing.configdoc config/README.md"
+    )
+    # every key is there with the schema's default
+    rows = re.findall(r"^\| `(\w+)` \| [^|]* \| `([^`]*)` \|", text, re.M)
+    assert len(rows) == len(list(schema_defaults(schema["properties"])))
+    shown = dict(rows)
     for dotted, default in schema_defaults(schema["properties"]):
         key = dotted.split(".")[-1]
-        assert key in rows, f"config/README.md does not document {dotted}"
-        shown = "null" if default is None else str(default).replace("None", "null")
-        assert rows[key] == shown, (dotted, rows[key], default)
-    config = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
-    assert set(config) == set(schema["properties"])  # the shipped config sets every key
+        expected = "null" if default is None else str(default).replace("None", "null")
+        assert shown[key] == expected, (dotted, shown[key], default)
+    # and a changed default makes the page out of date
+    schema["properties"]["fit_window_mm"]["default"] = 2.5
+    assert updated_readme(text, schema) != text
+
+
+@pytest.mark.parametrize("name", ["config.yaml", "photographs.yaml"])
+def test_shipped_configs_state_only_what_the_schema_does_not(name):
+    schema = yaml.safe_load(CONFIG_SCHEMA.read_text())
+    config = yaml.safe_load((REPO / "config" / name).read_text())
+    known = dict(schema_defaults(schema["properties"]))
+    assert POINTED_AT <= set(config)
+    assert {key for key, _ in leaves(config)} <= set(known)
+    assert restated_defaults(config, schema) == []
+    # the check can fail: a default typed again is named
+    assert restated_defaults({**config, "figures": {"png_dpi": 300}}, schema) == ["figures.png_dpi"]
+    assert restated_defaults({**config, "figures": {"png_dpi": 600}}, schema) == []
 
 
 def test_the_species_are_named_once():
