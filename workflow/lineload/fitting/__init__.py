@@ -20,6 +20,8 @@ waterbed, shifted, arc, free_depth, boussinesq
     Each family's solver (``search`` holds what the searched ones share).
 bending
     Fits of the bending skin (tension with bending stiffness), its own table.
+inputs
+    The trials of a batch as the fit jobs read them (points, sides, noise, keys).
 sensitivity
     Refits under other choices (windows, weights, models) to show what each choice moves.
 """
@@ -49,6 +51,7 @@ from lineload.fitting.bending import (
 )
 from lineload.fitting.families import FAMILIES, Family, Parameter, curve_mm, family
 from lineload.fitting.goodness import FitResult, goodness_of_fit
+from lineload.fitting.inputs import Batch, labelled_rows, read_batch
 from lineload.fitting.intervals import AT_BOUND_RTOL, at_search_bound
 from lineload.fitting.optimize import CHI2_1DOF_95
 from lineload.fitting.windows import (
@@ -68,6 +71,7 @@ __all__ = [
     "MODELS",
     "TABLE_MODELS",
     "WINDOW_MODELS",
+    "Batch",
     "BatchFits",
     "Family",
     "FitResult",
@@ -88,6 +92,8 @@ __all__ = [
     "fit_windowed",
     "goodness_of_fit",
     "in_fit_window",
+    "labelled_rows",
+    "read_batch",
     "window_covariance",
     "window_covariances",
     "window_points",

@@ -39,6 +39,7 @@ __all__ = [
     "Parameter",
     "checked",
     "curve_mm",
+    "evaluate",
     "family",
     "solved_families",
     "table_families",
@@ -210,6 +211,7 @@ FAMILIES = {
             solver=fit_free_depth_chunk,
             results=(*_L_RESULTS, "W0_mm"),
             min_points=2,
+            colour="#56B4E9",
             notes="the parabola with W0 free: a sensitivity refit only",
         ),
         Family(
@@ -311,6 +313,32 @@ def table_families():
     return tuple(name for name, entry in FAMILIES.items() if entry.table_columns)
 
 
+def evaluate(name, distance_mm, depth_mm, params, **settings):
+    """Deflection of a family at given parameters.
+
+    Parameters
+    ----------
+    name : str
+        The family (a key of :data:`FAMILIES`).
+    distance_mm : array_like
+        Distances from the wedge (mm).
+    depth_mm : float
+        The indentation depth (mm), W0 of the families that hold it.
+    params : mapping
+        Each of the family's parameters by its name (``{"L_mm": 11.0}``).
+    **settings
+        The curve's settings (:attr:`Family.settings`); their defaults otherwise.
+
+    Returns
+    -------
+    numpy.ndarray
+        Deflection (mm, downward positive).
+    """
+    entry = family(name)
+    arguments = [depth_mm if a == DEPTH else params[a] for a in entry.arguments]
+    return entry.curve(distance_mm, *arguments, **(dict(entry.settings) | settings))
+
+
 def curve_mm(name, distance_mm, depth_mm, row):
     """Deflection of a fitted family at the given distances, its parameters read from a row.
 
@@ -323,7 +351,8 @@ def curve_mm(name, distance_mm, depth_mm, row):
     depth_mm : float
         The trial's indentation depth (mm), W0 of the families that hold it.
     row : mapping or pandas.Series or None
-        A table row with the family's columns (:meth:`Family.column`).
+        A table row with the family's columns (:meth:`Family.column`) and, where it
+        has them, the curve's settings (:attr:`Family.settings`).
 
     Returns
     -------
@@ -334,15 +363,12 @@ def curve_mm(name, distance_mm, depth_mm, row):
     entry = family(name)
     if row is None:
         return None
-    values = {}
+    params = {}
     for parameter in entry.parameters:
         column = entry.column(parameter.name)
         value = row[column] if column in row else None
         if value is None or not np.isfinite(float(value)):
             return None
-        values[parameter.name] = float(value)
-    arguments = [depth_mm if a == DEPTH else values[a] for a in entry.arguments]
-    settings = {
-        key: type(default)(row[key]) if key in row else default for key, default in entry.settings
-    }
-    return entry.curve(distance_mm, *arguments, **settings)
+        params[parameter.name] = float(value)
+    settings = {key: type(default)(row[key]) for key, default in entry.settings if key in row}
+    return evaluate(name, distance_mm, depth_mm, params, **settings)
