@@ -65,6 +65,7 @@ __all__ = [
     "CHI2_1DOF_95",
     "FIT_COLUMNS",
     "MODELS",
+    "TABLE_MODELS",
     "WINDOW_MODELS",
     "BatchFits",
     "FitResult",
@@ -133,7 +134,7 @@ class BatchFits:
     def __init__(self, model, n_points):
         count = n_points.size
         self.model = model
-        self.params = {name: np.full(count, np.nan) for name in MODELS[model][0]}
+        self.params = {name: np.full(count, np.nan) for name in FAMILIES[model].results}
         self.measures = {name: np.full(count, np.nan) for name in MEASURES}
         self.chi2 = np.full(count, np.nan)
         self.n_points = n_points
@@ -182,7 +183,7 @@ class BatchFits:
             model=self.model,
             params={name: _python_float(values[i]) for name, values in self.params.items()},
             n_points=n,
-            n_params=MODELS[self.model][1],
+            n_params=FAMILIES[self.model].n_params,
             residual_mm=chunk.residual_mm[row, :n].copy(),
             chi2=_python_float(self.chi2[i]),
             at_bound=bool(self.at_bound[i]),
@@ -205,7 +206,7 @@ def _fit_flat(
     offsets = np.cumsum(counts) - counts
     fits = {model: BatchFits(model, counts) for model in models}
     for model in models:
-        minimum = MODELS[model][2]
+        minimum = FAMILIES[model].min_points
         for i in np.flatnonzero(counts < minimum):
             fits[model].errors[int(i)] = (
                 f"at least {minimum} points are needed, got {int(counts[i])}"
@@ -282,7 +283,7 @@ def fit_batch(distance_mm, deflection_mm, depth_mm=None, models=tuple(MODELS), c
 
 
 def _fit_one(model, distance_mm, deflection_mm, depth_mm=np.nan, covariance_mm2=None):
-    x, y = _as_points(distance_mm, deflection_mm, minimum=MODELS[model][2])
+    x, y = _as_points(distance_mm, deflection_mm, minimum=FAMILIES[model].min_points)
     covariance = None if covariance_mm2 is None else [covariance_mm2]
     fits = _fit_flat(x, y, np.array([x.size]), np.array([float(depth_mm)]), (model,), covariance)
     return fits[model].result(0)
