@@ -61,7 +61,7 @@ def fit_rounding_mm2(y_mm, model_mm, scale_mm=None):
 
 
 #: Relative step of the central differences that give the sandwich's Jacobian
-#: (``lineload.fitting.batch._sandwich_delta``).
+#: (``lineload.fitting.intervals._sandwich_delta``).
 SANDWICH_STEP = 1e-4
 
 

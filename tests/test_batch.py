@@ -20,7 +20,7 @@ import reference_averaging
 from conftest import REPO
 from lineload import averaging, io, models
 from lineload.fitting import batch as fitting
-from lineload.fitting import sensitivity
+from lineload.fitting import search, sensitivity
 from lineload.rawdata.validation import check_no_duplicate_readings, read_columns, read_table
 from lineload.simulation import synthetic
 from lineload.simulation.coverage import TRUE_NOISE
@@ -100,7 +100,7 @@ def test_a_trial_gets_the_same_fit_in_any_batch(trials, monkeypatch):
     together = fitting.fit_trials(x, y, depth, 3.0)
     alone = [fitting.fit_trial(*t, 3.0) for t in subset]
     monkeypatch.setattr(fitting, "CHUNK_TRIALS", 7)
-    monkeypatch.setattr(fitting, "BLOCK_ELEMENTS", 1 << 10)
+    monkeypatch.setattr(search, "BLOCK_ELEMENTS", 1 << 10)
     reversed_ = fitting.fit_trials(x[::-1], y[::-1], depth[::-1], 3.0)[::-1]
     for rows in (reversed_, alone):
         assert_rows_agree(rows, together, x, y)

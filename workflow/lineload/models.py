@@ -64,6 +64,10 @@ class ModelNames(NamedTuple):
 
 #: Every model the workflow fits, keyed as in the tables' column prefixes and
 #: ``model`` cells, in the order of the sensitivity refits, with its names in the outputs.
+#: The registry of model families (:mod:`lineload.fitting.families`) holds the rest of
+#: each (curve, parameters, solver, columns, colour) and its tests check that both name
+#: the same families; the names stay here so that the tables and the article read them
+#: without importing the fitting wing.
 MODEL_NAMES = {
     "waterbed": ModelNames("waterbed", "parabola, W0 = depth", "waterbed parabola (eq. 19)"),
     "waterbed_free_depth": ModelNames(None, "parabola, W0 free", None),
@@ -77,7 +81,8 @@ MODEL_NAMES = {
 #: The model keys, in the order of the sensitivity refits.
 MODELS = tuple(MODEL_NAMES)
 
-#: The models of the fit table (one column group each), in column order.
+#: The models of the fit table (one column group each), in column order (the registry's
+#: families with fit-table columns, :func:`lineload.fitting.families.table_families`).
 TABLE_MODELS = ("waterbed", "shifted", "arc", "boussinesq")
 
 

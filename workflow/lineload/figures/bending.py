@@ -12,37 +12,34 @@ estimate at the range's end, drawn open with its one-sided interval) and
 
 from __future__ import annotations
 
+from collections import ChainMap
+
 import numpy as np
 from matplotlib import ticker
 from matplotlib.lines import Line2D
 
-from lineload.bending import bending_deflection_mm
-from lineload.figures.data import fit_row, model_curve_mm, trial_points
+from lineload.figures.data import data_handle, deflection_limits, draw_fitted_trial, fit_row
 from lineload.figures.style import (
-    DATA_COLOUR,
     DEFLECTION_LABEL,
     DOUBLE_COLUMN_MM,
-    MODEL_COLOURS,
-    MODEL_LINESTYLES,
     MODEL_NAMES,
     SINGLE_COLUMN_MM,
     SPECIES_PLURAL,
     WINDOW_STYLE,
     add_footer,
     legend_columns,
-    log_distance_axis,
     message_figure,
     new_figure,
-    padded_limits,
     panel_title,
     styled,
     subject_table,
 )
+from lineload.fitting.families import FAMILIES
 
 __all__ = ["figure_bending_examples", "figure_bending_lengths"]
 
-#: Colour of the bending skin's curve (Okabe-Ito orange, apart from the other families').
-BENDING_COLOUR = "#E69F00"
+#: Colour of the bending skin's curve (the registry's: Okabe-Ito orange, apart from the others).
+BENDING_COLOUR = FAMILIES["bending"].colour
 BENDING_NAME = "bending skin"
 #: The families drawn beside the bending skin, in drawing order.
 OTHER_FAMILIES = ("boussinesq", "waterbed", "arc")
@@ -97,63 +94,24 @@ def figure_bending_examples(averaged, fits, bending, subjects, fit_window_mm, no
     fig = new_figure(SINGLE_COLUMN_MM if n == 1 else DOUBLE_COLUMN_MM, 78.0)
     axes = fig.subplots(1, n, squeeze=False, sharey=False)[0]
     for ax, (subject, species, depth_mm) in zip(axes, chosen, strict=True):
-        distance_mm, deflection_mm = trial_points(averaged, subject, depth_mm)
-        keep = distance_mm > 0
-        distance_mm, deflection_mm = distance_mm[keep], deflection_mm[keep]
-        lo = distance_mm.min() / 1.3 if distance_mm.size else 0.05
-        hi = max(distance_mm.max() if distance_mm.size else 0.0, fit_window_mm) * 1.3
-        curve_mm = np.geomspace(lo, hi, 500)
-        ax.axvline(fit_window_mm, gid="fit-window", **WINDOW_STYLE)
-        drawn = [deflection_mm]
-        row = fit_row(fits, subject, depth_mm)
-        for model in OTHER_FAMILIES:
-            values = model_curve_mm(model, curve_mm, depth_mm, row)
-            if values is not None:
-                ax.plot(
-                    curve_mm,
-                    values,
-                    color=MODEL_COLOURS[model],
-                    linestyle=MODEL_LINESTYLES[model],
-                    gid=f"model:{model}",
-                )
-                drawn.append(values)
         bent = _bending_row(bending, subject, depth_mm)
-        values = bending_deflection_mm(
-            curve_mm,
+        # the fit table's families and the bending skin, read from one row
+        rows = (bent, fit_row(fits, subject, depth_mm))
+        row = ChainMap(*(dict(r) for r in rows if r is not None))
+        drawn = draw_fitted_trial(
+            ax,
+            averaged,
+            row,
+            subject,
             depth_mm,
-            float(bent["bending_L_mm"]),
-            float(bent["bending_length_mm"]),
-            str(bent.get("wall", "clamped")),
+            (*OTHER_FAMILIES, "bending"),
+            fit_window_mm,
+            reach_mm=fit_window_mm,
+            n_curve=500,
+            emphasis={"bending": {"linewidth": 1.4, "zorder": 2.5}},
         )
-        ax.plot(
-            curve_mm,
-            values,
-            color=BENDING_COLOUR,
-            linewidth=1.4,
-            linestyle=(0, (4, 1.5)),
-            gid="model:bending",
-            zorder=2.5,
-        )
-        drawn.append(values)
-        ax.plot(
-            distance_mm,
-            deflection_mm,
-            linestyle="none",
-            marker="o",
-            markersize=3.2,
-            markerfacecolor="white",
-            markeredgecolor=DATA_COLOUR,
-            markeredgewidth=0.8,
-            gid="data",
-            zorder=3,
-        )
-        log_distance_axis(ax)
-        ax.set_xlim(lo, hi)
-        values = np.concatenate([np.ravel(v) for v in drawn])
-        values = np.clip(values[np.isfinite(values)], -0.6 * depth_mm, 1.3 * depth_mm)
-        y_lo, y_hi = padded_limits(np.append(values, 0.0))
+        y_lo, y_hi = deflection_limits(drawn, depth_mm)
         ax.set_ylim(y_hi, y_lo)
-        ax.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
         label = table.loc[subject, "label"] if subject in table.index else subject
         lb_mm = float(bent["bending_length_mm"])
         at_bound = float(bent.get("bending_length_at_bound", 0.0)) > 0
@@ -165,23 +123,24 @@ def figure_bending_examples(averaged, fits, bending, subjects, fit_window_mm, no
         ax.set_xlabel("distance from the wedge x (mm, log scale)")
         ax.set_ylabel(DEFLECTION_LABEL)
     handles = [
-        Line2D(
-            [],
-            [],
-            linestyle="none",
-            marker="o",
-            markerfacecolor="white",
-            markeredgecolor=DATA_COLOUR,
-            label="data (mean of left and right)",
-        ),
+        data_handle(),
         *[
             Line2D(
-                [], [], color=MODEL_COLOURS[m], linestyle=MODEL_LINESTYLES[m], label=MODEL_NAMES[m]
+                [],
+                [],
+                color=FAMILIES[m].colour,
+                linestyle=FAMILIES[m].linestyle,
+                label=MODEL_NAMES[m],
             )
             for m in OTHER_FAMILIES
         ],
         Line2D(
-            [], [], color=BENDING_COLOUR, linewidth=1.4, linestyle=(0, (4, 1.5)), label=BENDING_NAME
+            [],
+            [],
+            color=BENDING_COLOUR,
+            linewidth=1.4,
+            linestyle=FAMILIES["bending"].linestyle,
+            label=BENDING_NAME,
         ),
         Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE),
     ]

@@ -18,7 +18,6 @@ import numpy as np
 from matplotlib import patches
 from matplotlib.lines import Line2D
 
-from lineload import models
 from lineload.figures.style import (
     DATA_COLOUR,
     DEFLECTION_LABEL,
@@ -46,8 +45,13 @@ from lineload.figures.style import (
     subject_table,
     wrapped_note,
 )
+from lineload.fitting.families import FAMILIES, curve_mm
 
 __all__ = [
+    "EXAMPLE_FAMILIES",
+    "data_handle",
+    "deflection_limits",
+    "draw_fitted_trial",
     "figure_digitised",
     "figure_examples",
     "figure_outlines",
@@ -96,47 +100,123 @@ def fit_row(fits, subject, depth_mm):
     return None if rows.empty else rows.iloc[0]
 
 
-def _finite(value):
-    return value is not None and np.isfinite(float(value))
+#: Deflection of a fitted model at given distances, its parameters read from a fit-table
+#: row (``model_curve_mm(model, distance_mm, depth_mm, row)``; None without a finite fit):
+#: the registry's :func:`lineload.fitting.families.curve_mm`.
+model_curve_mm = curve_mm
 
 
-def model_curve_mm(model, distance_mm, depth_mm, row):
-    """Deflection of a fitted model at the given distances.
+# ---------------------------------------------------------------- one trial against its fits
+
+#: The families drawn in Figure 2, in drawing order.
+EXAMPLE_FAMILIES = ("boussinesq", "waterbed")
+
+
+def data_handle():
+    """Legend entry of the averaged points (open circles)."""
+    return Line2D(
+        [],
+        [],
+        linestyle="none",
+        marker="o",
+        markerfacecolor="white",
+        markeredgecolor=DATA_COLOUR,
+        label="data (mean of left and right)",
+    )
+
+
+def draw_fitted_trial(
+    ax,
+    averaged,
+    row,
+    subject,
+    depth_mm,
+    families,
+    fit_window_mm,
+    reach_mm=0.0,
+    n_curve=400,
+    emphasis=None,
+):
+    """One trial's averaged points (x > 0) on a log distance axis, with its fitted families.
+
+    Draws the fit window's edge, each family's curve where its fit is finite (its
+    registry colour and line style, gid ``model:<family>``), the points (gid
+    ``data``) and sets the distance limits: from the first point / 1.3 to the
+    farthest of the last point and ``reach_mm``, times 1.3 (10 mm without points
+    and reach).
 
     Parameters
     ----------
-    model : str
-        ``waterbed``, ``shifted``, ``arc`` or ``boussinesq``.
-    distance_mm : numpy.ndarray
-        Distances from the wedge (mm).
-    depth_mm : float
-        Indentation depth W0 (mm) of the waterbed forms.
+    ax : matplotlib.axes.Axes
+    averaged : pandas.DataFrame
+        Averaged profiles.
     row : pandas.Series or None
-        The trial's fit-table row (:func:`fit_row`).
+        The trial's row of a table with the families' columns (:func:`fit_row`).
+    subject : str
+    depth_mm : float
+    families : sequence of str
+        Keys of :data:`lineload.fitting.families.FAMILIES`, in drawing order.
+    fit_window_mm : float
+    reach_mm : float, optional
+        Distance the axis reaches at least (before the margin).
+    n_curve : int, optional
+        Points of each curve.
+    emphasis : dict of str to dict, optional
+        Further line properties of some families' curves, by family.
 
     Returns
     -------
-    numpy.ndarray or None
-        Deflection (mm, downward positive); None without a row or when the
-        model's parameters in it are not finite.
+    list of numpy.ndarray
+        What was drawn (curves, then the points), for :func:`deflection_limits`.
     """
-    if row is None:
-        return None
-    if model == "waterbed" and _finite(row["waterbed_L_mm"]):
-        return models.waterbed_deflection_mm(distance_mm, depth_mm, float(row["waterbed_L_mm"]))
-    if model == "shifted" and _finite(row["shifted_L_mm"]):
-        return models.shifted_deflection_mm(distance_mm, depth_mm, float(row["shifted_L_mm"]))
-    if model == "arc" and _finite(row["arc_L_mm"]):
-        return models.arc_deflection_mm(distance_mm, depth_mm, float(row["arc_L_mm"]))
-    if (
-        model == "boussinesq"
-        and _finite(row["boussinesq_A_mm"])
-        and _finite(row["boussinesq_x0_mm"])
-    ):
-        return models.boussinesq_deflection_mm(
-            distance_mm, float(row["boussinesq_A_mm"]), float(row["boussinesq_x0_mm"])
-        )
-    return None
+    distance_mm, deflection_mm = trial_points(averaged, subject, depth_mm)
+    keep = distance_mm > 0
+    distance_mm, deflection_mm = distance_mm[keep], deflection_mm[keep]
+    lo = distance_mm.min() / 1.3 if distance_mm.size else 0.05
+    far_mm = max(distance_mm.max() if distance_mm.size else 0.0, reach_mm)
+    hi = far_mm * 1.3 if far_mm > 0 else 10.0
+    grid_mm = np.geomspace(lo, hi, n_curve)
+    ax.axvline(fit_window_mm, gid="fit-window", **WINDOW_STYLE)
+    drawn = []
+    for name in families:
+        values = curve_mm(name, grid_mm, depth_mm, row)
+        if values is not None:
+            entry = FAMILIES[name]
+            ax.plot(
+                grid_mm,
+                values,
+                color=entry.colour,
+                linestyle=entry.linestyle,
+                gid=f"model:{name}",
+                **(emphasis or {}).get(name, {}),
+            )
+            drawn.append(values)
+    ax.plot(
+        distance_mm,
+        deflection_mm,
+        linestyle="none",
+        marker="o",
+        markersize=3.2,
+        markerfacecolor="white",
+        markeredgecolor=DATA_COLOUR,
+        markeredgewidth=0.8,
+        color=DATA_COLOUR,
+        gid="data",
+        zorder=3,
+    )
+    drawn.append(deflection_mm)
+    log_distance_axis(ax)
+    ax.set_xlim(lo, hi)
+    ax.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
+    return drawn
+
+
+def deflection_limits(drawn, depth_mm):
+    """Deflection-axis limits holding what was drawn and zero, curves clipped to
+    ``[-0.6, 1.3]`` times the depth (a far-off curve must not squash the data)."""
+    values = np.concatenate([np.ravel(v) for v in drawn]) if drawn else np.array([])
+    values = np.clip(values[np.isfinite(values)], -0.6 * depth_mm, 1.3 * depth_mm)
+    return padded_limits(np.append(values, 0.0))
 
 
 # ---------------------------------------------------------------- Figure 1
@@ -298,36 +378,12 @@ def figure_examples(
     axes = grid.flat[:n]
     y_values = []
     for ax, subject in zip(axes, example_subjects, strict=True):
-        distance_mm, deflection_mm = trial_points(averaged, subject, example_depth_mm)
-        keep = distance_mm > 0
-        distance_mm, deflection_mm = distance_mm[keep], deflection_mm[keep]
         row = fit_row(fits, subject, example_depth_mm)
-        lo = distance_mm.min() / 1.3 if distance_mm.size else 0.05
-        hi = distance_mm.max() * 1.3 if distance_mm.size else 10.0
-        curve_mm = np.geomspace(lo, hi, 400)
-        ax.axvline(fit_window_mm, gid="fit-window", **WINDOW_STYLE)
-        for model in ("boussinesq", "waterbed"):
-            values = model_curve_mm(model, curve_mm, example_depth_mm, row)
-            if values is not None:
-                ax.plot(curve_mm, values, color=MODEL_COLOURS[model], gid=f"model:{model}")
-                y_values.append(values)
-        ax.plot(
-            distance_mm,
-            deflection_mm,
-            linestyle="none",
-            marker="o",
-            markersize=3.2,
-            markerfacecolor="white",
-            markeredgecolor=DATA_COLOUR,
-            markeredgewidth=0.8,
-            color=DATA_COLOUR,
-            gid="data",
-            zorder=3,
+        y_values.extend(
+            draw_fitted_trial(
+                ax, averaged, row, subject, example_depth_mm, EXAMPLE_FAMILIES, fit_window_mm
+            )
         )
-        y_values.append(deflection_mm)
-        log_distance_axis(ax)
-        ax.set_xlim(lo, hi)
-        ax.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
         species = table.loc[subject, "species"] if subject in table.index else ""
         label = table.loc[subject, "label"] if subject in table.index else subject
         ax.set_title(f"{panel_title(label, species)}, {example_depth_mm:g} mm depth", loc="left")
@@ -336,22 +392,12 @@ def figure_examples(
         )
     for ax in grid[:, 0]:
         ax.set_ylabel(DEFLECTION_LABEL)
-    values = np.concatenate([np.ravel(v) for v in y_values]) if y_values else np.array([])
-    values = np.clip(values[np.isfinite(values)], -0.6 * example_depth_mm, 1.3 * example_depth_mm)
-    y_lo, y_hi = padded_limits(np.append(values, 0.0))
+    y_lo, y_hi = deflection_limits(y_values, example_depth_mm)
     axes[0].set_ylim(y_hi, y_lo)
     handles = [
-        Line2D(
-            [],
-            [],
-            linestyle="none",
-            marker="o",
-            markerfacecolor="white",
-            markeredgecolor=DATA_COLOUR,
-            label="data (mean of left and right)",
-        ),
-        Line2D([], [], color=MODEL_COLOURS["waterbed"], label="waterbed fit (eq. 19)"),
-        Line2D([], [], color=MODEL_COLOURS["boussinesq"], label="modified Boussinesq fit"),
+        data_handle(),
+        Line2D([], [], color=FAMILIES["waterbed"].colour, label="waterbed fit (eq. 19)"),
+        Line2D([], [], color=FAMILIES["boussinesq"].colour, label="modified Boussinesq fit"),
         Line2D([], [], label=f"fit window edge ({fit_window_mm:g} mm)", **WINDOW_STYLE),
     ]
     legend = fig.legend(

@@ -38,6 +38,7 @@ from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.lines import Line2D
 
 from lineload import models
+from lineload.fitting.families import FAMILIES
 from lineload.io import replaced_atomically
 
 __all__ = [
@@ -97,18 +98,14 @@ LEGEND_ROW_MM = 3.6
 
 SPECIES_PLURAL = {"monkey": "monkeys", "human": "humans"}
 
-#: Colour of each fitted model (Okabe-Ito palette, safe for colour-blind readers).
-MODEL_COLOURS = {
-    "waterbed": "#0072B2",
-    "shifted": "#CC79A7",
-    "arc": "#009E73",
-    "boussinesq": "#D55E00",
-}
+#: Colour of each model of the fit table (the registry's: Okabe-Ito palette, safe for
+#: colour-blind readers).
+MODEL_COLOURS = {model: FAMILIES[model].colour for model in models.TABLE_MODELS}
 #: Legend name of each model of the fit table (the sensitivity refits have their
 #: own names, in :data:`lineload.fitting.sensitivity.MODEL_NAMES`).
 MODEL_NAMES = {model: models.MODEL_NAMES[model].legend for model in models.TABLE_MODELS}
 #: Line style of each model where several are drawn over each other.
-MODEL_LINESTYLES = {"waterbed": "-", "shifted": "-.", "arc": "--", "boussinesq": "-"}
+MODEL_LINESTYLES = {model: FAMILIES[model].linestyle for model in models.TABLE_MODELS}
 DATA_COLOUR = "black"
 REST_COLOUR = "0.45"
 WINDOW_STYLE = {"color": "0.55", "linestyle": ":", "linewidth": 0.9}

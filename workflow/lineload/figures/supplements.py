@@ -44,6 +44,7 @@ from lineload.figures.style import (
     styled,
     subject_table,
 )
+from lineload.fitting.families import FAMILIES
 from lineload.fitting.sensitivity import MODEL_NAMES as REFIT_NAMES
 from lineload.fitting.sensitivity import MODELS as REFIT_MODELS
 from lineload.noise import reading_noise_mm
@@ -58,7 +59,7 @@ __all__ = [
 
 #: Colour of each model of the sensitivity refits (:data:`lineload.fitting.sensitivity.MODELS`,
 #: drawn in that order and named as the sensitivity tables name them).
-REFIT_COLOURS = {**MODEL_COLOURS, "waterbed_free_depth": "#56B4E9"}
+REFIT_COLOURS = {model: FAMILIES[model].colour for model in REFIT_MODELS}
 #: Depths side by side in the residual and parabola-against-arc supplements; more wrap.
 DEPTHS_PER_ROW = 4
 #: Marker of each species where trials are drawn as points.
@@ -409,7 +410,7 @@ def figure_sensitivity(sensitivity, checks, notice=""):
         colour, name = REFIT_COLOURS[model], REFIT_NAMES[model]
         rows = sensitivity[sensitivity["model"] == model]
         for axis, column, kind in ((ax_L, "L_mm", "L"), (ax_aicc, "delta_aicc", "aicc")):
-            if kind == "L" and model == "boussinesq":
+            if kind == "L" and "L_mm" not in FAMILIES[model].results:
                 continue
             x, y = [], []
             for i, window in enumerate(windows):

@@ -18,7 +18,7 @@ times the membrane's slope at the load).  A fit that ends at a bound says so
 
 Intervals
 ---------
-Profile-likelihood intervals, as :mod:`lineload.fitting.batch` gives the waterbed: for
+Profile-likelihood intervals, as :mod:`lineload.fitting.intervals` gives the waterbed: for
 one parameter, the other is fitted again at each value, and the interval holds
 the values whose sum of squares stays within a threshold of the minimum.  Without
 a covariance of the points the threshold is ``n ln(SSE / SSE_min) <= chi2`` (errors
@@ -34,11 +34,11 @@ point of chi-square with one degree of freedom.
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq, least_squares
 
 from lineload.bending import bending_deflection_mm
-from lineload.fitting.batch import FitResult, goodness_of_fit
+from lineload.fitting.goodness import FitResult, goodness_of_fit
 from lineload.fitting.optimize import CHI2_1DOF_95
+from lineload.fitting.windows import in_fit_window, window_covariance
 
 __all__ = [
     "BENDING_COLUMNS",
@@ -136,6 +136,8 @@ def _minimum(problem):
     against a wide one with a soft skin), so the start is the best point of a grid
     over the whole range, not a guess.
     """
+    from scipy.optimize import least_squares  # here: the registry imports this module
+
     log_L = np.linspace(problem.low[0], problem.high[0], 4 * _GRID)
     log_lb = np.linspace(problem.low[1], problem.high[1], _GRID)
     values = problem.sse_many(log_L[:, None], log_lb[None, :])
@@ -169,6 +171,8 @@ def _threshold(problem, theta, j, covariance_mm2):
 
 def _profile_interval(problem, theta, j, covariance_mm2):
     """Ends of the profile interval of parameter ``j`` (log units) and whether each is a bound."""
+    from scipy.optimize import brentq  # here: the registry imports this module
+
     sse_min = problem.sse(theta)
     limit = sse_min + _threshold(problem, theta, j, covariance_mm2)
     if not np.isfinite(limit):
@@ -318,8 +322,6 @@ def fit_bending_trials(
         One row per trial with the columns of :data:`BENDING_COLUMNS` but ``subject``
         and ``species``; NaN where a trial has fewer than four points.
     """
-    from lineload.fitting.batch import in_fit_window
-
     rows = []
     for k, (x, y, depth) in enumerate(zip(distance_mm, deflection_mm, depth_mm, strict=True)):
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
@@ -336,8 +338,8 @@ def fit_bending_trials(
             continue
         covariance = None
         if noise is not None:
-            sides = np.full(x.shape, 2.0) if n_sides is None else np.asarray(n_sides[k], float)
-            covariance = noise[k].average_covariance_mm2(x[keep], sides[keep], y[keep], depth)
+            sides = None if n_sides is None else n_sides[k]
+            covariance = window_covariance(x, y, depth, window_mm, noise[k], sides)
         fit = fit_bending(x[keep], y[keep], depth, covariance, wall)
         p = fit.params
         rows.append(

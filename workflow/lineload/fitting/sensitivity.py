@@ -13,8 +13,9 @@ from __future__ import annotations
 import numpy as np
 
 from lineload import models
-from lineload.fitting.batch import fit_windowed
-from lineload.models import arc_deflection_mm, shifted_deflection_mm, waterbed_deflection_mm
+from lineload.fitting.batch import TABLE_MODELS, fit_windowed
+from lineload.fitting.families import FAMILIES
+from lineload.models import waterbed_deflection_mm
 
 __all__ = [
     "CHECK_COLUMNS",
@@ -71,11 +72,12 @@ MODELS = models.MODELS
 #: Name of each refitted model in the sensitivity tables and figure.
 MODEL_NAMES = {model: names.refit for model, names in models.MODEL_NAMES.items()}
 
-#: The models whose W0 is held at the depth.
-FIXED_DEPTH = ("waterbed", "shifted", "arc")
+#: The models whose W0 is held at the depth (the registry's families of the fit table
+#: whose curve takes it).
+FIXED_DEPTH = tuple(m for m in TABLE_MODELS if FAMILIES[m].needs_depth)
 
-#: The waterbed curves in measured coordinates, by model name.
-CONSISTENT_CURVES = {"shifted": shifted_deflection_mm, "arc": arc_deflection_mm}
+#: The waterbed curves in measured coordinates, by model name (the registry's curves).
+CONSISTENT_CURVES = {model: FAMILIES[model].curve for model in ("shifted", "arc")}
 
 
 def _nan_is_nan(value):
@@ -191,7 +193,7 @@ def sensitivity_rows_batch(distance_mm, deflection_mm, depth_mm, windows_mm):
                 for name in ("L_mm", "L_ci_low_mm", "L_ci_high_mm", "A_mm", "x0_mm")
             }
             columns["W0_mm"] = fit.params.get(
-                "W0_mm", depth_mm if model in FIXED_DEPTH else np.full(count, np.nan)
+                "W0_mm", depth_mm if FAMILIES[model].needs_depth else np.full(count, np.nan)
             )
             columns.update(
                 {name: fit.measures[name] for name in ("rmse_mm", "max_abs_residual_mm", "aicc")}
@@ -303,11 +305,9 @@ def trial_checks_batch(distance_mm, deflection_mm, depth_mm, window_mm, reach_fr
     """
     count = len(distance_mm)
     depth_mm = np.broadcast_to(np.asarray(depth_mm, dtype=float), (count,))
-    fits = fit_windowed(
-        distance_mm, deflection_mm, depth_mm, window_mm, ("waterbed", "shifted", "arc")
-    )
+    fits = fit_windowed(distance_mm, deflection_mm, depth_mm, window_mm, FIXED_DEPTH)
     for i in range(count):
-        for model in ("waterbed", "shifted", "arc"):
+        for model in FIXED_DEPTH:
             if not fits[model].fitted[i]:
                 raise ValueError(fits[model].errors[i])
     L_mm = fits["waterbed"].params["L_mm"]
