@@ -5,13 +5,20 @@ only as a download, and keeps each caption behind an icon.  The workflow
 therefore gives the report one small, self-contained HTML page per table and per
 figure, with the caption written out beside it.  Pure functions: text in, text
 out; the figure's PNG is embedded as a data URI so the page needs no other file.
+
+The pages are jinja2 templates, autoescaped (text is escaped, the caption's HTML
+comes in marked safe).  They live here, not in files of their own, so the module
+works wherever the package is installed (the package carries no data files but
+its schemas).
 """
 
 from __future__ import annotations
 
 import base64
-import html
 import math
+
+import jinja2
+from markupsafe import Markup
 
 __all__ = [
     "column_label",
@@ -42,6 +49,34 @@ img { width: 100%; max-width: 1100px; height: auto; border: 1px solid #e5e7eb; }
 """
 
 
+#: The page: a title, the caption, the data notice, then the content (written by the
+#: templates that extend it).  Autoescaped: text is escaped, markup comes in as Markup.
+_PAGE = """\
+<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<title>{{ title }}</title><style>{{ style }}</style></head><body>
+<h1>{{ title }}</h1>
+{% if caption_html %}<div class="caption">{{ caption_html }}</div>
+{% endif %}{% if notice %}<div class="notice">{{ notice }}</div>
+{% endif %}{% block content %}{{ body }}{% endblock %}
+</body></html>
+"""
+
+#: A table: headers with the CSV's own names as tooltips, numbers right-aligned.
+_TABLE = """\
+{% extends "page" %}{% block content %}<table><thead><tr>
+{%- for column in columns %}<th title="{{ column }}">{{ column | label }}</th>{% endfor -%}
+</tr></thead><tbody>
+{%- for row in rows %}<tr>{% for value in row %}{{ value | cell }}{% endfor %}</tr>{% endfor -%}
+</tbody></table>{% endblock %}"""
+
+#: A figure, embedded as a data URI.
+_FIGURE = """\
+{% extends "page" %}{% block content -%}
+<img alt="{{ title }}" src="data:image/png;base64,{{ png_base64 }}">
+{%- endblock %}"""
+
+
 def page(title, body, caption_html="", notice=""):
     """One self-contained HTML page: a title, the caption, the notice, then the body.
 
@@ -60,18 +95,7 @@ def page(title, body, caption_html="", notice=""):
     -------
     str
     """
-    parts = [
-        "<!DOCTYPE html>",
-        '<html lang="en"><head><meta charset="utf-8">',
-        f"<title>{html.escape(title)}</title><style>{_STYLE}</style></head><body>",
-        f"<h1>{html.escape(title)}</h1>",
-    ]
-    if caption_html:
-        parts.append(f'<div class="caption">{caption_html}</div>')
-    if notice:
-        parts.append(f'<div class="notice">{html.escape(notice)}</div>')
-    parts += [body, "</body></html>", ""]
-    return "\n".join(parts)
+    return _render("page", title, caption_html, notice, body=Markup(body))
 
 
 class _Fixed(str):
@@ -222,14 +246,35 @@ def with_supported_digits(columns, rows):
 def _cell(value):
     """A table cell: numbers right-aligned with up to 6 significant digits, text escaped."""
     if isinstance(value, _Fixed):
-        return f'<td class="num">{value}</td>'
+        return Markup('<td class="num">{}</td>').format(value)
     if isinstance(value, bool):
-        return f"<td>{value}</td>"
+        return Markup("<td>{}</td>").format(value)
     if isinstance(value, (int, float)):
         if isinstance(value, float) and math.isnan(value):
-            return '<td class="num"></td>'
-        return f'<td class="num">{value:.6g}</td>'
-    return f"<td>{html.escape(str(value))}</td>"
+            return Markup('<td class="num"></td>')
+        return Markup('<td class="num">{}</td>').format(f"{value:.6g}")
+    return Markup("<td>{}</td>").format(str(value))
+
+
+_TEMPLATES = jinja2.Environment(
+    loader=jinja2.DictLoader({"page": _PAGE, "table": _TABLE, "figure": _FIGURE}),
+    autoescape=True,
+    keep_trailing_newline=True,
+    undefined=jinja2.StrictUndefined,
+)
+_TEMPLATES.filters["label"] = column_label
+_TEMPLATES.filters["cell"] = _cell
+
+
+def _render(template, title, caption_html, notice, **values):
+    """A page from one of the templates: the caption is HTML, everything else text."""
+    return _TEMPLATES.get_template(template).render(
+        title=title,
+        style=Markup(_STYLE),
+        caption_html=Markup(caption_html),
+        notice=notice,
+        **values,
+    )
 
 
 def table_page(title, columns, rows, caption_html="", notice=""):
@@ -251,13 +296,9 @@ def table_page(title, columns, rows, caption_html="", notice=""):
     -------
     str
     """
-    head = "".join(
-        f'<th title="{html.escape(str(c))}">{html.escape(column_label(c))}</th>' for c in columns
-    )
+    columns = [str(c) for c in columns]
     rows = with_supported_digits(columns, rows)
-    body = "".join("<tr>" + "".join(_cell(v) for v in row) + "</tr>" for row in rows)
-    table = f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
-    return page(title, table, caption_html, notice)
+    return _render("table", title, caption_html, notice, columns=columns, rows=rows)
 
 
 def figure_page(title, png_bytes, caption_html="", notice=""):
@@ -276,8 +317,7 @@ def figure_page(title, png_bytes, caption_html="", notice=""):
     str
     """
     data = base64.b64encode(png_bytes).decode("ascii")
-    image = f'<img alt="{html.escape(title)}" src="data:image/png;base64,{data}">'
-    return page(title, image, caption_html, notice)
+    return _render("figure", title, caption_html, notice, png_base64=data)
 
 
 def versions_page(title, rows, caption_html=""):
