@@ -45,6 +45,8 @@ th, td { border-bottom: 1px solid #e5e7eb; padding: 4px 8px; text-align: left;
 th { background: #f9fafb; position: sticky; top: 0; min-width: 4em; max-width: 9em;
      white-space: normal; font-weight: 600; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+th:first-child, td:first-child { position: sticky; left: 0; background: #ffffff; }
+th:first-child { z-index: 1; background: #f9fafb; }
 img { width: 100%; max-width: 1100px; height: auto; border: 1px solid #e5e7eb; }
 """
 
@@ -144,9 +146,19 @@ def column_label(column):
     return " ".join(words) + unit
 
 
-#: Decimals of a value without an uncertainty, by its column's unit or kind, as the
-#: article prints them: mm to the micrometre and a tenth (RMSE 0.0172), AICc to 0.1.
-_PLAIN_DECIMALS = (("_aicc", 1), ("_mm", 4), ("_um", 1), ("_N", 3))
+#: Decimals of a value without an uncertainty, by its column's unit or kind (the first
+#: suffix that matches), as the article prints them: mm to the micrometre and a tenth
+#: (RMSE 0.0172), AICc to 0.1; the smallest and largest L over the fit windows as L
+#: itself (0.01 mm), a prior's share of an interval to 0.001.
+_PLAIN_DECIMALS = (
+    ("_aicc", 1),
+    ("_window_min_mm", 2),
+    ("_window_max_mm", 2),
+    ("_prior_share", 3),
+    ("_mm", 4),
+    ("_um", 1),
+    ("_N", 3),
+)
 
 #: The fewest decimals a value with an uncertainty is shown with, by unit: the article
 #: prints L to 0.01 mm (14.72) whatever its interval.
