@@ -30,6 +30,17 @@ def test_each_value_finds_its_standard_error_or_its_interval():
     }
 
 
+def test_a_table_of_named_values_finds_their_standard_errors():
+    columns = ["parameter", "value", "se", "source"]
+    assert error_columns(columns) == {"value": ("se",)}
+    assert error_columns(["parameter", "value"]) == {}
+    rows = [["reading_sd_mm", 0.006400943831, 0.003036846578, "measured"]]
+    rows.append(["depth_sd_mm", 0.01, math.nan, "prior"])
+    shown = list(with_supported_digits(columns, rows))
+    assert shown[0][1:3] == ["0.0064", "0.0030"]
+    assert shown[1][1] == 0.01  # a prior: no error, shown as set
+
+
 def test_values_keep_two_significant_digits_of_their_uncertainty():
     row = ["M1", 0.0840843, 0.00165539, 0.43899, 0.10645, 12.3456, 11.9, 12.8, 2.791041644]
     (shown,) = with_supported_digits(COLUMNS, [row])

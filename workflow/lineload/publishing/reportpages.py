@@ -44,6 +44,7 @@ th, td { border-bottom: 1px solid #e5e7eb; padding: 4px 8px; text-align: left;
          vertical-align: top; }
 th { background: #f9fafb; position: sticky; top: 0; min-width: 4em; max-width: 9em;
      white-space: normal; font-weight: 600; }
+td.paragraph { min-width: 24em; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 th:first-child, td:first-child { position: sticky; left: 0; background: #ffffff; }
 th:first-child { z-index: 1; background: #f9fafb; }
@@ -177,7 +178,8 @@ def error_columns(columns):
 
     ``x`` with a column ``x_se`` (``pretension_N_per_mm`` with
     ``pretension_se_N_per_mm``) has a standard error; ``..._L_mm`` with
-    ``..._L_ci_low_mm`` and ``..._L_ci_high_mm`` has an interval.
+    ``..._L_ci_low_mm`` and ``..._L_ci_high_mm`` has an interval; a table of named
+    values (the noise table) has ``value`` with its ``se``.
 
     Returns
     -------
@@ -186,7 +188,7 @@ def error_columns(columns):
         two: an interval's ends).
     """
     columns = list(columns)
-    found = {}
+    found = {"value": ("se",)} if {"value", "se"} <= set(columns) else {}
     for column in columns:
         head, _, rest = column.partition("_")
         se = f"{head}_se" + (f"_{rest}" if rest else "")
@@ -255,6 +257,12 @@ def with_supported_digits(columns, rows):
         yield cells
 
 
+#: A text cell longer than this (characters, a paragraph) is set at least 24 em wide:
+#: in the claims table each rule, reason and value, a paragraph, otherwise narrowed to a
+#: few words a line and a row ran to three screens.
+_PARAGRAPH = 400
+
+
 def _cell(value):
     """A table cell: numbers right-aligned with up to 6 significant digits, text escaped."""
     if isinstance(value, _Fixed):
@@ -265,7 +273,10 @@ def _cell(value):
         if isinstance(value, float) and math.isnan(value):
             return Markup('<td class="num"></td>')
         return Markup('<td class="num">{}</td>').format(f"{value:.6g}")
-    return Markup("<td>{}</td>").format(str(value))
+    text = str(value)
+    if len(text) > _PARAGRAPH:
+        return Markup('<td class="paragraph">{}</td>').format(text)
+    return Markup("<td>{}</td>").format(text)
 
 
 _TEMPLATES = jinja2.Environment(
