@@ -223,6 +223,9 @@ rule provenance:
             result("provenance.json"),
             caption="../report/provenance.rst",
             category="Provenance",
+            # a download (the report shows no JSON), named as the other categories'
+            # CSV files; the versions and the commit are on the software page
+            subcategory="JSON file",
             labels={"file": "provenance record"},
         ),
     log:
