@@ -134,4 +134,7 @@ def test_report_reads_as_a_reviewer_needs(tmp_path, browser, build, request):
     # the software page names the versions
     frame, text = open_item(page, report, ["Provenance", "Pages"], "versions and source")
     assert "snakemake" in text and "typst" in text
+    # the rule graph drawn to be read, with its caption
+    frame, text = open_item(page, report, ["Provenance", "Pages"], "the rule graph")
+    assert frame.locator("img").count() == 1 and "feeds directly" in text
     page.close()

@@ -155,3 +155,8 @@ def test_a_data_files_rows_are_on_its_page():
             [["M1", 0.5, "left", 1.0, 10.4]], columns=["subject", "depth", "side", "x", "z"]
         ),
     )
+
+
+def test_a_paragraph_in_a_cell_is_set_wide_and_a_word_is_not():
+    page = table_page("t", ["claim", "rule"], [["C1", "x " * 300], ["C2", "a rule"]])
+    assert page.count('<td class="paragraph">') == 1 and "<td>a rule</td>" in page
