@@ -4,6 +4,7 @@ follows the data, tables are shown as tables, figures with their captions beside
 import os
 import re
 import shutil
+import textwrap
 from pathlib import Path
 
 import pandas as pd
@@ -11,6 +12,8 @@ import pytest
 
 from conftest import SHARED_NOTICE, run_snakemake
 from lineload.figures import registry
+from lineload.io import read_results_csv
+from test_reportpages import rows_not_shown
 
 pytestmark = pytest.mark.e2e
 
@@ -26,6 +29,13 @@ ARGS = [
     "--disable-component-update",
     "--disable-sync",
 ]
+
+
+#: The window's width in pixels, a laptop's.
+WIDTH = 1400
+#: The text of each cell of a page's table body, row by row (run in the page).
+BODY_ROWS = """() => Array.from(document.querySelectorAll('tbody tr'),
+    row => Array.from(row.cells, cell => cell.textContent))"""
 
 
 @pytest.fixture(scope="module")
@@ -67,7 +77,7 @@ def test_report_reads_as_a_reviewer_needs(tmp_path, browser, build, request):
     made = run_snakemake("--report", str(report), raw=raw, results=results)
     assert made.returncode == 0, made.stderr[-3000:]
 
-    page = browser.new_page(viewport={"width": 1400, "height": 900})
+    page = browser.new_page(viewport={"width": WIDTH, "height": 900})
     page.goto(report.as_uri())
     page.get_by_text("Provenance").first.wait_for(state="visible")
     front = " ".join(page.inner_text("body").split())
@@ -87,14 +97,26 @@ def test_report_reads_as_a_reviewer_needs(tmp_path, browser, build, request):
         cells = rows.nth(i).locator("td").all_inner_texts()
         assert cells[0] == claim and verdict in cells, (claim, verdict, cells[:6])
     assert "Every statement of the paper the claims table tests" in text  # the caption
-    # a figure with its caption beside it
+    # a figure with its caption beside it, the list of figures beside it taking at most
+    # two fifths of the window (a list of whole titles took 53 %, the figure 45 %)
     frame, text = open_item(
         page,
         report,
         ["Paper figures", "Figures"],
-        "One depth against log distance, with the waterbed and Boussinesq fits",
+        textwrap.shorten(registry.FIGURES[1].title, 40, placeholder=" …"),
     )
     assert frame.locator("img").count() == 1 and "log axis" in text
+    assert page.locator("nav").first.bounding_box()["width"] <= 0.4 * WIDTH
+    # a data file's rows on its page, as its CSV has them (and a page that lost a row
+    # would be caught)
+    converted = sorted((results / "data" / "converted").glob("*.csv"))[0]
+    frame, text = open_item(page, report, ["Data", "Readings in tissue mm"], converted.stem)
+    table = read_results_csv(converted)
+    shown = frame.evaluate(BODY_ROWS)
+    assert len(shown) == len(table) > 0 and rows_not_shown(shown, table) == []
+    assert "both sides of the wedge" in text  # its caption
+    frame.evaluate("document.querySelector('tbody tr:nth-child(2)').remove()")
+    assert rows_not_shown(frame.evaluate(BODY_ROWS), table)
     # the supplements numbered on from the paper's figures, as in the article, and listed
     # in that order (the report sorts labels as text: "Figure 10" must not precede 8)
     page.goto(report.as_uri())
@@ -112,4 +134,7 @@ def test_report_reads_as_a_reviewer_needs(tmp_path, browser, build, request):
     # the software page names the versions
     frame, text = open_item(page, report, ["Provenance", "Pages"], "versions and source")
     assert "snakemake" in text and "typst" in text
+    # the rule graph drawn to be read, with its caption
+    frame, text = open_item(page, report, ["Provenance", "Pages"], "the rule graph")
+    assert frame.locator("img").count() == 1 and "feeds directly" in text
     page.close()

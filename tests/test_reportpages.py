@@ -1,7 +1,12 @@
 """The report's table pages: values with the digits their uncertainty supports."""
 
 import math
+from html.parser import HTMLParser
 
+import pandas as pd
+
+from conftest import REPO
+from lineload.io import read_results_csv
 from lineload.publishing.reportpages import error_columns, table_page, with_supported_digits
 
 COLUMNS = [
@@ -23,6 +28,17 @@ def test_each_value_finds_its_standard_error_or_its_interval():
         "prestrain": ("prestrain_se",),
         "arc_L_mm": ("arc_L_ci_low_mm", "arc_L_ci_high_mm"),
     }
+
+
+def test_a_table_of_named_values_finds_their_standard_errors():
+    columns = ["parameter", "value", "se", "source"]
+    assert error_columns(columns) == {"value": ("se",)}
+    assert error_columns(["parameter", "value"]) == {}
+    rows = [["reading_sd_mm", 0.006400943831, 0.003036846578, "measured"]]
+    rows.append(["depth_sd_mm", 0.01, math.nan, "prior"])
+    shown = list(with_supported_digits(columns, rows))
+    assert shown[0][1:3] == ["0.0064", "0.0030"]
+    assert shown[1][1] == 0.01  # a prior: no error, shown as set
 
 
 def test_values_keep_two_significant_digits_of_their_uncertainty():
@@ -56,3 +72,91 @@ def test_headers_carry_words_and_units_and_values_the_articles_digits():
     assert depth == ["0.5"]
     page = table_page("t", columns, [[14.7213, 13.9, 15.6, 0.0123456, -157.72209, 20]])
     assert '<th title="waterbed_rmse_mm">waterbed RMSE (mm)</th>' in page
+
+
+class _BodyCells(HTMLParser):
+    """The text of each cell of a page's table body, row by row."""
+
+    def __init__(self):
+        super().__init__()
+        self.rows, self._in_body, self._cell = [], False, None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "tbody":
+            self._in_body = True
+        elif self._in_body and tag == "tr":
+            self.rows.append([])
+        elif self._in_body and tag == "td":
+            self._cell = ""
+
+    def handle_endtag(self, tag):
+        if tag == "tbody":
+            self._in_body = False
+        elif tag == "td" and self._cell is not None:
+            self.rows[-1].append(self._cell)
+            self._cell = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell += data
+
+
+def page_rows(page):
+    """The rows of the table on an HTML page, each a list of its cells' text."""
+    parser = _BodyCells()
+    parser.feed(page)
+    return parser.rows
+
+
+def rows_not_shown(shown, frame):
+    """Where the rows ``shown`` on a page (lists of cell text) differ from the table's:
+    a list of (row, column, in the table, on the page), empty when every row is there.
+
+    Text must match exactly; a number as the CSV writes it (six significant digits), or
+    rounded to the decimals shown (at least one: a whole number shown for a fraction is
+    a difference); an empty cell stands for a missing value.
+    """
+    differences = []
+    if len(shown) != len(frame):
+        differences.append(("rows", "", len(frame), len(shown)))
+    for i, (row, cells) in enumerate(zip(frame.itertuples(index=False), shown, strict=False)):
+        for column, value, text in zip(frame.columns, row, cells, strict=True):
+            if isinstance(value, (str, bool)):
+                same = text == str(value)
+            elif math.isnan(value):
+                same = text == ""
+            else:
+                decimals = len(text.partition(".")[2])
+                same = text == f"{value:.6g}" or (decimals > 0 and text == f"{value:.{decimals}f}")
+            if not same:
+                differences.append((i, column, value, text))
+    return differences
+
+
+def test_a_data_files_rows_are_on_its_page():
+    """Every row of a data file, every cell, is on its page (numbers to the digits shown);
+    a page missing a row, or with one reading changed, is caught."""
+    path = REPO / "data" / "raw" / "profiles" / "M1.csv"
+    frame = read_results_csv(path)
+    page = table_page("Readings: M1", list(frame.columns), frame.itertuples(index=False))
+    shown = page_rows(page)
+    assert len(shown) == len(frame) > 50
+    assert rows_not_shown(shown, frame) == []
+    # planted: the page loses its tenth row, or one reading is shown 0.1 mm off
+    assert rows_not_shown(shown[:9] + shown[10:], frame)
+    for k in (3, 20):
+        changed = [list(row) for row in shown]
+        changed[k][3] = f"{float(changed[k][3]) + 0.1:g}"
+        assert [d[:2] for d in rows_not_shown(changed, frame)] == [(k, frame.columns[3])]
+    # and a value rounded past the digits it is shown with
+    assert rows_not_shown(
+        [["M1", "0.5", "left", "1", "10"]],
+        pd.DataFrame(
+            [["M1", 0.5, "left", 1.0, 10.4]], columns=["subject", "depth", "side", "x", "z"]
+        ),
+    )
+
+
+def test_a_paragraph_in_a_cell_is_set_wide_and_a_word_is_not():
+    page = table_page("t", ["claim", "rule"], [["C1", "x " * 300], ["C2", "a rule"]])
+    assert page.count('<td class="paragraph">') == 1 and "<td>a rule</td>" in page

@@ -1,5 +1,7 @@
 # Stage 5, report: the report's pages and the provenance record of the build.
 
+import textwrap
+
 # Snakemake's report shows HTML on the page (a CSV only as a download) and keeps captions
 # behind an icon: each table and figure gets a page with its caption written out.
 # Name -> (title, table, report category).
@@ -40,13 +42,30 @@ REPORT_TABLES = {
         rules.mechanics.output.trials,
         "Mechanics",
     ),
+    "noise": ("The digitising noise and its priors", rules.noise.output[0], "Fits"),
 }
+#: The readings of each batch of subjects, a page per batch beside its CSV under Data:
+#: kind -> (title, subcategory); the tables are prepare_profiles' outputs of that name.
+REPORT_READINGS = {
+    "converted": ("Readings in tissue mm", "Readings in tissue mm"),
+    "averaged": ("Left/right averages", "Left/right averages"),
+}
+#: The rule graph drawn for the README (docs/rulegraph.sh), when the checkout has it
+#: (a copy of workflow/ deployed alone does not): Snakemake's own, on the landing page,
+#: puts every rule in one column with its arcs beside it.
+RULE_GRAPH = REPOSITORY / "docs" / "rulegraph.png"
 # The pages that are not a table or a figure: name -> (label, category).
 REPORT_OTHER_PAGES = {
     "data": ("the subjects and depths", "Data"),
     "software": ("versions and source", "Provenance"),
+    **({"rulegraph": ("the rule graph", "Provenance")} if RULE_GRAPH.is_file() else {}),
 }
 
+
+#: The longest label of a page in the report's lists, in characters: the sidebar widens
+#: to a list's longest line (at 69 characters it took half the screen from the figure
+#: beside it), so a longer title is cut at a word with an ellipsis; the page shows it whole.
+LABEL_WIDTH = 40
 
 # Every page, registered with its caption and category: tables, figures (numbered
 # "Figure 2" ... "Figure 12" as the article numbers them, in order), others.
@@ -57,9 +76,20 @@ REPORT_PAGES = [
             caption=f"../report/{name}.rst",
             category=category,
             subcategory="Tables",
-            labels={"table": title},
+            labels={"table": textwrap.shorten(title, LABEL_WIDTH, placeholder=" …")},
         )
         for name, (title, _, category) in REPORT_TABLES.items()
+    ),
+    *(
+        report_item(
+            result("report", kind, f"{batch}.html"),
+            caption="../report/readings.rst",
+            category="Data",
+            subcategory=subcategory,
+            labels={"subjects": batch},
+        )
+        for kind, (_, subcategory) in REPORT_READINGS.items()
+        for batch in BATCH_IDS
     ),
     *(
         report_item(
@@ -67,7 +97,10 @@ REPORT_PAGES = [
             caption=f"../report/{figure.name}.rst",
             category=figure.category,
             subcategory="Figures",
-            labels={"figure": registry.report_label(figure), "shows": figure.title},
+            labels={
+                "figure": registry.report_label(figure),
+                "shows": textwrap.shorten(figure.title, LABEL_WIDTH, placeholder=" …"),
+            },
         )
         for figure in registry.FIGURES
     ),
@@ -89,13 +122,23 @@ rule report_pages:
     input:
         checked=checked_raw_data,
         tables=[table for _, table, _ in REPORT_TABLES.values()],
+        readings=[
+            path
+            for kind in REPORT_READINGS
+            for path in expand(
+                getattr(rules.prepare_profiles.output, kind), batch=BATCH_IDS
+            )
+        ],
         figures=[f for f in FIGURE_FILES if f.endswith(".png")],
+        rulegraph=[os.path.relpath(RULE_GRAPH)] if RULE_GRAPH.is_file() else [],
         captions=[
             os.path.relpath(WORKFLOW_DIR / "report" / f"{name}.rst")
             for name in [
                 *REPORT_TABLES,
                 *(f.name for f in registry.FIGURES),
                 *REPORT_OTHER_PAGES,
+                *REPORT_READINGS,
+                "readings",
             ]
         ],
         code=code("write_report_pages.py"),
@@ -110,6 +153,12 @@ rule report_pages:
     params:
         # [name, title] of each table, in the order of the input `tables`
         tables=[[name, title] for name, (title, _, _) in REPORT_TABLES.items()],
+        # [kind, title, batch] of each readings table, in the order of `readings`
+        readings=[
+            [kind, title, batch]
+            for kind, (title, _) in REPORT_READINGS.items()
+            for batch in BATCH_IDS
+        ],
         config=startup.portable_config(config),
         notice=lambda wildcards: NOTICE,
         subjects=SUBJECTS,
@@ -174,6 +223,9 @@ rule provenance:
             result("provenance.json"),
             caption="../report/provenance.rst",
             category="Provenance",
+            # a download (the report shows no JSON), named as the other categories'
+            # CSV files; the versions and the commit are on the software page
+            subcategory="JSON file",
             labels={"file": "provenance record"},
         ),
     log:

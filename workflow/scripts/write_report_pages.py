@@ -18,13 +18,15 @@ from lineload.publishing.reportpages import figure_page, table_page, versions_pa
 from lineload.runtime.jobparams import given
 
 
-def caption(path, config):
-    """A caption file as HTML."""
-    text = Template(Path(path).read_text(encoding="utf-8")).render(snakemake={"config": config})
+def caption(path, config, wildcards=None):
+    """A caption file as HTML (``wildcards``: those of the job whose output it describes)."""
+    text = Template(Path(path).read_text(encoding="utf-8")).render(
+        snakemake={"config": config, "wildcards": wildcards or {}}
+    )
     return publish_parts(text, writer_name="html5")["body"]
 
 
-def write_report_pages(inputs, outputs, tables, config, notice, subjects, repository):
+def write_report_pages(inputs, outputs, tables, readings, config, notice, subjects, repository):
     """Write every page listed in the job's params into the folder of the job's outputs."""
     captions = Path(inputs.captions[0]).parent
     folder = Path(outputs[0]).parent
@@ -39,6 +41,17 @@ def write_report_pages(inputs, outputs, tables, config, notice, subjects, reposi
             notice,
         )
         write_text(text, folder / f"{name}.html")
+    # each batch's readings under its kind, captioned as its CSV is
+    for (kind, title, batch), path in zip(readings, inputs.readings, strict=True):
+        frame = read_results_csv(path)
+        text = table_page(
+            f"{title}: {batch}",
+            list(frame.columns),
+            frame.itertuples(index=False),
+            caption(captions / f"{kind}.rst", config, {"batch": batch}),
+            notice,
+        )
+        write_text(text, folder / kind / f"{batch}.html")
     for figure in registry.FIGURES:
         png = Path(inputs.figures[0]).parent / f"{figure.name}.png"
         text = figure_page(
@@ -72,7 +85,14 @@ def write_report_pages(inputs, outputs, tables, config, notice, subjects, reposi
         versions_page("Software", versions, caption(captions / "software.rst", config)),
         folder / "software.html",
     )
-    print(f"{len(tables)} tables, {len(registry.FIGURES)} figures, the data and the software")
+    if inputs.rulegraph:
+        graph = Path(inputs.rulegraph[0]).read_bytes()
+        text = figure_page("The rule graph", graph, caption(captions / "rulegraph.rst", config))
+        write_text(text, folder / "rulegraph.html")
+    print(
+        f"{len(tables)} tables, {len(readings)} tables of readings, {len(registry.FIGURES)}"
+        f" figures, the data, the software{', the rule graph' if inputs.rulegraph else ''}"
+    )
 
 
 if __name__ == "__main__":

@@ -5,13 +5,20 @@ only as a download, and keeps each caption behind an icon.  The workflow
 therefore gives the report one small, self-contained HTML page per table and per
 figure, with the caption written out beside it.  Pure functions: text in, text
 out; the figure's PNG is embedded as a data URI so the page needs no other file.
+
+The pages are jinja2 templates, autoescaped (text is escaped, the caption's HTML
+comes in marked safe).  They live here, not in files of their own, so the module
+works wherever the package is installed (the package carries no data files but
+its schemas).
 """
 
 from __future__ import annotations
 
 import base64
-import html
 import math
+
+import jinja2
+from markupsafe import Markup
 
 __all__ = [
     "column_label",
@@ -37,9 +44,40 @@ th, td { border-bottom: 1px solid #e5e7eb; padding: 4px 8px; text-align: left;
          vertical-align: top; }
 th { background: #f9fafb; position: sticky; top: 0; min-width: 4em; max-width: 9em;
      white-space: normal; font-weight: 600; }
+td.paragraph { min-width: 24em; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+th:first-child, td:first-child { position: sticky; left: 0; background: #ffffff; }
+th:first-child { z-index: 1; background: #f9fafb; }
 img { width: 100%; max-width: 1100px; height: auto; border: 1px solid #e5e7eb; }
 """
+
+
+#: The page: a title, the caption, the data notice, then the content (written by the
+#: templates that extend it).  Autoescaped: text is escaped, markup comes in as Markup.
+_PAGE = """\
+<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<title>{{ title }}</title><style>{{ style }}</style></head><body>
+<h1>{{ title }}</h1>
+{% if caption_html %}<div class="caption">{{ caption_html }}</div>
+{% endif %}{% if notice %}<div class="notice">{{ notice }}</div>
+{% endif %}{% block content %}{{ body }}{% endblock %}
+</body></html>
+"""
+
+#: A table: headers with the CSV's own names as tooltips, numbers right-aligned.
+_TABLE = """\
+{% extends "page" %}{% block content %}<table><thead><tr>
+{%- for column in columns %}<th title="{{ column }}">{{ column | label }}</th>{% endfor -%}
+</tr></thead><tbody>
+{%- for row in rows %}<tr>{% for value in row %}{{ value | cell }}{% endfor %}</tr>{% endfor -%}
+</tbody></table>{% endblock %}"""
+
+#: A figure, embedded as a data URI.
+_FIGURE = """\
+{% extends "page" %}{% block content -%}
+<img alt="{{ title }}" src="data:image/png;base64,{{ png_base64 }}">
+{%- endblock %}"""
 
 
 def page(title, body, caption_html="", notice=""):
@@ -60,18 +98,7 @@ def page(title, body, caption_html="", notice=""):
     -------
     str
     """
-    parts = [
-        "<!DOCTYPE html>",
-        '<html lang="en"><head><meta charset="utf-8">',
-        f"<title>{html.escape(title)}</title><style>{_STYLE}</style></head><body>",
-        f"<h1>{html.escape(title)}</h1>",
-    ]
-    if caption_html:
-        parts.append(f'<div class="caption">{caption_html}</div>')
-    if notice:
-        parts.append(f'<div class="notice">{html.escape(notice)}</div>')
-    parts += [body, "</body></html>", ""]
-    return "\n".join(parts)
+    return _render("page", title, caption_html, notice, body=Markup(body))
 
 
 class _Fixed(str):
@@ -120,9 +147,19 @@ def column_label(column):
     return " ".join(words) + unit
 
 
-#: Decimals of a value without an uncertainty, by its column's unit or kind, as the
-#: article prints them: mm to the micrometre and a tenth (RMSE 0.0172), AICc to 0.1.
-_PLAIN_DECIMALS = (("_aicc", 1), ("_mm", 4), ("_um", 1), ("_N", 3))
+#: Decimals of a value without an uncertainty, by its column's unit or kind (the first
+#: suffix that matches), as the article prints them: mm to the micrometre and a tenth
+#: (RMSE 0.0172), AICc to 0.1; the smallest and largest L over the fit windows as L
+#: itself (0.01 mm), a prior's share of an interval to 0.001.
+_PLAIN_DECIMALS = (
+    ("_aicc", 1),
+    ("_window_min_mm", 2),
+    ("_window_max_mm", 2),
+    ("_prior_share", 3),
+    ("_mm", 4),
+    ("_um", 1),
+    ("_N", 3),
+)
 
 #: The fewest decimals a value with an uncertainty is shown with, by unit: the article
 #: prints L to 0.01 mm (14.72) whatever its interval.
@@ -141,7 +178,8 @@ def error_columns(columns):
 
     ``x`` with a column ``x_se`` (``pretension_N_per_mm`` with
     ``pretension_se_N_per_mm``) has a standard error; ``..._L_mm`` with
-    ``..._L_ci_low_mm`` and ``..._L_ci_high_mm`` has an interval.
+    ``..._L_ci_low_mm`` and ``..._L_ci_high_mm`` has an interval; a table of named
+    values (the noise table) has ``value`` with its ``se``.
 
     Returns
     -------
@@ -150,7 +188,7 @@ def error_columns(columns):
         two: an interval's ends).
     """
     columns = list(columns)
-    found = {}
+    found = {"value": ("se",)} if {"value", "se"} <= set(columns) else {}
     for column in columns:
         head, _, rest = column.partition("_")
         se = f"{head}_se" + (f"_{rest}" if rest else "")
@@ -219,17 +257,47 @@ def with_supported_digits(columns, rows):
         yield cells
 
 
+#: A text cell longer than this (characters, a paragraph) is set at least 24 em wide:
+#: in the claims table each rule, reason and value, a paragraph, otherwise narrowed to a
+#: few words a line and a row ran to three screens.
+_PARAGRAPH = 400
+
+
 def _cell(value):
     """A table cell: numbers right-aligned with up to 6 significant digits, text escaped."""
     if isinstance(value, _Fixed):
-        return f'<td class="num">{value}</td>'
+        return Markup('<td class="num">{}</td>').format(value)
     if isinstance(value, bool):
-        return f"<td>{value}</td>"
+        return Markup("<td>{}</td>").format(value)
     if isinstance(value, (int, float)):
         if isinstance(value, float) and math.isnan(value):
-            return '<td class="num"></td>'
-        return f'<td class="num">{value:.6g}</td>'
-    return f"<td>{html.escape(str(value))}</td>"
+            return Markup('<td class="num"></td>')
+        return Markup('<td class="num">{}</td>').format(f"{value:.6g}")
+    text = str(value)
+    if len(text) > _PARAGRAPH:
+        return Markup('<td class="paragraph">{}</td>').format(text)
+    return Markup("<td>{}</td>").format(text)
+
+
+_TEMPLATES = jinja2.Environment(
+    loader=jinja2.DictLoader({"page": _PAGE, "table": _TABLE, "figure": _FIGURE}),
+    autoescape=True,
+    keep_trailing_newline=True,
+    undefined=jinja2.StrictUndefined,
+)
+_TEMPLATES.filters["label"] = column_label
+_TEMPLATES.filters["cell"] = _cell
+
+
+def _render(template, title, caption_html, notice, **values):
+    """A page from one of the templates: the caption is HTML, everything else text."""
+    return _TEMPLATES.get_template(template).render(
+        title=title,
+        style=Markup(_STYLE),
+        caption_html=Markup(caption_html),
+        notice=notice,
+        **values,
+    )
 
 
 def table_page(title, columns, rows, caption_html="", notice=""):
@@ -251,13 +319,9 @@ def table_page(title, columns, rows, caption_html="", notice=""):
     -------
     str
     """
-    head = "".join(
-        f'<th title="{html.escape(str(c))}">{html.escape(column_label(c))}</th>' for c in columns
-    )
+    columns = [str(c) for c in columns]
     rows = with_supported_digits(columns, rows)
-    body = "".join("<tr>" + "".join(_cell(v) for v in row) + "</tr>" for row in rows)
-    table = f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
-    return page(title, table, caption_html, notice)
+    return _render("table", title, caption_html, notice, columns=columns, rows=rows)
 
 
 def figure_page(title, png_bytes, caption_html="", notice=""):
@@ -276,8 +340,7 @@ def figure_page(title, png_bytes, caption_html="", notice=""):
     str
     """
     data = base64.b64encode(png_bytes).decode("ascii")
-    image = f'<img alt="{html.escape(title)}" src="data:image/png;base64,{data}">'
-    return page(title, image, caption_html, notice)
+    return _render("figure", title, caption_html, notice, png_base64=data)
 
 
 def versions_page(title, rows, caption_html=""):
