@@ -202,6 +202,26 @@ def test_colour_photographs_are_read_as_grey():
     np.testing.assert_allclose(z_colour, z_grey, atol=0.02 / SCENE.pixels_per_mm)
 
 
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16])
+def test_a_grey_photograph_saved_in_colour_keeps_every_level(dtype):
+    from lineload.rawdata.photographs import _as_float
+
+    # every level, saved as RGB and as RGBA (alpha ignored): the grey read back is each
+    # level over full scale, to the rounding of the weights' sum (1 to within 2e-16).
+    # Cutting the weighted sum back to whole levels before scaling, as a hand-written
+    # conversion did, loses a level (57 of 255 reads as 56, and 1,405 of 65,536 levels)
+    top = np.iinfo(dtype).max
+    grey = np.arange(top + 1, dtype=np.uint32).astype(dtype).reshape(16, -1)
+    alpha = np.zeros_like(grey)
+    for channels in ([grey] * 3, [grey] * 3 + [alpha]):
+        read = _as_float(np.stack(channels, axis=-1), "colour.png")
+        assert read.shape == grey.shape
+        np.testing.assert_allclose(read, grey / top, rtol=0, atol=4 * np.finfo(float).eps)
+    np.testing.assert_allclose(
+        _as_float(grey, "grey.png"), grey / top, rtol=0, atol=np.finfo(float).eps
+    )
+
+
 def test_the_rendering_is_seeded():
     one = photograph_pair(np.random.default_rng(9), Camera())[1]
     two = photograph_pair(np.random.default_rng(9), Camera())[1]

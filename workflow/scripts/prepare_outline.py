@@ -2,7 +2,7 @@
 
 from lineload.averaging import OUTLINE_COLUMNS, outline_to_tissue_mm
 from lineload.io import load_schema, output_to, write_csv
-from lineload.rawdata.validation import read_table
+from lineload.rawdata.sheets import read_table
 from lineload.runtime.jobparams import given
 
 

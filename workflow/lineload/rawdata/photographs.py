@@ -34,7 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage
-from skimage import filters
+from skimage import filters, img_as_float64
+from skimage.color import rgb2gray
 
 __all__ = [
     "BACKGROUND_LEVEL",
@@ -301,37 +302,40 @@ def render_photograph(surface_mm, scene, camera, rng, wedge_tip_mm=None, wedge_h
     )
     image = filters.gaussian(brightness * light, sigma=camera.blur_px, preserve_range=True)
     image = image + camera.noise_sd * rng.standard_normal(image.shape)
+    # quantised by hand: scikit-image's img_as_ubyte and img_as_uint refuse a float image
+    # with values beyond [-1, 1], and the noise lifts some pixels above full scale; they
+    # saturate here as a camera's do
     top = 2**camera.bits - 1
     dtype = np.uint8 if camera.bits == 8 else np.uint16
     return np.clip(np.rint(image * top), 0, top).astype(dtype)
 
 
 def _as_float(image, name):
-    """A greyscale image as floats in [0, 1]; colour is converted, anything else refused."""
+    """A greyscale image as floats in [0, 1]; colour is converted, anything else refused.
+
+    The conversion is scikit-image's (``img_as_float64``, ``rgb2gray``); what it would
+    accept and this refuses is checked first: 10- or 12-bit levels in a 16-bit file
+    (scikit-image scales them by 65535 as well, leaving an image too dim for its edge
+    to show), levels of other than 8 or 16 bits (the data contract's), and a float image
+    with NaN or infinite values.  An alpha channel is left out, as ``rgb2gray`` wants.
+    """
     image = np.asarray(image)
-    if image.ndim == 3 and image.shape[2] in (3, 4):
-        weights = np.array([0.2125, 0.7154, 0.0721])  # as skimage.color.rgb2gray
-        image = (
-            image[..., :3] @ weights
-            if image.dtype.kind == "f"
-            else ((image[..., :3].astype(float) @ weights).astype(image.dtype))
-        )
-    if image.ndim != 2:
+    colour = image.ndim == 3 and image.shape[2] in (3, 4)
+    if image.ndim != 2 and not colour:
         raise ImageError(f"{name}: expected a greyscale or colour image, got shape {image.shape}")
-    if image.dtype == np.uint8:
-        return image.astype(float) / 255.0
-    if image.dtype == np.uint16:
-        top = int(image.max()) if image.size else 0
+    levels = image[..., :3] if colour else image
+    if levels.dtype == np.uint16:
+        top = int(levels.max()) if levels.size else 0
         if 0 < top < 4096:  # 10- or 12-bit levels in a 16-bit file: no edge would show
             raise ImageError(
                 f"{name}: its levels reach only {top} of 65535, as 10- or 12-bit data "
                 "stored in a 16-bit file do; expected levels over the full 16 bits "
                 "(multiply 12-bit levels by 16, 10-bit ones by 64)"
             )
-        return image.astype(float) / 65535.0
-    if image.dtype.kind == "f" and np.isfinite(image).all():
-        return image.astype(float)
-    raise ImageError(f"{name}: expected 8- or 16-bit levels, got {image.dtype}")
+    elif levels.dtype != np.uint8 and not (levels.dtype.kind == "f" and np.isfinite(levels).all()):
+        raise ImageError(f"{name}: expected 8- or 16-bit levels, got {image.dtype}")
+    values = img_as_float64(levels)  # (a float image as it is: float64, not rescaled)
+    return rgb2gray(values) if colour else values
 
 
 def skin_outline_mm(image, scene, smoothing_px=1.5, name="image"):
