@@ -103,6 +103,21 @@ def test_the_claims_judged_in_both_coordinates_read_the_fits_in_measured_ones():
             assert "PAPER_FIT" in source and ("shifted" in source or "CONSISTENT_FITS" in source)
 
 
+def reads_averaged(function):
+    """Whether a function's body uses its ``averaged`` argument."""
+    (definition,) = ast.parse(textwrap.dedent(inspect.getsource(function))).body
+    return any(
+        isinstance(node, ast.Name) and node.id == "averaged"
+        for statement in definition.body
+        for node in ast.walk(statement)
+    )
+
+
+@pytest.mark.parametrize("claim", CLAIMS, ids=lambda c: c.id)
+def test_each_entry_needs_the_averaged_points_exactly_when_its_function_reads_them(claim):
+    assert reads_averaged(CLAIM_FUNCTIONS[claim.id]) == ("averaged" in claim.needs)
+
+
 def test_the_settings_check_can_fail():
     c9 = claim_named("C9")
     assert settings_read(CLAIM_FUNCTIONS["C9"]) != set(

@@ -262,7 +262,7 @@ CLAIMS = (
         "paper's range.",
         family="halfwidth",
         function="claim_c5",
-        needs=("fits", "averaged", "noise", "coordinates"),
+        needs=("fits", "coordinates"),
         boundary_world="h3-wider",
         built_in=BuiltIn(
             UNTESTABLE,
