@@ -235,7 +235,7 @@ def claim_c10(fits, averaged, settings):
         "window) are split at half the largest fitted distance; the whole window and each half "
         "with at least 5 points get the curvature of their best-fitting circle, with standard "
         "errors from the noise table's covariance (correlated errors included; "
-        "lineload.claims.rules.chord_curvature). The statistic is the relative change r = (inner - "
+        "lineload.claims.chord_curvature). The statistic is the relative change r = (inner - "
         "outer) / whole, zero for a circle; its standard error by first order. Pooled over "
         "trials (inverse-variance weights): the skin is circular to the margin if the "
         f"{format_fixed(100 * (1 - 2 * alpha), 0)} % interval of the pooled r lies inside "
