@@ -16,7 +16,14 @@ import yaml
 from conftest import REPO, reading_grid_mm
 from lineload.averaging import AVERAGED_COLUMNS
 from lineload.claims import CLAIM_FUNCTIONS, ClaimSettings, compute_claims, registry
-from lineload.claims.registry import CLAIMS, SETTINGS, check_claims, claim_named, claims_using
+from lineload.claims.registry import (
+    CLAIMS,
+    SETTINGS,
+    check_claims,
+    claim_named,
+    claims_needing,
+    claims_using,
+)
 from lineload.claims.verdicts import KINDS
 from lineload.fitting.batch import FIT_COLUMNS, fit_trial
 from lineload.simulation import calibration
@@ -96,6 +103,12 @@ def test_each_entry_names_the_settings_its_rule_reads(claim):
     assert settings_read(CLAIM_FUNCTIONS[claim.id]) == set(claim.settings)
 
 
+def test_the_coordinates_figures_caption_names_the_claims_judged_both_ways():
+    # a static caption of the report: checked against the registry, not generated
+    caption = (REPO / "workflow/report/supplement_coordinates.rst").read_text()
+    assert set(re.findall(r"\bC\d+\b", caption)) == set(claims_needing("coordinates"))
+
+
 def test_the_claims_judged_in_both_coordinates_read_the_fits_in_measured_ones():
     for claim in CLAIMS:
         if "coordinates" in claim.needs:
@@ -154,6 +167,7 @@ def test_no_list_of_claim_ids_is_typed_outside_the_registry():
         "workflow/lineload/claims/settings.py",
         "workflow/lineload/claims/table.py",
         "workflow/lineload/claims/__init__.py",
+        "workflow/lineload/claims/rows.py",
     ):
         found = ID_LIST.findall((REPO / path).read_text())
         assert not found, (path, found)

@@ -69,7 +69,7 @@ def _smallest_margin(decide):
 
 
 def _too_few_subjects(claim, slopes, species, rule):
-    """The row of a slope test across subjects (C8, C13) with no degree of freedom left."""
+    """The row of a slope test across subjects with no degree of freedom left."""
     return _row(
         claim,
         f"{_n(len(slopes), 'subject')} measured at two or more depths, "
