@@ -8,9 +8,11 @@ generator's list of the verdicts it builds in (``data/built_in_verdicts.json``,
 its worlds' functions stay in :mod:`lineload.simulation.calibration`, and
 ``tests/test_claims_registry.py`` checks that the two agree).
 
-Standard library only (and :mod:`lineload.paper`'s numbers): an entry names its
-function by module and name, as :mod:`lineload.figures.registry` does, and
-:func:`claim_function` imports it when asked.  Every function takes
+The module imports only the standard library, :mod:`lineload.paper`'s numbers and
+the verdict words: an entry names its function by module and name, as
+:mod:`lineload.figures.registry` does, and :func:`claim_function` imports it when
+asked, so the functions (whose rows take their text from here) and the registry do
+not import each other.  Every function takes
 ``(fits, averaged, settings)`` and, if the entry needs ``forces``, the keyword
 ``forces``; it returns one row of :data:`lineload.claims.verdicts.CLAIM_COLUMNS`.
 
