@@ -10,7 +10,7 @@ from pypdf import PdfReader
 
 import pdflayout
 from conftest import REPO, SHARED_NOTICE
-from lineload.claims.rules import CLAIM_COLUMNS, CLAIM_KINDS
+from lineload.claims import CLAIM_COLUMNS, CLAIM_KINDS
 from lineload.figures.registry import FIGURES
 from lineload.figures.style import MIN_FONT_PT, SCHEMATIC_MM
 from lineload.fitting.batch import FIT_COLUMNS
@@ -144,7 +144,7 @@ def test_a_subject_measured_at_fewer_depths_is_named_not_folded_into_its_species
 
 
 def test_claim_lists_name_every_item_up_to_a_dozen():
-    from lineload.claims.rules import _list
+    from lineload.claims.rows import _list
 
     trials = [f"M{k} at 2 mm" for k in range(1, 9)]
     assert _list(trials) == ", ".join(trials[:-1]) + " and M8 at 2 mm"  # all eight named

@@ -6,7 +6,7 @@ import pandas as pd
 import pytest
 
 from lineload import models
-from lineload.claims.rules import CLAIM_FUNCTIONS, ClaimSettings
+from lineload.claims import CLAIM_FUNCTIONS, ClaimSettings
 from lineload.figures import supplements
 from lineload.fitting.batch import FIT_COLUMNS, at_search_bound, fit_trials, fit_windowed
 from lineload.noise import NoiseModel

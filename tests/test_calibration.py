@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 from conftest import REPO
-from lineload.claims.rules import FAILS, HOLDS, IDENTITY, UNTESTABLE
+from lineload.claims import FAILS, HOLDS, IDENTITY, UNTESTABLE
 from lineload.io import config_defaults
 from lineload.publishing import article
 from lineload.simulation import calibration, synthetic
@@ -247,7 +247,7 @@ def test_error_rates_name_each_claims_calibration_and_its_boundary():
         [{"claim": "C2", "statement": "s", "paper_location": "p", "paper_value": "v",
           "our_value": "o", "verdict": HOLDS, "reason": "r", "rule": "rule"}]
     )  # fmt: skip
-    from lineload.claims.rules import claims_markdown
+    from lineload.claims import claims_markdown
 
     assert f"- **C2**: {rates['C2']}." in claims_markdown(claims, error_rates=rates)
     assert "How often each rule is wrong" not in claims_markdown(claims)

@@ -1,4 +1,4 @@
-"""Claims C1-C11: each rule gives 'holds' on data built to satisfy the claim and
+"""The claims: each rule gives 'holds' on data built to satisfy the claim and
 'does not hold' on data built to violate it, and says when it cannot judge."""
 
 import math
@@ -12,7 +12,7 @@ from scipy.optimize import brentq
 from conftest import copy_build, reading_grid_mm, run_snakemake
 from lineload import mechanics, models
 from lineload.averaging import AVERAGED_COLUMNS
-from lineload.claims.rules import (
+from lineload.claims import (
     CLAIM_COLUMNS,
     CLAIM_FUNCTIONS,
     CLAIM_KINDS,
@@ -20,11 +20,7 @@ from lineload.claims.rules import (
     VERDICTS,
     ClaimSettings,
     InternalError,
-    _L_sensitivity,
-    _mean_residual,
     chord_curvature,
-    claim_c7,
-    claim_c11,
     claims_markdown,
     compute_claims,
     deformed_extent_mm,
@@ -32,6 +28,10 @@ from lineload.claims.rules import (
     verdict_counts,
     waterbed_zero_crossing_mm,
 )
+from lineload.claims.fit_quality import _mean_residual
+from lineload.claims.forces import claim_c11
+from lineload.claims.halfwidth import claim_c7
+from lineload.claims.statistics import _L_sensitivity
 from lineload.fitting import batch as fitting
 from lineload.fitting.batch import FIT_COLUMNS, fit_trial
 from lineload.noise import NoiseModel

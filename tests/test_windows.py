@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from lineload.claims.rules import CLAIM_FUNCTIONS, ClaimSettings
+from lineload.claims import CLAIM_FUNCTIONS, ClaimSettings
 from lineload.fitting.batch import FIT_COLUMNS, fit_trials, fit_windowed
 from lineload.models import arc_deflection_mm
 

@@ -5,7 +5,7 @@ from dataclasses import replace
 
 import pandas as pd
 
-from lineload.claims.rules import (
+from lineload.claims import (
     CLAIM_COLUMNS,
     ClaimSettings,
     InternalError,

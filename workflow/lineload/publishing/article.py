@@ -16,7 +16,8 @@ import math
 import numpy as np
 
 from lineload import paper
-from lineload.claims.rules import EVIDENCE_VERDICTS, PAPER_CLAIM, summary_sentence, verdict_counts
+from lineload.claims import EVIDENCE_VERDICTS, PAPER_CLAIM, summary_sentence, verdict_counts
+from lineload.claims.registry import NEEDS, SETTINGS, claims_needing, claims_using
 from lineload.priors import changed_claims
 from lineload.publishing.tables import (
     AT_BOUND_MARK,
@@ -463,6 +464,9 @@ def article_facts(
             for how in ("tuned", "by construction", "follows")
         },
         "claim_verdicts": {row["claim"]: row["verdict"] for _, row in claims.iterrows()},
+        # which claims' rules read each setting, from the claims registry
+        "claims_using": {setting: join_words(claims_using(setting)) for setting in SETTINGS},
+        "claims_needing": {need: join_words(claims_needing(need)) for need in NEEDS},
         "software": {
             "record": f"{results_name}/provenance.json",
             # name, version and release date: the citation file's (absent in older callers)

@@ -1,6 +1,6 @@
 """Verdict calibration: how often each claim's rule reaches the right verdict.
 
-The claims table (:mod:`lineload.claims.rules`) gives each statement of the paper a
+The claims table (:mod:`lineload.claims`) gives each statement of the paper a
 verdict.  A verdict is only worth as much as the rate at which its rule reaches
 the right one, so this module measures that rate on datasets whose truth is
 known: the seven fingers of the shipped reconstruction (:mod:`lineload.simulation.synthetic`)
@@ -34,8 +34,9 @@ import numpy as np
 import pandas as pd
 
 from lineload.averaging import average_subjects, tissue_columns
-from lineload.claims.rules import (
+from lineload.claims import (
     CLAIM_KINDS,
+    CLAIMS,
     EVIDENCE_VERDICTS,
     FAILS,
     HOLDS,
@@ -99,10 +100,10 @@ SUMMARY_COLUMNS = [
 #: The opposite of each evidence verdict: saying it when the other is true is wrong.
 _OPPOSITE = {HOLDS: FAILS, FAILS: HOLDS}
 
-#: Claims the calibration does not judge: C13 needs the bending skin's fits, which the
-#: reconstructions analysed in memory here do not make (its error rates are not yet
-#: measured; the claims table and the article say "not calibrated").
-UNCALIBRATED_CLAIMS = ("C13",)
+#: Claims the calibration does not judge: those that need the bending skin's fits (C13),
+#: which the reconstructions analysed in memory here do not make (their error rates are
+#: not yet measured; the claims table and the article say "not calibrated").
+UNCALIBRATED_CLAIMS = tuple(claim.id for claim in CLAIMS if "bending" in claim.needs)
 
 
 def _trials_of(averaged):
@@ -207,7 +208,7 @@ def reconstruction_claims(
     Returns
     -------
     pandas.DataFrame
-        The claims table (columns of :data:`lineload.claims.rules.CLAIM_COLUMNS`).
+        The claims table (columns of :data:`lineload.claims.CLAIM_COLUMNS`).
     """
     subjects = synthetic.shipped_subjects() if subjects is None else subjects
     settings = dict(claims or {})
@@ -303,7 +304,7 @@ def summarise_verdicts(rows):
         truth can differ between datasets: it depends on each dataset's reading
         grid), claims in table order, then ``any``: datasets with at least one
         wrong verdict among the paper's claims (kind ``paper claim``; the checks of
-        method and model, :data:`lineload.claims.rules.CLAIM_KINDS`, apart).
+        method and model, :data:`lineload.claims.CLAIM_KINDS`, apart).
     """
     by_claim, wrong_in = {}, {}
     for row in rows:

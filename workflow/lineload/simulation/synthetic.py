@@ -50,6 +50,7 @@ import numpy as np
 import pandas as pd
 
 from lineload import paper
+from lineload.claims.registry import built_in_verdicts as _registry_built_in_verdicts
 from lineload.io import csv_text
 from lineload.noise import NoiseModel, draw_side_errors_mm
 from lineload.publishing.tables import markdown_table
@@ -1101,83 +1102,10 @@ DATA_NOTICE = (
 )
 
 
-#: What the generator puts into the shipped reconstruction, claim by claim: the verdict
-#: the claims table should reach on the shipped data, the truth of its noise-free world
-#: (what the rules conclude from the true profiles on the same reading grids,
-#: :func:`lineload.simulation.calibration.reconstruction_claims` without errors), and how it comes
-#: about.  ``tuned``: the generator's parameters were chosen so that
-#: the claim comes out this way (a test of the workflow, not evidence); ``by
-#: construction``: not aimed at, but fixed by a choice of the generator's (the
-#: near-field weight rising with depth; forces from a membrane under tension at rest),
-#: so it is no more evidence than a tuned verdict; ``follows``: not aimed at, a
-#: consequence of the paper's approximations or of the digitising errors;
-#: ``identity``: true of any data.  Where the truth is not given, it is the verdict.
-BUILT_IN_VERDICTS = (
-    ("C1", "holds", "tuned", "the species' edges were drawn from the paper's ranges"),
-    ("C2", "holds", "tuned", "the sides' edges differ by a few percent of the depth"),
-    (
-        "C3",
-        ("cannot be checked on these data", "does not hold"),
-        "follows",
-        "the true profile's shape was tuned until the waterbed fits better; M4 at 2 mm, read "
-        "from 0.1 mm on, is the exception: there the logarithm's steep start fits better, "
-        "by less than the digitising errors let the rule resolve",
-    ),
-    ("C4", "holds", "tuned", "the true profile never goes below the resting surface"),
-    (
-        "C5",
-        ("cannot be checked on these data", "holds"),
-        "follows",
-        "L was tuned into 10-15 mm (10.2-14.4 mm); at 0.5 mm the intervals of the trials "
-        "near 10 mm reach past that end",
-    ),
-    (
-        "C6",
-        "holds",
-        "follows",
-        "the paper's procedure and the exact arc differ by W0/L effects: a property of the "
-        "paper's method at the reconstruction's W0/L, reported apart from the paper's claims",
-    ),
-    ("C7", "identity", "identity", "eq. 19 crosses zero at L/3 for any L"),
-    (
-        "C8",
-        "holds",
-        "by construction",
-        "the generator's near-field weight rises with depth, so the profile's shape departs "
-        "further from the waterbed's the deeper the indentation",
-    ),
-    ("C9", "holds", "tuned", "the near-field term puts the readings under the curve"),
-    (
-        "C10",
-        "does not hold",
-        "by construction",
-        "the generator's near-field term bends the skin next to the wedge more than further out",
-    ),
-    (
-        "C11",
-        "does not hold",
-        "by construction",
-        "the generator's forces come from a membrane under tension at rest, and L changes "
-        "little with depth, so a stress-free membrane needs far more force at depth; a "
-        "model-consistency check reported apart from the paper's claims",
-    ),
-)
-
-
-def built_in_verdicts():
-    """:data:`BUILT_IN_VERDICTS` as a list of dicts (for ``data/built_in_verdicts.json``).
-
-    Returns
-    -------
-    list of dict
-        ``claim``, ``verdict`` (on the shipped data), ``truth`` (in the noise-free
-        world), ``how`` (tuned, by construction, follows, identity) and ``why``.
-    """
-    rows = []
-    for claim, verdict, how, why in BUILT_IN_VERDICTS:
-        shipped, truth = verdict if isinstance(verdict, tuple) else (verdict, verdict)
-        rows.append({"claim": claim, "verdict": shipped, "truth": truth, "how": how, "why": why})
-    return rows
+#: What the generator puts into the shipped reconstruction, claim by claim (the
+#: verdict, its truth and how it comes about), is stated in each claim's registry entry
+#: (``built_in``); written to ``data/built_in_verdicts.json`` by the generator's script.
+built_in_verdicts = _registry_built_in_verdicts
 
 
 def build_dataset(
