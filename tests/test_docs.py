@@ -10,7 +10,7 @@ DOCS = REPO / "docs"
 README_MAX_LINES = 200
 #: Pages linked from the README while they are being written on other branches; a
 #: missing one is allowed only while it is named here.
-PENDING = {"docs/adding-a-claim.md", "docs/adding-a-model.md"}
+PENDING: set[str] = set()
 
 _FENCE = re.compile(r"^```.*?^```", re.S | re.M)
 _LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)\)")

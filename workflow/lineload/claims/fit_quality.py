@@ -24,7 +24,6 @@ from lineload.claims.rows import (
 from lineload.claims.statistics import _around_L, _L_sensitivity, _slopes_across_subjects
 from lineload.claims.trials import (
     CONSISTENT_FITS,
-    CURVES,
     FIT_WORDS,
     PAPER_FIT,
     _averaged_covariance_mm2,
@@ -34,7 +33,8 @@ from lineload.claims.trials import (
     _window_points,
 )
 from lineload.claims.verdicts import FAILS, HOLDS, UNTESTABLE
-from lineload.fitting.batch import in_fit_window
+from lineload.fitting.families import family
+from lineload.fitting.windows import in_fit_window
 from lineload.models import boussinesq_deflection_mm, waterbed_deflection_mm
 from lineload.publishing.tables import counted, format_fixed
 from lineload.publishing.tables import span_text as _span
@@ -381,7 +381,7 @@ def _mean_residual(fit, x, w, sides, model, settings):
     ``a' C a`` with ``C`` the covariance of the averaged points.
     """
     depth_mm, L_mm = float(fit["depth_mm"]), float(fit[f"{model}_L_mm"])
-    curve = CURVES[model]
+    curve = family(model).curve
     below, middle, above, step = _around_L(curve, x, depth_mm, L_mm)
     J = _L_sensitivity(curve, x, depth_mm, L_mm, w)
     a = np.full(x.size, 1.0 / x.size) - float(np.mean((above - below) / (2 * step))) * J

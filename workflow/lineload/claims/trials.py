@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-from lineload.fitting.batch import in_fit_window
-from lineload.models import arc_deflection_mm, shifted_deflection_mm, waterbed_deflection_mm
+from lineload.fitting.windows import in_fit_window
+from lineload.trials import profiles_by_trial, trial_key, trial_label
 
 __all__ = [
     "trial_key",
@@ -28,25 +28,6 @@ FIT_WORDS = {
     "shifted": "the shifted parabola",
     "arc": "the exact arc",
 }
-CURVES = {
-    "waterbed": waterbed_deflection_mm,
-    "shifted": shifted_deflection_mm,
-    "arc": arc_deflection_mm,
-}
-
-
-def trial_key(subject, depth_mm):
-    """The key of a trial in per-trial lookups
-    (:attr:`lineload.claims.settings.ClaimSettings.trial_noise`)."""
-    return (str(subject), round(float(depth_mm), 9))
-
-
-def _profiles_by_trial(averaged):
-    """Averaged points of each (subject, depth), sorted by distance."""
-    out = {}
-    for (subject, depth_mm), group in averaged.groupby(["subject", "depth_mm"], sort=False):
-        out[trial_key(subject, depth_mm)] = group.sort_values("distance_mm", kind="stable")
-    return out
 
 
 def _trials(fits, averaged):
@@ -54,7 +35,7 @@ def _trials(fits, averaged):
 
     A trial without averaged points gets an empty frame.
     """
-    profiles = _profiles_by_trial(averaged)
+    profiles = profiles_by_trial(averaged)
     empty = averaged.iloc[0:0]
     for _, fit in fits.iterrows():
         yield fit, profiles.get(trial_key(fit["subject"], fit["depth_mm"]), empty)
@@ -70,7 +51,7 @@ def _window_points(fit, points):
 
 
 def _label(fit):
-    return f"{fit['subject']} at {float(fit['depth_mm']):g} mm"
+    return trial_label(fit["subject"], fit["depth_mm"])
 
 
 def _finite_L(fit, model=PAPER_FIT):
