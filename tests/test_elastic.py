@@ -309,3 +309,38 @@ def test_contact_converges_where_a_displacement_at_one_node_does_not():
     ]
     forces = [c.force_per_length_N_per_mm for c in contact]
     assert forces[1] == pytest.approx(forces[0], rel=1e-3)
+
+
+@pytest.mark.parametrize("species", ["monkey", "human"])
+def test_outer_layer_keeps_its_thickness_through_refinement(species):
+    # every triangle lies wholly in the layer or wholly in the pulp, the face exactly at the
+    # layer's thickness (to the depth's 1/400 mm resolution), after every refinement
+    geometry = SPECIES[species]
+    section, thickness_mm = geometry.section(), geometry.outer_layer_thickness.value_mm
+    mesh = meshing.finger_mesh(section, thickness_mm, 0.01, 0.2)
+    outer = np.zeros(mesh.t.shape[1], dtype=bool)
+    outer[mesh.subdomains["outer"]] = True
+    depth_mm = section.depth_below_skin_mm(*mesh.p)[mesh.t]
+    assert depth_mm[:, outer].max() < thickness_mm + 0.0025
+    assert depth_mm[:, ~outer].min() > thickness_mm - 0.0025
+    face = meshing.layer_face_nodes(mesh)
+    np.testing.assert_allclose(
+        section.depth_below_skin_mm(*mesh.p[:, face]), thickness_mm, atol=0.0025
+    )
+
+
+def test_a_mesh_made_for_another_layer_is_refused():
+    geometry = SPECIES["monkey"]
+    mesh = meshing.finger_mesh(geometry.section(), 0.4, 0.01, 0.5)
+    with pytest.raises(ValueError, match="thick"):
+        solve_contact(mesh, geometry.section(), materials.TwoLayer(0.1, 5.0, 0.6), Wedge(), 1.0)
+
+
+def test_a_wedge_reaching_the_bone_and_meshes_without_grading_are_refused():
+    section = SPECIES["monkey"].section()
+    with pytest.raises(ValueError, match="bone"):
+        solve_finger(section, materials.Homogeneous(0.1), section.pad_thickness_mm)
+    with pytest.raises(ValueError, match="grade"):
+        meshing.finger_mesh(section, 0.4, 0.01, 0.0)
+    with pytest.raises(ValueError, match="finest"):
+        meshing.finger_mesh(section, 0.4, 0.0, 0.3)

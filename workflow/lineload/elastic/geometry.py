@@ -132,14 +132,29 @@ class FingerSection:
         scale = np.sqrt(self.bone_level(x_mm, z_mm))
         return np.asarray(x_mm) / scale, (np.asarray(z_mm) - zc) / scale + zc
 
-    def depth_below_skin_mm(self, x_mm, z_mm):
-        """Each point's distance to the skin's outline (mm), to within 1/400 mm."""
+    def _nearest_on_skin(self, x_mm, z_mm):
+        """Each point's distance to the skin (mm) and the parametric angle of the nearest point."""
         a, b = self.width_mm / 2, self.height_mm / 2
         perimeter_mm = np.pi * (3 * (a + b) - np.sqrt((3 * a + b) * (a + 3 * b)))
         theta = np.linspace(0, 2 * np.pi, int(perimeter_mm * _OUTLINE_SAMPLES_PER_MM))
         outline = np.column_stack(self.outer_outline_mm(theta))
-        distance_mm, _ = cKDTree(outline).query(np.column_stack([x_mm, z_mm]))
-        return distance_mm
+        distance_mm, nearest = cKDTree(outline).query(np.column_stack([x_mm, z_mm]))
+        return distance_mm, theta[nearest]
+
+    def depth_below_skin_mm(self, x_mm, z_mm):
+        """Each point's distance to the skin's outline (mm), to within 1/400 mm."""
+        return self._nearest_on_skin(x_mm, z_mm)[0]
+
+    def layer_face_mm(self, theta, thickness_mm):
+        """Points ``thickness_mm`` inside the skin along its normal, at parametric angle theta."""
+        skin_x, skin_z = self.outer_outline_mm(theta)
+        normal_x, normal_z = self.outer_normal(theta)
+        return skin_x - thickness_mm * normal_x, skin_z - thickness_mm * normal_z
+
+    def project_to_layer_face(self, x_mm, z_mm, thickness_mm):
+        """Move points onto the face ``thickness_mm`` below the skin, along the skin's normal."""
+        _, theta = self._nearest_on_skin(x_mm, z_mm)
+        return self.layer_face_mm(theta, thickness_mm)
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,8 @@
 Soft tissue is nearly incompressible, so the Poisson ratio defaults to 0.4999 (0.5 is allowed:
 the mixed solver carries the pressure as its own unknown). Moduli are in MPa (N/mm^2), so with
 lengths in mm a force per unit length comes out in N/mm. Only the element-wise moduli reach the
-solver; the layer's inner face is where the mesh has a grid line (``mesh.coarse_finger_mesh``).
+solver; which elements form the outer layer is the mesh's subdomain ``outer``, whose inner face
+lies at the layer's thickness below the skin (``mesh.finger_mesh``).
 """
 
 from __future__ import annotations
@@ -39,9 +40,9 @@ class Homogeneous:
         """No layer: the mesh may put its grid line anywhere."""
         return None
 
-    def moduli_MPa(self, depth_mm):
-        """Young's modulus at each depth below the skin (MPa)."""
-        return np.full(np.shape(depth_mm), self.modulus_MPa)
+    def moduli_MPa(self, in_outer_layer):
+        """Young's modulus of each element (MPa), wherever it lies."""
+        return np.full(np.shape(in_outer_layer), self.modulus_MPa)
 
     def scaled(self, factor: float) -> Homogeneous:
         """The same solid with every modulus multiplied by ``factor``."""
@@ -76,9 +77,9 @@ class TwoLayer:
         if not self.layer_thickness_mm > 0:
             raise ValueError(f"the layer must be thicker than 0 mm, not {self.layer_thickness_mm}")
 
-    def moduli_MPa(self, depth_mm):
-        """Young's modulus at each depth below the skin (MPa)."""
-        outer = np.asarray(depth_mm) < self.layer_thickness_mm
+    def moduli_MPa(self, in_outer_layer):
+        """Young's modulus of each element (MPa), given whether it lies in the outer layer."""
+        outer = np.asarray(in_outer_layer, dtype=bool)
         return np.where(outer, self.pulp_modulus_MPa * self.modulus_ratio, self.pulp_modulus_MPa)
 
     def scaled(self, factor: float) -> TwoLayer:

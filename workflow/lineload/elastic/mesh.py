@@ -9,10 +9,14 @@ outline are moved onto it, one level at a time, so no triangle turns over.
 
 Boundaries are named for the solver: ``surface`` (the free skin, where the wedge may touch),
 ``symmetry`` (the wedge's axis, x = 0), ``clamped`` (the bone and, if the section says so, the
-dorsal half of the outline; the box's far sides).
+dorsal half of the outline; the box's far sides). The finger's triangles between the skin and
+the outer layer's inner face form the subdomain ``outer``, kept through every refinement; the
+face's new nodes move onto it like the skin's, so the layer keeps its thickness exactly.
 """
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 from skfem import MeshTri
@@ -25,6 +29,8 @@ _OUTLINE_STATIONS = 25
 _PULP_STATIONS = 6
 #: Coarse stations along each side of the box.
 _BOX_STATIONS = 5
+#: A node this close to x = 0 is on the axis of symmetry (mm).
+_ON_AXIS_MM = 1e-12
 #: The refinement stops after this many passes whatever the criterion says.
 _MAX_PASSES = 40
 
@@ -57,9 +63,7 @@ def coarse_finger_mesh(section: FingerSection, layer_thickness_mm: float) -> Mes
     """
     theta = np.linspace(0, np.pi, _OUTLINE_STATIONS)
     skin_x, skin_z = section.outer_outline_mm(theta)
-    normal_x, normal_z = section.outer_normal(theta)
-    face_x = skin_x - layer_thickness_mm * normal_x
-    face_z = skin_z - layer_thickness_mm * normal_z
+    face_x, face_z = section.layer_face_mm(theta, layer_thickness_mm)
     bone_x, bone_z = section.bone_outline_mm(theta)
     if np.any(section.bone_level(face_x, face_z) <= 1.0) or np.any(face_x < -1e-12):
         raise ValueError(
@@ -81,7 +85,13 @@ def coarse_finger_mesh(section: FingerSection, layer_thickness_mm: float) -> Mes
     )
     points_x[:, 0] = 0.0
     points_x[:, -1] = 0.0
-    return _tensor_triangles(points_x.T, points_z.T)
+    mesh = _tensor_triangles(points_x.T, points_z.T)
+    # the triangles of the first two bands below the skin: the outer layer
+    bands = points_x.shape[0] - 1
+    quad = np.arange(mesh.t.shape[1] // 2)
+    outer_quads = quad[quad % bands < in_layer.size - 1]
+    outer = np.concatenate([outer_quads, outer_quads + quad.size])
+    return replace(mesh, _subdomains={"outer": np.sort(outer)})
 
 
 def coarse_box_mesh(box: HalfSpaceBox) -> MeshTri:
@@ -98,20 +108,33 @@ def _longest_side_mm(mesh: MeshTri):
     return np.max(sides, axis=0)
 
 
-def _snap_curved_boundary(mesh: MeshTri, section: FingerSection) -> MeshTri:
-    """Move boundary nodes off the axis onto the nearer outline, the skin's or the bone's."""
-    nodes = mesh.boundary_nodes()
+def layer_face_nodes(mesh: MeshTri):
+    """The nodes shared by the outer layer's triangles and the pulp's."""
+    outer = np.zeros(mesh.t.shape[1], dtype=bool)
+    outer[mesh.subdomains["outer"]] = True
+    return np.intersect1d(mesh.t[:, outer], mesh.t[:, ~outer])
+
+
+def _snap_to_outlines(mesh: MeshTri, section: FingerSection, layer_thickness_mm) -> MeshTri:
+    """Move boundary nodes onto the nearer outline (skin or bone), face nodes onto the face.
+
+    Nodes on the axis stay on it: the face's two ends there keep x = 0 exactly.
+    """
+    p = mesh.p.copy()
+    face = layer_face_nodes(mesh)
+    p[0, face], p[1, face] = section.project_to_layer_face(*mesh.p[:, face], layer_thickness_mm)
+    p[0, face[mesh.p[0, face] <= _ON_AXIS_MM]] = 0.0
+    nodes = np.setdiff1d(mesh.boundary_nodes(), face)
     x, z = mesh.p[:, nodes]
-    off_axis = x > 1e-12
+    off_axis = x > _ON_AXIS_MM
     nodes, x, z = nodes[off_axis], x[off_axis], z[off_axis]
     on_skin = np.abs(section.outer_level(x, z) - 1) < np.abs(section.bone_level(x, z) - 1)
-    p = mesh.p.copy()
     p[0, nodes[on_skin]], p[1, nodes[on_skin]] = section.project_to_skin(x[on_skin], z[on_skin])
     p[0, nodes[~on_skin]], p[1, nodes[~on_skin]] = section.project_to_bone(x[~on_skin], z[~on_skin])
-    return MeshTri(p, mesh.t)
+    return replace(mesh, doflocs=p)
 
 
-def graded(mesh: MeshTri, finest_mm: float, grade: float, section=None) -> MeshTri:
+def graded(mesh: MeshTri, finest_mm: float, grade: float, snap=None) -> MeshTri:
     """Refine until every triangle's longest side is <= max(finest_mm, grade * distance).
 
     Parameters
@@ -122,15 +145,19 @@ def graded(mesh: MeshTri, finest_mm: float, grade: float, section=None) -> MeshT
         The smallest side needed (mm), at the wedge's tip.
     grade
         The largest side per unit distance from the tip (dimensionless, 0.05-0.5).
-    section
-        The finger's section, whose curved outlines new boundary nodes move onto; ``None`` for
-        the box, whose outline is straight.
+    snap
+        A function moving a refined mesh's new nodes onto the curved outlines they belong to;
+        ``None`` for the box, whose outline is straight.
 
     Returns
     -------
     MeshTri
         The graded mesh.
     """
+    if not finest_mm > 0 or not 0.05 <= grade <= 10:
+        raise ValueError(
+            f"the finest side must be positive ({finest_mm} mm), the grade in [0.05, 10] ({grade})"
+        )
     for _ in range(_MAX_PASSES):
         centroid = mesh.p[:, mesh.t].mean(axis=1)
         distance_mm = np.hypot(*centroid)
@@ -138,8 +165,8 @@ def graded(mesh: MeshTri, finest_mm: float, grade: float, section=None) -> MeshT
         if marked.size == 0:
             return mesh
         mesh = mesh.refined(marked)
-        if section is not None:
-            mesh = _snap_curved_boundary(mesh, section)
+        if snap is not None:
+            mesh = snap(mesh)
     raise RuntimeError(f"the mesh is still too coarse after {_MAX_PASSES} refinements")
 
 
@@ -167,8 +194,13 @@ def named_boundaries(mesh: MeshTri, geometry) -> MeshTri:
 
 
 def finger_mesh(section, layer_thickness_mm, finest_mm, grade) -> MeshTri:
-    """The finger's half section, graded toward the wedge, boundaries named."""
-    mesh = graded(coarse_finger_mesh(section, layer_thickness_mm), finest_mm, grade, section)
+    """The finger's half section, graded toward the wedge, boundaries named, layer marked."""
+    mesh = graded(
+        coarse_finger_mesh(section, layer_thickness_mm),
+        finest_mm,
+        grade,
+        lambda refined: _snap_to_outlines(refined, section, layer_thickness_mm),
+    )
     return named_boundaries(mesh, section)
 
 

@@ -52,6 +52,8 @@ _INTORDER = 4
 _MAX_ACTIVE_SET_PASSES = 60
 #: Candidate contact nodes: the wedge's underside within this fraction of the depth above them.
 _CANDIDATE_MARGIN = 0.1
+#: How far the mesh's layer may be from the material's thickness (the depth's resolution, mm).
+_LAYER_TOLERANCE_MM = 0.005
 #: The smallest mesh side at the wedge, as a fraction of the tip's radius.
 FINEST_PER_TIP_RADIUS = 0.4
 #: The default grade: the longest side per unit distance from the wedge.
@@ -160,6 +162,23 @@ def _stiffness(mesh, moduli_MPa, poisson, formulation):
     return bmat([[shear_matrix, coupling.T], [coupling, -compliance]], "csr"), displacement
 
 
+def _outer_layer(mesh, geometry, material):
+    """Which triangles form the outer layer; checks the mesh was made for this layer."""
+    outer = np.zeros(mesh.t.shape[1], dtype=bool)
+    if material.layer_thickness_mm is None:
+        return outer
+    if mesh.subdomains is None or "outer" not in mesh.subdomains:
+        raise ValueError("a two-layer material needs a mesh with an outer layer (finger_mesh)")
+    outer[mesh.subdomains["outer"]] = True
+    deepest_mm = geometry.depth_below_skin_mm(*mesh.p[:, np.unique(mesh.t[:, outer])]).max()
+    if abs(deepest_mm - material.layer_thickness_mm) > _LAYER_TOLERANCE_MM:
+        raise ValueError(
+            f"the mesh's outer layer is {deepest_mm:.3f} mm thick, the material's "
+            f"{material.layer_thickness_mm} mm: mesh it with the material's thickness"
+        )
+    return outer
+
+
 def _component_dofs(dofs, component):
     return np.concatenate([dofs.nodal[component], dofs.facet[component]])
 
@@ -189,8 +208,7 @@ def solve_contact(mesh, geometry, material, wedge: Wedge, depth_mm: float, formu
     """
     if not depth_mm > 0:
         raise ValueError(f"the wedge's depth must be positive, not {depth_mm} mm")
-    centroid_x, centroid_z = mesh.p[:, mesh.t].mean(axis=1)
-    moduli_MPa = material.moduli_MPa(geometry.depth_below_skin_mm(centroid_x, centroid_z))
+    moduli_MPa = material.moduli_MPa(_outer_layer(mesh, geometry, material))
     system, basis = _stiffness(mesh, moduli_MPa, material.poisson, formulation)
     clamped = basis.get_dofs("clamped").all()
     axis = _component_dofs(basis.get_dofs("symmetry"), "u^1")
@@ -287,6 +305,11 @@ def solve_finger(
     The outer layer's inner face gets a grid line at the two-layer material's thickness (or at
     1 mm for a homogeneous finger, where it changes nothing but the mesh).
     """
+    if not depth_mm < section.pad_thickness_mm:
+        raise ValueError(
+            f"a wedge {depth_mm} mm deep would reach the bone {section.pad_thickness_mm} mm "
+            "below the skin"
+        )
     wedge = Wedge() if wedge is None else wedge
     layer_mm = material.layer_thickness_mm or 1.0
     mesh = meshing.finger_mesh(
