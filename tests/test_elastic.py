@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from skfem import condense, solve
 
-from lineload.elastic import flamant, materials
+from lineload.elastic import flamant, materials, solver
 from lineload.elastic import mesh as meshing
 from lineload.elastic.geometry import SPECIES, FingerSection, HalfSpaceBox
 from lineload.elastic.solver import (
@@ -344,3 +344,10 @@ def test_a_wedge_reaching_the_bone_and_meshes_without_grading_are_refused():
         meshing.finger_mesh(section, 0.4, 0.01, 0.0)
     with pytest.raises(ValueError, match="finest"):
         meshing.finger_mesh(section, 0.4, 0.0, 0.3)
+
+
+def test_skin_passing_through_the_wedge_outside_the_candidates_is_caught(monkeypatch):
+    # with no node a candidate for contact, the skin would pass through the wedge: refused
+    monkeypatch.setattr(solver, "_CANDIDATE_MARGIN", -2.0)
+    with pytest.raises(RuntimeError, match="into the wedge"):
+        solve_half_space(BOX, materials.Homogeneous(0.1), 0.3, grade=0.5)

@@ -231,7 +231,14 @@ def solve_contact(mesh, geometry, material, wedge: Wedge, depth_mm: float, formu
     push, active, passes = _active_set(compliance, gap_mm, depth_mm)
     solution = np.zeros(system.shape[0])
     solution[free] = -response[:, active] @ push[active]
-    loaded = geometry_loaded_side(geometry, skin_z)
+    overlap_mm = solution[skin] - gap_all_mm
+    if overlap_mm.max() > 1e-6 * depth_mm:
+        raise RuntimeError(
+            f"the skin passes {overlap_mm.max():.2g} mm into the wedge at "
+            f"{skin_x[np.argmax(overlap_mm)]:.3f} mm from it, outside the nodes taken as "
+            "candidates for contact: widen the candidates' margin"
+        )
+    loaded = _loaded_side(geometry, skin_z)
     order = np.argsort(skin_x[loaded])
     corner = (np.arange(skin.size) < basis.get_dofs("surface").nodal["u^2"].size)[loaded][order]
     if not (corner[::2].all() and not corner[1::2].any()):
@@ -285,7 +292,7 @@ def _active_set(compliance, gap_mm, depth_mm):
     )
 
 
-def geometry_loaded_side(geometry, skin_z_mm):
+def _loaded_side(geometry, skin_z_mm):
     """Which skin nodes belong to the profile: the upper half of the finger, the box's top."""
     if isinstance(geometry, HalfSpaceBox):
         return np.ones(np.shape(skin_z_mm), dtype=bool)
