@@ -4,8 +4,9 @@ The solid is nearly incompressible, where displacement-only elements lock (they 
 approaches 1/2). The default formulation is mixed: quadratic displacements and a continuous
 linear pressure (the Taylor-Hood pair, stable for Stokes flow and so for the incompressible
 limit), with the pressure p = lambda div u carried as an unknown and the term p q / lambda, which
-vanishes at nu = 1/2, keeping the system regular for any nu <= 1/2. The displacement-only
-formulation (quadratic elements) stays available to show the difference.
+vanishes at nu = 1/2; the pair's stability keeps the system regular then too, since part of the
+boundary (the skin) is free. The displacement-only formulation (quadratic elements) stays
+available to show the difference.
 
 The wedge is driven by its depth. Contact is one-sided and frictionless, on the nodes of the
 skin: a node may not rise above the wedge's underside (u_z <= gap, the gap measured vertically
@@ -14,11 +15,12 @@ push. The system is factorised once; its inverse at the candidate nodes (those t
 underside comes near) is the skin's compliance there, and an active-set iteration on that small
 matrix finds which nodes touch: a touching node whose force would pull is released, a free node
 that passes through the wedge is made to touch, until the set stops changing (the linear
-complementarity problem solved exactly, no penalty to tune). The touching nodes' forces sum to
-the force per unit length.
+complementarity problem solved exactly, no penalty to tune). Afterwards every node of the skin
+is checked against the wedge, candidate or not. The touching nodes' forces sum to the force per
+unit length.
 
-Boundary conditions: the bone (or the box's far sides) clamped; u_x = 0 on the axis of
-symmetry; the rest of the skin free.
+Boundary conditions: the bone and, by default, the dorsal half of the outline (or the box's far
+sides) clamped; u_x = 0 on the axis of symmetry; the rest of the skin free.
 """
 
 from __future__ import annotations
