@@ -351,3 +351,32 @@ def test_skin_passing_through_the_wedge_outside_the_candidates_is_caught(monkeyp
     monkeypatch.setattr(solver, "_CANDIDATE_MARGIN", -2.0)
     with pytest.raises(RuntimeError, match="into the wedge"):
         solve_half_space(BOX, materials.Homogeneous(0.1), 0.3, grade=0.5)
+
+
+def test_a_series_of_depths_on_one_factorisation_matches_each_depth_alone():
+    geometry = SPECIES["monkey"]
+    section = geometry.section()
+    material = materials.TwoLayer(0.1, 5.0, geometry.outer_layer_thickness.value_mm)
+    mesh = meshing.finger_mesh(section, material.layer_thickness_mm, 0.01, 0.5)
+    series = solver.solve_depths(mesh, section, material, Wedge(), [0.5, 2.0, 1.0])
+    for depth_mm, together in zip([0.5, 2.0, 1.0], series, strict=True):
+        alone = solve_contact(mesh, section, material, Wedge(), depth_mm)
+        np.testing.assert_allclose(together.deflection_mm, alone.deflection_mm, atol=1e-12)
+        assert together.force_per_length_N_per_mm == pytest.approx(
+            alone.force_per_length_N_per_mm, rel=1e-10
+        )
+    # deeper goes further down and needs more force
+    forces = [s.force_per_length_N_per_mm for s in series]
+    assert forces[0] < forces[2] < forces[1]
+
+
+def test_two_solves_are_identical():
+    first = finger("human", True, 1.0, 0.5)
+    again = solve_finger(
+        SPECIES["human"].section(),
+        materials.TwoLayer(0.1, 5.0, SPECIES["human"].outer_layer_thickness.value_mm),
+        1.0,
+        grade=0.5,
+    )
+    assert np.array_equal(first.deflection_mm, again.deflection_mm)
+    assert first.force_per_length_N_per_mm == again.force_per_length_N_per_mm

@@ -208,8 +208,31 @@ def solve_contact(mesh, geometry, material, wedge: Wedge, depth_mm: float, formu
     -------
     ContactSolution
     """
-    if not depth_mm > 0:
-        raise ValueError(f"the wedge's depth must be positive, not {depth_mm} mm")
+    return solve_depths(mesh, geometry, material, wedge, [depth_mm], formulation)[0]
+
+
+def solve_depths(mesh, geometry, material, wedge: Wedge, depths_mm, formulation="mixed"):
+    """Push the wedge to each depth in turn, factorising the system once for all of them.
+
+    The system and the skin's compliance at the candidate nodes do not depend on the depth, so
+    a series of depths (as in a trial series, or a library) costs one factorisation; the
+    candidates are those of the deepest, which include every shallower depth's.
+
+    Parameters
+    ----------
+    mesh, geometry, material, wedge, formulation
+        As for :func:`solve_contact`.
+    depths_mm
+        The depths (mm, each > 0).
+
+    Returns
+    -------
+    list of ContactSolution
+        One per depth, in the order given.
+    """
+    depths_mm = np.asarray(depths_mm, dtype=float).ravel()
+    if depths_mm.size == 0 or not np.all(depths_mm > 0):
+        raise ValueError(f"the wedge's depths must be positive, not {depths_mm.tolist()} mm")
     moduli_MPa = material.moduli_MPa(_outer_layer(mesh, geometry, material))
     system, basis = _stiffness(mesh, moduli_MPa, material.poisson, formulation)
     clamped = basis.get_dofs("clamped").all()
@@ -218,9 +241,9 @@ def solve_contact(mesh, geometry, material, wedge: Wedge, depth_mm: float, formu
     skin_x, skin_z = basis.doflocs[:, skin]
     # a node can touch only where the wedge's underside reaches below its resting height
     # (the skin beside a line load goes down, not up); the margin leaves room for a bulge
-    gap_all_mm = wedge.underside_mm(skin_x, depth_mm) - skin_z
-    candidate = gap_all_mm < _CANDIDATE_MARGIN * depth_mm
-    touchable, touch_x, gap_mm = skin[candidate], skin_x[candidate], gap_all_mm[candidate]
+    deepest_mm = depths_mm.max()
+    candidate = wedge.underside_mm(skin_x, deepest_mm) - skin_z < _CANDIDATE_MARGIN * deepest_mm
+    touchable, touch_x = skin[candidate], skin_x[candidate]
     free = np.setdiff1d(np.arange(system.shape[0]), np.union1d(clamped, axis))
     if np.intersect1d(free, touchable).size != touchable.size:
         raise ValueError("a node of the skin under the wedge is clamped: is the mesh too coarse?")
@@ -230,29 +253,35 @@ def solve_contact(mesh, geometry, material, wedge: Wedge, depth_mm: float, formu
     unit_forces[np.searchsorted(free, touchable), np.arange(touchable.size)] = 1.0
     response = factor.solve(unit_forces)
     compliance = response[np.searchsorted(free, touchable)]
-    push, active, passes = _active_set(compliance, gap_mm, depth_mm)
-    solution = np.zeros(system.shape[0])
-    solution[free] = -response[:, active] @ push[active]
-    overlap_mm = solution[skin] - gap_all_mm
-    if overlap_mm.max() > 1e-6 * depth_mm:
-        raise RuntimeError(
-            f"the skin passes {overlap_mm.max():.2g} mm into the wedge at "
-            f"{skin_x[np.argmax(overlap_mm)]:.3f} mm from it, outside the nodes taken as "
-            "candidates for contact: widen the candidates' margin"
-        )
     loaded = _loaded_side(geometry, skin_z)
     order = np.argsort(skin_x[loaded])
     corner = (np.arange(skin.size) < basis.get_dofs("surface").nodal["u^2"].size)[loaded][order]
     if not (corner[::2].all() and not corner[1::2].any()):
         raise RuntimeError("the skin's nodes do not alternate corner, midpoint: is x monotone?")
-    return ContactSolution(
-        distance_mm=skin_x[loaded][order],
-        deflection_mm=-solution[skin[loaded]][order],
-        force_per_length_N_per_mm=float(2 * push.sum()),
-        contact_half_width_mm=float(touch_x[active].max(initial=0.0)),
-        passes=passes,
-        elements=mesh.t.shape[1],
-    )
+    solutions = []
+    for depth_mm in depths_mm:
+        gap_all_mm = wedge.underside_mm(skin_x, depth_mm) - skin_z
+        push, active, passes = _active_set(compliance, gap_all_mm[candidate], depth_mm)
+        solution = np.zeros(system.shape[0])
+        solution[free] = -response[:, active] @ push[active]
+        overlap_mm = solution[skin] - gap_all_mm
+        if overlap_mm.max() > 1e-6 * depth_mm:
+            raise RuntimeError(
+                f"the skin passes {overlap_mm.max():.2g} mm into the wedge at "
+                f"{skin_x[np.argmax(overlap_mm)]:.3f} mm from it, outside the nodes taken as "
+                "candidates for contact: widen the candidates' margin"
+            )
+        solutions.append(
+            ContactSolution(
+                distance_mm=skin_x[loaded][order],
+                deflection_mm=-solution[skin[loaded]][order],
+                force_per_length_N_per_mm=float(2 * push.sum()),
+                contact_half_width_mm=float(touch_x[active].max(initial=0.0)),
+                passes=passes,
+                elements=mesh.t.shape[1],
+            )
+        )
+    return solutions
 
 
 def _active_set(compliance, gap_mm, depth_mm):
