@@ -53,8 +53,9 @@ def coarse_finger_mesh(section: FingerSection, layer_thickness_mm: float) -> Mes
     section
         The fingertip's section.
     layer_thickness_mm
-        The outer layer's thickness: a grid line runs at this depth below the skin (the
-        homogeneous finger uses the same mesh, so the two differ only in their moduli).
+        The outer layer's thickness: a grid line runs at this depth below the skin (a
+        homogeneous finger meshed with the same value differs from the layered one only in
+        its moduli).
 
     Returns
     -------

@@ -58,6 +58,8 @@ _CANDIDATE_MARGIN = 0.1
 _LAYER_TOLERANCE_MM = 0.005
 #: The smallest mesh side at the wedge, as a fraction of the tip's radius.
 FINEST_PER_TIP_RADIUS = 0.4
+#: Where a homogeneous finger's mesh has its grid line below the skin, unless told (mm).
+_HOMOGENEOUS_GRID_LINE_MM = 1.0
 #: The default grade: the longest side per unit distance from the wedge.
 GRADE = 0.2
 
@@ -337,11 +339,24 @@ def solve_finger(
     wedge: Wedge | None = None,
     grade: float = GRADE,
     formulation: str = "mixed",
+    grid_line_mm: float | None = None,
 ):
     """Mesh the finger's section and push the wedge in: one call, defaults stated.
 
-    The outer layer's inner face gets a grid line at the two-layer material's thickness (or at
-    1 mm for a homogeneous finger, where it changes nothing but the mesh).
+    Parameters
+    ----------
+    section, material, depth_mm, wedge, formulation
+        As for :func:`solve_contact` (``wedge`` defaults to :class:`Wedge`'s defaults).
+    grade
+        The mesh's grade (:func:`lineload.elastic.mesh.graded`).
+    grid_line_mm
+        The depth of the mesh's grid line below the skin: the two-layer material's thickness
+        (and only that for it), 1 mm by default for a homogeneous finger. Give a homogeneous
+        finger the layered one's thickness to mesh the two alike.
+
+    Returns
+    -------
+    ContactSolution
     """
     if not depth_mm < section.pad_thickness_mm:
         raise ValueError(
@@ -349,9 +364,10 @@ def solve_finger(
             "below the skin"
         )
     wedge = Wedge() if wedge is None else wedge
-    layer_mm = material.layer_thickness_mm or 1.0
+    if grid_line_mm is None:
+        grid_line_mm = material.layer_thickness_mm or _HOMOGENEOUS_GRID_LINE_MM
     mesh = meshing.finger_mesh(
-        section, layer_mm, FINEST_PER_TIP_RADIUS * wedge.tip_radius_mm, grade
+        section, grid_line_mm, FINEST_PER_TIP_RADIUS * wedge.tip_radius_mm, grade
     )
     return solve_contact(mesh, section, material, wedge, depth_mm, formulation)
 
