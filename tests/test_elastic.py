@@ -380,3 +380,22 @@ def test_two_solves_are_identical():
     )
     assert np.array_equal(first.deflection_mm, again.deflection_mm)
     assert first.force_per_length_N_per_mm == again.force_per_length_N_per_mm
+
+
+@pytest.mark.parametrize("species", ["monkey", "human"])
+@pytest.mark.parametrize("end", ["low_mm", "high_mm"])
+def test_the_ranges_ends_mesh_and_solve(species, end):
+    # every value at the low (or high) end of its stated range together: the mesh is made,
+    # the contact settles, and a deeper wedge needs more force
+    geometry = SPECIES[species]
+    values = {
+        name: getattr(getattr(geometry, name), end)
+        for name in ("width", "height", "bone_width", "bone_height", "pad_thickness")
+    }
+    section = FingerSection(**{f"{name}_mm": value for name, value in values.items()})
+    thickness_mm = getattr(geometry.outer_layer_thickness, end)
+    mesh = meshing.finger_mesh(section, thickness_mm, 0.01, 0.5)
+    material = materials.TwoLayer(0.1, 5.0, thickness_mm)
+    series = solver.solve_depths(mesh, section, material, Wedge(), [0.5, 1.0, 1.5])
+    forces = [s.force_per_length_N_per_mm for s in series]
+    assert 0 < forces[0] < forces[1] < forces[2]
