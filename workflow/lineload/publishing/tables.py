@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from lineload import paper
+from lineload.fitting.families import family
 from lineload.models import MODEL_NAMES
 
 __all__ = [
@@ -679,7 +680,7 @@ def sensitivity_markdown(sensitivity, checks, notice=""):
         "Median fitted half-width L (mm) over the subjects of each species, by depth, "
         "model and fit window.\n",
     ]
-    with_L = [m for m in refit_models if m != "boussinesq"]
+    with_L = [m for m in refit_models if any(p.name == "L_mm" for p in family(m).parameters)]
     headers = ["species", "depth (mm)"] + [
         f"{MODEL_NAMES[m].refit}, {w}" for m in with_L for w in windows
     ]
