@@ -1,11 +1,30 @@
 """Simulated data: the shipped reconstruction and the studies that calibrate the verdicts.
 
+Import the module you need; this package imports none of them (so a job that needs
+one part does not depend on the rest).
+
 Modules
 -------
 synthetic
-    The seeded generator of the shipped synthetic reconstruction (profiles and photographs).
+    The generator's public face: every name below that makes the shipped data.
+subjects
+    The synthetic fingers, their true profiles and their random streams.
+errors
+    The forward error model: what digitising adds to a true profile (the generator's
+    and the coverage study's), and the size of every error.
+readings
+    The profiles, outlines and forces of the reconstruction, as read.
+dataset
+    The files of the raw-data folder, the tables of true parameters, the built-in verdicts.
+photograph_example
+    The photograph example (two fingers photographed at rest and loaded).
 coverage
     How often the intervals hold the truth on data made with known parameters.
-calibration
-    Error rates of the claims' verdicts on reconstructed and boundary worlds.
+verdicts
+    How often each claim's rule reaches the right verdict on reconstructions with fresh
+    errors; the membrane's coverage on the same datasets.
+boundary
+    The boundary worlds: each claim's rule where it has the least power.
+reports
+    The calibration's tables as Markdown, and the error-rate sentences of the claims table.
 """

@@ -1,7 +1,7 @@
 """Do the intervals cover?  Simulated datasets with digitising errors, fitted as the workflow fits.
 
 Each simulated dataset has the shipped design (the subjects and depths of
-:func:`lineload.simulation.synthetic.shipped_subjects`).  Every trial's true profile comes
+:func:`lineload.simulation.subjects.shipped_subjects`).  Every trial's true profile comes
 from one model - the paper's parabola (eq. 19), the exact arc, or the modified
 Boussinesq form - with parameters drawn in the paper's ranges, and is read on
 the shipped reading grid with every error of :mod:`lineload.noise`: independent
@@ -33,7 +33,14 @@ from lineload.noise import (
     estimate_noise,
     trial_differences,
 )
-from lineload.simulation import synthetic
+from lineload.rawdata.readings import reading_distances_mm
+from lineload.simulation.errors import (
+    IMAGE_RESOLUTION_MM,
+    TRUE_NOISE,
+    TrialErrors,
+    read_side_mm,
+)
+from lineload.simulation.subjects import MAGNIFICATION, shipped_subjects
 
 __all__ = [
     "COVERAGE_COLUMNS",
@@ -53,25 +60,16 @@ __all__ = [
     "summarise_coverage",
 ]
 
-#: The sizes of every error in the simulations: those of the reconstruction.
-TRUE_NOISE = NoiseModel(
-    reading_sd_mm=synthetic.NOISE_SD_MM,
-    tracing_sd_mm=synthetic.TRACING_SD_MM,
-    tracing_length_mm=synthetic.TRACING_LENGTH_MM,
-    side_offset_sd_mm=synthetic.SIDE_OFFSET_SD_MM,
-    rotation_sd=synthetic.REGISTRATION_TILT_SD,
-    wedge_position_sd_mm=synthetic.WEDGE_POSITION_SD_MM,
-    shared_offset_sd_mm=synthetic.REGISTRATION_OFFSET_SD_MM,
-    shared_tilt_sd=synthetic.SHARED_TILT_SD,
-    depth_sd_mm=synthetic.DEPTH_SD_MM,
-)
-
 #: Span of L drawn for the membrane models (mm): the paper's 10-15 mm (claim C5).
 L_RANGE_MM = (10.0, 15.0)
 #: Zero crossing x0 of the Boussinesq form (mm), beyond the 3 mm window.
 X0_RANGE_MM = (4.0, 8.0)
+#: Nearest distance to the wedge at which the Boussinesq form is evaluated (mm): its
+#: logarithm is infinite at the tip, where a misplaced wedge's reading can land
+#: (:data:`lineload.simulation.errors.SEEN_FLOOR_MM`).
+BOUSSINESQ_FLOOR_MM = 1e-3
 #: Resolution of a reading in tissue mm (0.1 mm on a 20x enlargement).
-RESOLUTION_MM = synthetic.IMAGE_RESOLUTION_MM / synthetic.MAGNIFICATION
+RESOLUTION_MM = IMAGE_RESOLUTION_MM / MAGNIFICATION
 
 #: The parameters whose intervals are checked, per model.
 CHECKED = {
@@ -138,7 +136,9 @@ def _true_profile(model, distance_mm, depth_mm, params):
     if model == "arc":
         return arc_deflection_mm(distance_mm, depth_mm, params["L_mm"])
     if model == "boussinesq":
-        return boussinesq_deflection_mm(distance_mm, params["A_mm"], params["x0_mm"])
+        # the logarithm is infinite at the wedge's tip: evaluated 1 um from it at least
+        near_mm = np.maximum(distance_mm, BOUSSINESQ_FLOOR_MM)
+        return boussinesq_deflection_mm(near_mm, params["A_mm"], params["x0_mm"])
     raise ValueError(f"unknown model {model!r}")
 
 
@@ -151,20 +151,25 @@ def _draw_params(rng, model, depth_mm, first_mm):
 
 
 def _read_trial(rng, model, params, distance_mm, depth_mm, noise, scenario):
-    """Both sides of one trial made by ``model`` and read with every digitising error."""
+    """Both sides of one trial made by ``model`` and read with every digitising error
+    (:func:`lineload.simulation.errors.read_side_mm`), rounded as the enlargement rounds."""
     rotation = rng.normal(0.0, noise.rotation_sd)
     wedge_mm = rng.normal(0.0, noise.wedge_position_sd_mm)
-    scale = 1.0 + rng.normal(0.0, noise.depth_sd_mm) / depth_mm
-    shared_mm = (
-        rng.normal(0.0, noise.shared_offset_sd_mm)
-        + rng.normal(0.0, noise.shared_tilt_sd) * distance_mm
-    )
+    depth_error_mm = rng.normal(0.0, noise.depth_sd_mm)
+    offset_mm = rng.normal(0.0, noise.shared_offset_sd_mm)
+    shared_tilt = rng.normal(0.0, noise.shared_tilt_sd)
+    errors = TrialErrors(offset_mm, rotation, shared_tilt, depth_error_mm, wedge_mm)
     sides = {}
-    for sign, side in ((1.0, "left"), (-1.0, "right")):
-        seen_mm = np.clip(distance_mm + sign * wedge_mm, 1e-3, None)
-        true_mm = scale * _true_profile(model, seen_mm, depth_mm, params)
-        errors_mm = draw_side_errors_mm(rng, distance_mm, noise, scenario.kernel, scenario.df)
-        read_mm = true_mm + shared_mm - sign * rotation * distance_mm + errors_mm
+    for side in ("left", "right"):
+        side_errors_mm = draw_side_errors_mm(rng, distance_mm, noise, scenario.kernel, scenario.df)
+        read_mm = read_side_mm(
+            lambda seen_mm: _true_profile(model, seen_mm, depth_mm, params),
+            distance_mm,
+            side,
+            depth_mm,
+            errors,
+            side_errors_mm,
+        )
         sides[side] = np.round(read_mm / RESOLUTION_MM) * RESOLUTION_MM
     return {
         "depth_mm": float(depth_mm),
@@ -197,9 +202,9 @@ def simulate_dataset(model, seed, window_mm=3.0, scenario=SCENARIOS[0], noise=TR
         ``distance_mm``, ``left_mm``, ``right_mm`` and ``mean_mm``.
     """
     rng = np.random.default_rng(seed)
-    distance_mm = synthetic.reading_distances_mm(window_mm + 0.5)
+    distance_mm = reading_distances_mm(window_mm + 0.5)
     trials = []
-    for subject in synthetic.shipped_subjects():
+    for subject in shipped_subjects():
         for depth_mm in subject.depths_mm:
             params = _draw_params(rng, model, depth_mm, float(distance_mm[0]))
             trial = _read_trial(rng, model, params, distance_mm, depth_mm, noise, scenario)
