@@ -20,11 +20,18 @@ photograph_example
     The photograph example (two fingers photographed at rest and loaded).
 coverage
     How often the intervals hold the truth on data made with known parameters.
+calibration
+    The verdict calibration's public face: every name of the four modules below.
 verdicts
     How often each claim's rule reaches the right verdict on reconstructions with fresh
-    errors; the membrane's coverage on the same datasets.
+    errors, analysed with the functions the rule scripts call.
 boundary
     The boundary worlds: each claim's rule where it has the least power.
+mechanics_coverage
+    Coverage of the membrane's intervals on the verdict calibration's datasets.
 reports
-    The calibration's tables as Markdown, and the error-rate sentences of the claims table.
+    The calibration's tables as Markdown, each with the command that made it.
+rates
+    Binomial (Clopper-Pearson) intervals and the error-rate sentences of the claims
+    table; light, so the claims table does not depend on the generator.
 """

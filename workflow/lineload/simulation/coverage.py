@@ -28,7 +28,6 @@ from lineload.fitting.batch import fit_windowed
 from lineload.models import arc_deflection_mm, boussinesq_deflection_mm, waterbed_deflection_mm
 from lineload.noise import (
     PRIORS,
-    NoiseModel,
     draw_side_errors_mm,
     estimate_noise,
     trial_differences,
@@ -40,6 +39,7 @@ from lineload.simulation.errors import (
     TrialErrors,
     read_side_mm,
 )
+from lineload.simulation.rates import binomial_interval
 from lineload.simulation.subjects import MAGNIFICATION, shipped_subjects
 
 __all__ = [
@@ -48,14 +48,9 @@ __all__ = [
     "TRIAL_COLUMNS",
     "TRUE_NOISE",
     "Scenario",
-    "binomial_interval",
-    "bootstrap_markdown",
     "bootstrap_study",
-    "calibration_command",
-    "coverage_markdown",
     "coverage_rows",
     "coverage_study",
-    "percent_interval",
     "simulate_dataset",
     "summarise_coverage",
 ]
@@ -328,42 +323,6 @@ def bootstrap_study(fitted, seed, n_replicates, noise, window_mm=3.0, models=tup
     return rows
 
 
-def percent_interval(rate, low, high):
-    """A rate with its interval, in percent: ``97.1 % (95.9-98.0 %)``."""
-    return f"{100 * rate:.1f} % ({100 * low:.1f}-{100 * high:.1f} %)"
-
-
-def calibration_command(seed, **counts):
-    """The command that remakes a calibration table with these settings (for its footer).
-
-    ``calibration_command(2026, datasets=40)`` ->
-    ``snakemake --cores 2 calibration --config calibration='{seed: 2026, datasets: 40}'``.
-    """
-    settings = ", ".join(f"{key}: {value}" for key, value in {"seed": seed, **counts}.items())
-    return f"snakemake --cores 2 calibration --config calibration='{{{settings}}}'"
-
-
-def binomial_interval(successes, n, level=0.95):
-    """Clopper-Pearson interval of a binomial proportion.
-
-    Parameters
-    ----------
-    successes, n : int
-    level : float, optional
-
-    Returns
-    -------
-    tuple of float
-        ``(low, high)``; ``(nan, nan)`` when ``n`` is 0.
-    """
-    from scipy.stats import binomtest
-
-    if n == 0:
-        return math.nan, math.nan
-    interval = binomtest(int(successes), int(n)).proportion_ci(level, method="exact")
-    return float(interval.low), float(interval.high)
-
-
 def summarise_coverage(rows):
     """Coverage by scenario, model and parameter; then by species and depth as well.
 
@@ -422,65 +381,3 @@ def coverage_study(seed, n_datasets, models=tuple(CHECKED), scenarios=SCENARIOS,
                 for row in coverage_rows(model, (seed, i, j, k), window_mm, scenario):
                     rows.append({**row, "dataset": k})
     return rows
-
-
-def coverage_markdown(summary, command, notice=""):
-    """The pooled coverage rows as a Markdown table with the command that made them."""
-    from lineload.publishing.tables import markdown_table
-
-    pooled = [r for r in summary if r["species"] == "all"]
-    header = ["errors simulated", "model", "parameter", "trials", "covered", "coverage (95 % CI)"]
-    cells = [
-        [
-            r["scenario"],
-            r["model"],
-            r["parameter"],
-            str(r["n_trials"]),
-            str(r["n_covered"]),
-            percent_interval(r["coverage"], r["ci_low"], r["ci_high"]),
-        ]
-        for r in pooled
-    ]
-    text = (
-        "# Coverage of the nominal 95 % intervals\n\n"
-        "Simulated datasets of the shipped design, each trial made by the model named, read "
-        "with every digitising error of the reconstruction; the noise measured from each "
-        "dataset's left-right differences and the model fitted as the workflow fits it. "
-        "Aim: 93-97 %.\n\n"
-        + markdown_table(header, cells, "lllrrr")
-        + f"\n\nMade by `{command}`.\n"
-    )
-    if notice:
-        text += f"\n{notice}\n"
-    return text
-
-
-def bootstrap_markdown(summary, command, n_trials, notice=""):
-    """The parametric bootstrap's pooled coverage as Markdown, with the command."""
-    from lineload.publishing.tables import markdown_table
-
-    pooled = [r for r in summary if r["species"] == "all"]
-    header = ["model", "parameter", "trials x replicates", "covered", "coverage (95 % CI)"]
-    cells = [
-        [
-            r["model"],
-            r["parameter"],
-            str(r["n_trials"]),
-            str(r["n_covered"]),
-            percent_interval(r["coverage"], r["ci_low"], r["ci_high"]),
-        ]
-        for r in pooled
-    ]
-    text = (
-        "# A parametric bootstrap of the data's own fits\n\n"
-        f"Each of the {n_trials} trials made again, many times, from the model as fitted to "
-        "it, on its own reading grid, read with every error of the measured noise table; in "
-        "each replicate the noise measured again from the left-right differences and the "
-        "model fitted as the workflow fits it. An interval covers when it holds the fitted "
-        "value its replicate was made from. Aim: 93-97 %.\n\n"
-        + markdown_table(header, cells, "llrrr")
-        + f"\n\nMade by `{command}`.\n"
-    )
-    if notice:
-        text += f"\n{notice}\n"
-    return text

@@ -287,7 +287,7 @@ DATA_NOTICE = (
 #: What the generator puts into the shipped reconstruction, claim by claim: the verdict
 #: the claims table should reach on the shipped data, the truth of its noise-free world
 #: (what the rules conclude from the true profiles on the same reading grids,
-#: :func:`lineload.simulation.calibration.reconstruction_claims` without errors), and how it comes
+#: :func:`lineload.simulation.verdicts.reconstruction_claims` without errors), and how it comes
 #: about.  ``tuned``: the generator's parameters were chosen so that
 #: the claim comes out this way (a test of the workflow, not evidence); ``by
 #: construction``: not aimed at, but fixed by a choice of the generator's (the
