@@ -16,6 +16,8 @@ readings
     The profiles, outlines and forces of the reconstruction, as read.
 dataset
     The files of the raw-data folder, the tables of true parameters, the built-in verdicts.
+notices
+    The notices that mark a generated folder as synthetic.
 photograph_example
     The photograph example (two fingers photographed at rest and loaded).
 coverage

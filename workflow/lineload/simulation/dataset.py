@@ -13,6 +13,7 @@ import pandas as pd
 
 from lineload.io import csv_text
 from lineload.publishing.tables import markdown_table
+from lineload.simulation.notices import DATA_NOTICE
 from lineload.simulation.readings import force_table, outline_table, profile_table, trial_forces
 from lineload.simulation.subjects import (
     DEFAULT_SEED,
@@ -272,16 +273,6 @@ PROFILE_FORMATS = {
     "deflection_image_mm": ".1f",
 }
 OUTLINE_FORMATS = {"depth_mm": ".2f", "state": "", "x_image_mm": ".1f", "z_image_mm": ".1f"}
-
-
-#: Written as NOTICE.txt into every generated folder; its first line becomes the
-#: footer of each figure and table built from these data.
-DATA_NOTICE = (
-    "Synthetic reconstruction made by a seeded generator; not the original measurements "
-    "of Srinivasan (1989).\n"
-    "The study's digitised profiles were never published. See data/README.md for how these "
-    "files were made.\n"
-)
 
 
 #: What the generator puts into the shipped reconstruction, claim by claim: the verdict

@@ -65,7 +65,7 @@ def mechanics_study(seed, datasets, window_mm, priors, max_trials, force_sd_N, f
     lengths = {s.subject: s.contact_length_mm for s in subjects}
     rows = []
     for k in range(first, first + datasets):
-        fits, _, _ = reconstruction_fits(subjects, (seed, k), window_mm, priors, max_trials)
+        fits, *_ = reconstruction_fits(subjects, (seed, k), window_mm, priors, max_trials)
         forces = force_table(subjects, (seed, k))
         table, _ = mechanics_tables(fits, forces, lengths, force_sd_N)
         for _, row in table.iterrows():

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from lineload.rawdata.readings import reading_distances_mm
+from lineload.simulation.notices import PHOTOGRAPH_NOTICE
 from lineload.simulation.subjects import (
     DEFAULT_SEED,
     shipped_subjects,
@@ -37,12 +38,6 @@ PHOTOGRAPH_PIXELS_PER_MM = 60.0
 PHOTOGRAPH_VIEW_MM = (-8.0, 0.6, 16.0, 4.0)  # x0, z0 (top left), width, height
 #: Largest shift of the loaded shot against the resting one (mm): camera or finger moved.
 PHOTOGRAPH_SHIFT_MM = 0.03
-
-PHOTOGRAPH_NOTICE = (
-    "Synthetic photographs rendered by a seeded generator from the reconstruction's true "
-    "profiles; not photographs of fingers.\n"
-    "See data/README.md for how they are made.\n"
-)
 
 
 def photograph_scene():

@@ -41,9 +41,10 @@ from lineload.claims.rules import (
     UNTESTABLE,
     ClaimSettings,
     compute_claims,
+    trial_key,
 )
 from lineload.fitting.batch import fit_trials
-from lineload.noise import estimate_noise, model_from_rows, noise_rows, trial_differences
+from lineload.noise import measure_noise_table, model_from_rows, trial_models
 from lineload.simulation.errors import TRUE_NOISE
 from lineload.simulation.rates import binomial_interval
 from lineload.simulation.readings import force_table, profile_table
@@ -111,12 +112,19 @@ def _scaled_noise(scale):
 def reconstruction_fits(subjects, seed, window_mm, priors, max_trials, errors=True):
     """One dataset of ``subjects`` read, averaged, its noise measured and fitted.
 
+    Each step calls what its rule's script calls: ``prepare_profiles``
+    (:func:`lineload.averaging.tissue_columns`, :func:`lineload.averaging.average_subjects`),
+    ``noise`` (:func:`lineload.noise.measure_noise_table`) and ``fit_models``
+    (:func:`lineload.noise.trial_models`, :func:`lineload.fitting.batch.fit_trials`), in
+    memory: nothing is written or read back.
+
     Returns
     -------
     tuple
-        ``(fits, averaged, noise)``: the fit table (a DataFrame, as rule
-        ``fit_models`` writes it), the averaged columns and the noise model
-        (the generator's times :data:`TRUTH_SCALE` without errors).
+        ``(fits, averaged, noise, trial_noise)``: the fit table (a DataFrame, as rule
+        ``fit_models`` writes it), the averaged columns, the dataset's noise model
+        (the generator's times :data:`TRUTH_SCALE` without errors) and each trial's
+        (list, in the fit table's order).
     """
     converted = [
         tissue_columns(
@@ -132,26 +140,24 @@ def reconstruction_fits(subjects, seed, window_mm, priors, max_trials, errors=Tr
         name: np.asarray(averaged[name], dtype=float)
         for name in ("distance_mm", "deflection_mm", "left_mm", "right_mm", "n_sides")
     }
+    keys = [(name, depth) for name, depth, _ in trials]
     if errors:
-        differences = [
-            trial_differences(
-                columns["distance_mm"][rows],
-                columns["left_mm"][rows],
-                columns["right_mm"][rows],
-                window_mm,
-            )
-            for _, _, rows in trials
+        profiles = [
+            (columns["distance_mm"][r], columns["left_mm"][r], columns["right_mm"][r])
+            for *_, r in trials
         ]
-        rows = noise_rows(estimate_noise(differences, max_trials=max_trials), priors)
+        _, rows = measure_noise_table(profiles, priors, window_mm, max_trials)
         noise = model_from_rows(rows)
+        trial_noise = trial_models(rows, keys)
     else:
         noise = _scaled_noise(TRUTH_SCALE)
+        trial_noise = [noise] * len(keys)
     fitted = fit_trials(
         [columns["distance_mm"][r] for *_, r in trials],
         [columns["deflection_mm"][r] for *_, r in trials],
         [depth for _, depth, _ in trials],
         window_mm,
-        noise=noise,
+        noise=trial_noise,
         n_sides=[columns["n_sides"][r] for *_, r in trials],
     )
     species = {subject.subject: subject.species for subject in subjects}
@@ -161,7 +167,7 @@ def reconstruction_fits(subjects, seed, window_mm, priors, max_trials, errors=Tr
             for (name, _, _), row in zip(trials, fitted, strict=True)
         ]
     )
-    return fits, averaged, noise
+    return fits, averaged, noise, trial_noise
 
 
 def reconstruction_claims(
@@ -199,13 +205,15 @@ def reconstruction_claims(
     if not errors:
         settings["noise_mm"] = None
         settings["force_sd_N"] = TRUTH_SCALE * ClaimSettings(**settings).force_sd_N
-    fits, averaged, noise = reconstruction_fits(
+    fits, averaged, noise, trial_noise = reconstruction_fits(
         subjects, seed, window_mm, priors, max_trials, errors
     )
     forces = force_table(subjects, seed, errors=errors)
-    claims = compute_claims(
-        fits, pd.DataFrame(averaged), ClaimSettings(**settings, noise_model=noise), forces=forces
-    )
+    # as rule claims_table judges them: the dataset's noise and each trial's
+    keys = zip(fits["subject"], fits["depth_mm"], strict=True)
+    noise_by_trial = {trial_key(*k): m for k, m in zip(keys, trial_noise, strict=True)}
+    settings = ClaimSettings(**settings, noise_model=noise, trial_noise=noise_by_trial)
+    claims = compute_claims(fits, pd.DataFrame(averaged), settings, forces=forces)
     # the reconstructions do not fit the bending skin: its claim is not calibrated here
     return claims[~claims["claim"].isin(UNCALIBRATED_CLAIMS)].reset_index(drop=True)
 
