@@ -91,8 +91,9 @@ FORCE_RESOLUTION_N = 0.001
 #: is infinite at the tip; that guard now lives with that form in
 #: :mod:`lineload.simulation.coverage`.)  With the first reading at 0.05 mm and a
 #: wedge error of SD 0.01 mm, a reading reaches the tip at five standard deviations:
-#: in the shipped data and the committed calibrations it never does, so the floor
-#: changes no number there.
+#: in the shipped data and the committed calibrations it never does (the nearest of their
+#: readings lands 8.8 um from it; ``docs/calibration/scripts/wedge_tip.py`` counts), so
+#: the floor changes no number there.
 SEEN_FLOOR_MM = 0.0
 
 #: The per-side errors as the noise model describes them.
