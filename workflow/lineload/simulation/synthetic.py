@@ -49,7 +49,13 @@ from lineload.simulation.errors import (
     TRACING_SD_MM,
     WEDGE_POSITION_SD_MM,
 )
-from lineload.simulation.photograph_example import photograph_dataset
+from lineload.simulation.photograph_example import (
+    PHOTOGRAPH_DEPTHS_MM,
+    PHOTOGRAPH_SUBJECTS,
+    photograph_dataset,
+    photograph_outlines,
+    photograph_scene,
+)
 from lineload.simulation.readings import (
     force_table,
     noise_free_mean_profile,
@@ -86,6 +92,8 @@ __all__ = [
     "MAGNIFICATION",
     "NOISE_SD_MM",
     "PARAMETER_RANGES",
+    "PHOTOGRAPH_DEPTHS_MM",
+    "PHOTOGRAPH_SUBJECTS",
     "REGISTRATION_OFFSET_SD_MM",
     "REGISTRATION_TILT_SD",
     "SHARED_TILT_SD",
@@ -107,6 +115,8 @@ __all__ = [
     "parameter_markdown",
     "parameter_table",
     "photograph_dataset",
+    "photograph_outlines",
+    "photograph_scene",
     "profile_table",
     "reading_distances_mm",
     "registration_error_mm",
