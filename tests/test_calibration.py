@@ -11,7 +11,7 @@ from lineload.claims import FAILS, HOLDS, IDENTITY, UNTESTABLE
 from lineload.io import config_defaults
 from lineload.publishing import article
 from lineload.simulation import calibration, synthetic
-from lineload.simulation.coverage import binomial_interval
+from lineload.simulation.rates import binomial_interval
 
 PRIORS = {k: v for k, v in config_defaults("noise").items() if k != "max_trials"}
 MAX_TRIALS = config_defaults("noise")["max_trials"]
@@ -305,3 +305,26 @@ def test_a_slice_of_the_committed_bootstrap_of_the_shipped_fits_reproduces(shipp
     # interval ends from root searches and sandwich variances: agreement to far below the
     # noise, not to the last bit
     np.testing.assert_allclose(rerun[["low", "high"]], committed[["low", "high"]], rtol=1e-5)
+
+
+@pytest.mark.parametrize(
+    ("successes", "n"), [(0, 7), (1, 4), (2, 3), (3, 40), (38, 40), (40, 40), (11, 200)]
+)
+def test_binomial_interval_is_clopper_pearson(successes, n):
+    """scipy's exact interval is the beta-quantile definition of Clopper and Pearson:
+    low = B(0.025; k, n - k + 1) (0 when k = 0), high = B(0.975; k + 1, n - k) (1 when
+    k = n); both computed by scipy's beta, so the tolerance is its quantile's precision."""
+    from scipy.stats import beta
+
+    low, high = binomial_interval(successes, n)
+    expected_low = 0.0 if successes == 0 else beta.ppf(0.025, successes, n - successes + 1)
+    expected_high = 1.0 if successes == n else beta.ppf(0.975, successes + 1, n - successes)
+    assert low == pytest.approx(expected_low, abs=1e-10)
+    assert high == pytest.approx(expected_high, abs=1e-10)
+    # an interval at another level is another interval: the comparison can fail
+    narrower = binomial_interval(successes, n, level=0.5)
+    assert narrower[1] - narrower[0] < high - low
+
+
+def test_binomial_interval_of_nothing_is_undefined():
+    assert all(np.isnan(binomial_interval(0, 0)))

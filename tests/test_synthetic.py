@@ -483,3 +483,28 @@ def test_circle_fraction_blends_in_the_circle_through_depth_and_edge():
     )
     half = synthetic.true_deflection_mm(x, depth_mm, extent_mm, 2.4, 0.3, 10.0, 0.5)
     assert np.allclose(half, 0.5 * (power + circle))
+
+
+def test_no_lab_script_depends_on_the_generator():
+    """A lab's jobs run without the generator: only the generator's own script and the
+    calibration's scripts (run_*) import it; the others at most read the committed
+    calibration's rates and the notice that marks a synthetic folder."""
+    from lineload.runtime.codedeps import script_dependencies
+
+    allowed = {"__init__.py", "rates.py", "notices.py"}
+    scripts = sorted((ROOT / "workflow" / "scripts").glob("*.py"))
+    checked = 0
+    for script in scripts:
+        if script.name == "make_synthetic_data.py" or script.name.startswith("run_"):
+            continue
+        used = {
+            Path(path).name
+            for path in script_dependencies(script)
+            if Path(path).parent.name == "simulation"
+        }
+        assert used <= allowed, f"{script.name} imports the generator: {sorted(used - allowed)}"
+        checked += 1
+    assert checked > 10
+    # the check can fail: the generator's own script is caught
+    generator = script_dependencies(SCRIPT)
+    assert any(Path(path).name == "subjects.py" for path in generator)

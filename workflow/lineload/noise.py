@@ -72,6 +72,7 @@ __all__ = [
     "draw_side_errors_mm",
     "estimate_noise",
     "exponential_kernel",
+    "measure_noise_table",
     "model_from_rows",
     "noise_rows",
     "noise_trials",
@@ -763,3 +764,38 @@ def reading_noise_mm(rows, override=None):
         rows = rows.to_dict("records")
     model = model_from_rows(rows)
     return math.hypot(model.reading_sd_mm, model.tracing_sd_mm)
+
+
+def measure_noise_table(profiles, priors, window_mm=np.inf, max_trials=400, registrations=()):
+    """A dataset's noise table, measured from its trials' left-right differences.
+
+    What rule ``noise`` writes and what the verdict calibration
+    (:mod:`lineload.simulation.verdicts`) measures on each simulated dataset: the
+    trials chosen (:func:`noise_trials`), the noise fitted to their differences
+    (:func:`estimate_noise`), the rows with the priors (:func:`noise_rows`) and a
+    digitised trial's own registration error (:func:`registration_rows`).
+
+    Parameters
+    ----------
+    profiles : sequence of tuple
+        ``(distance_mm, left_mm, right_mm)`` of every trial of the dataset.
+    priors : dict
+        The priors (config ``noise``), as for :func:`noise_rows`.
+    window_mm : float, optional
+        As in :func:`trial_differences`.
+    max_trials : int, optional
+        As in :func:`estimate_noise`.
+    registrations : iterable of tuple, optional
+        ``(subject, depth_mm, registration_sd_mm, source)`` of each digitised trial.
+
+    Returns
+    -------
+    tuple
+        ``(estimate, rows)``: the :class:`NoiseEstimate` and the noise table's rows
+        (columns :data:`NOISE_COLUMNS`).
+    """
+    trials = noise_trials(profiles, window_mm, max_trials)
+    estimate = estimate_noise(trials, max_trials=max_trials)
+    rows = noise_rows(estimate, priors)
+    rows += registration_rows(registrations, estimate.n_trials, estimate.n_differences)
+    return estimate, rows

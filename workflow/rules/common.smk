@@ -181,7 +181,7 @@ def boundary_blocks():
     """Jobs of the boundary calibration: '{world}.{first}' per world and block of
     datasets (config calibration: verdict_datasets, block_datasets); the worlds are
     imported only when the calibration is asked for."""
-    from lineload.simulation.calibration import BOUNDARY_WORLDS
+    from lineload.simulation.boundary import BOUNDARY_WORLDS
 
     total = config["calibration"]["verdict_datasets"]
     step = config["calibration"]["block_datasets"]

@@ -3,13 +3,7 @@
 import os
 
 from lineload.io import output_to, read_json, read_trials, write_rows
-from lineload.noise import (
-    NOISE_COLUMNS,
-    estimate_noise,
-    noise_rows,
-    noise_trials,
-    registration_rows,
-)
+from lineload.noise import NOISE_COLUMNS, measure_noise_table
 from lineload.runtime.jobparams import given
 
 
@@ -35,10 +29,9 @@ def noise_table(averaged, output, priors, max_trials, window_mm, quality=()):
         for depths in read_trials(path, extra=("left_mm", "right_mm")).values()
         for x, _, left, right in depths.values()
     ]
-    trials = noise_trials(profiles, window_mm, max_trials)
-    estimate = estimate_noise(trials, max_trials=max_trials)
-    rows = noise_rows(estimate, priors)
-    rows += registration_rows(registrations(quality), estimate.n_trials, estimate.n_differences)
+    estimate, rows = measure_noise_table(
+        profiles, priors, window_mm, max_trials, registrations(quality)
+    )
     for row in rows:
         print(
             f"{row['scope']}: {row['parameter']} = {row['value']:.4g} "

@@ -19,7 +19,7 @@ from lineload.noise import model_from_rows, trial_models
 from lineload.priors import CHANGED_COLUMN, prior_column, refit_at_priors, with_prior_verdicts
 from lineload.rawdata.validation import read_forces
 from lineload.runtime.jobparams import given
-from lineload.simulation.calibration import claim_error_rates
+from lineload.simulation.rates import claim_error_rates
 
 
 def make_claims(inputs, outputs, settings, notice):

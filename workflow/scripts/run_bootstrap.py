@@ -6,11 +6,10 @@ from lineload.runtime.jobparams import given
 from lineload.simulation.coverage import (
     COVERAGE_COLUMNS,
     TRIAL_COLUMNS,
-    bootstrap_markdown,
     bootstrap_study,
-    calibration_command,
     summarise_coverage,
 )
+from lineload.simulation.reports import bootstrap_markdown, calibration_command
 
 #: Each model's fitted parameters, as the fit table names them.
 FITTED = {

@@ -2,7 +2,7 @@
 
 from lineload.io import output_to, write_rows
 from lineload.runtime.jobparams import given
-from lineload.simulation.calibration import BOUNDARY_COLUMNS, boundary_study
+from lineload.simulation.boundary import BOUNDARY_COLUMNS, boundary_study
 
 
 def boundary_block(

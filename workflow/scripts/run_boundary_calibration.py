@@ -4,13 +4,12 @@ import csv
 
 from lineload.io import output_to, write_rows, write_text
 from lineload.runtime.jobparams import given
-from lineload.simulation.calibration import (
+from lineload.simulation.boundary import (
     BOUNDARY_COLUMNS,
     BOUNDARY_SUMMARY_COLUMNS,
-    boundary_markdown,
     summarise_boundary,
 )
-from lineload.simulation.coverage import calibration_command
+from lineload.simulation.reports import boundary_markdown, calibration_command
 
 #: How the gathered rows' columns are read back (the rest are text).
 _TYPES = {"effect": float, "dataset": int}

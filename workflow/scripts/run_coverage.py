@@ -5,11 +5,10 @@ from lineload.runtime.jobparams import given
 from lineload.simulation.coverage import (
     COVERAGE_COLUMNS,
     TRIAL_COLUMNS,
-    calibration_command,
-    coverage_markdown,
     coverage_study,
     summarise_coverage,
 )
+from lineload.simulation.reports import calibration_command, coverage_markdown
 
 
 def coverage(outputs, seed, datasets):

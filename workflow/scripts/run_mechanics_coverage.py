@@ -2,14 +2,13 @@
 
 from lineload.io import output_to, write_rows, write_text
 from lineload.runtime.jobparams import given
-from lineload.simulation.calibration import (
+from lineload.simulation.mechanics_coverage import (
     MECHANICS_COLUMNS,
     MECHANICS_SUMMARY_COLUMNS,
-    mechanics_markdown,
     mechanics_study,
     summarise_mechanics,
 )
-from lineload.simulation.coverage import calibration_command
+from lineload.simulation.reports import calibration_command, mechanics_markdown
 
 
 def mechanics_coverage(outputs, seed, datasets, window_mm, priors, max_trials, force_sd_N):

@@ -2,14 +2,13 @@
 
 from lineload.io import output_to, write_rows, write_text
 from lineload.runtime.jobparams import given
-from lineload.simulation.calibration import (
+from lineload.simulation.reports import calibration_command, verdict_markdown
+from lineload.simulation.verdicts import (
     DATASET_COLUMNS,
     SUMMARY_COLUMNS,
     summarise_verdicts,
-    verdict_markdown,
     verdict_study,
 )
-from lineload.simulation.coverage import calibration_command
 
 
 def verdict_calibration(outputs, seed, datasets, window_mm, priors, max_trials, claims):

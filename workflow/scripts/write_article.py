@@ -32,7 +32,7 @@ from lineload.publishing.article import (
 from lineload.publishing.citation import author_names, citation_or_default, software_name
 from lineload.publishing.provenance import git_state, package_versions
 from lineload.runtime.jobparams import given
-from lineload.simulation.synthetic import DATA_NOTICE
+from lineload.simulation.notices import DATA_NOTICE
 
 
 def compile_pdf(source, root):

@@ -29,7 +29,7 @@ from lineload.publishing.tables import (
     percent_text,
     span_text,
 )
-from lineload.simulation.calibration import claim_error_rates
+from lineload.simulation.rates import claim_error_rates
 
 __all__ = [
     "article_facts",

@@ -1,11 +1,39 @@
 """Simulated data: the shipped reconstruction and the studies that calibrate the verdicts.
 
+Import the module you need; this package imports none of them (so a job that needs
+one part does not depend on the rest).
+
 Modules
 -------
 synthetic
-    The seeded generator of the shipped synthetic reconstruction (profiles and photographs).
+    The generator's public face: every name below that makes the shipped data.
+subjects
+    The synthetic fingers, their true profiles and their random streams.
+errors
+    The forward error model: what digitising adds to a true profile (the generator's
+    and the coverage study's), and the size of every error.
+readings
+    The profiles, outlines and forces of the reconstruction, as read.
+dataset
+    The files of the raw-data folder, the tables of true parameters, the built-in verdicts.
+notices
+    The notices that mark a generated folder as synthetic.
+photograph_example
+    The photograph example (two fingers photographed at rest and loaded).
 coverage
     How often the intervals hold the truth on data made with known parameters.
 calibration
-    Error rates of the claims' verdicts on reconstructed and boundary worlds.
+    The verdict calibration's public face: every name of the four modules below.
+verdicts
+    How often each claim's rule reaches the right verdict on reconstructions with fresh
+    errors, analysed with the functions the rule scripts call.
+boundary
+    The boundary worlds: each claim's rule where it has the least power.
+mechanics_coverage
+    Coverage of the membrane's intervals on the verdict calibration's datasets.
+reports
+    The calibration's tables as Markdown, each with the command that made it.
+rates
+    Binomial (Clopper-Pearson) intervals and the error-rate sentences of the claims
+    table; light, so the claims table does not depend on the generator.
 """

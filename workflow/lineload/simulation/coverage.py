@@ -1,7 +1,7 @@
 """Do the intervals cover?  Simulated datasets with digitising errors, fitted as the workflow fits.
 
 Each simulated dataset has the shipped design (the subjects and depths of
-:func:`lineload.simulation.synthetic.shipped_subjects`).  Every trial's true profile comes
+:func:`lineload.simulation.subjects.shipped_subjects`).  Every trial's true profile comes
 from one model - the paper's parabola (eq. 19), the exact arc, or the modified
 Boussinesq form - with parameters drawn in the paper's ranges, and is read on
 the shipped reading grid with every error of :mod:`lineload.noise`: independent
@@ -28,12 +28,19 @@ from lineload.fitting.batch import fit_windowed
 from lineload.models import arc_deflection_mm, boussinesq_deflection_mm, waterbed_deflection_mm
 from lineload.noise import (
     PRIORS,
-    NoiseModel,
     draw_side_errors_mm,
     estimate_noise,
     trial_differences,
 )
-from lineload.simulation import synthetic
+from lineload.rawdata.readings import reading_distances_mm
+from lineload.simulation.errors import (
+    IMAGE_RESOLUTION_MM,
+    TRUE_NOISE,
+    TrialErrors,
+    read_side_mm,
+)
+from lineload.simulation.rates import binomial_interval
+from lineload.simulation.subjects import MAGNIFICATION, shipped_subjects
 
 __all__ = [
     "COVERAGE_COLUMNS",
@@ -41,37 +48,23 @@ __all__ = [
     "TRIAL_COLUMNS",
     "TRUE_NOISE",
     "Scenario",
-    "binomial_interval",
-    "bootstrap_markdown",
     "bootstrap_study",
-    "calibration_command",
-    "coverage_markdown",
     "coverage_rows",
     "coverage_study",
-    "percent_interval",
     "simulate_dataset",
     "summarise_coverage",
 ]
-
-#: The sizes of every error in the simulations: those of the reconstruction.
-TRUE_NOISE = NoiseModel(
-    reading_sd_mm=synthetic.NOISE_SD_MM,
-    tracing_sd_mm=synthetic.TRACING_SD_MM,
-    tracing_length_mm=synthetic.TRACING_LENGTH_MM,
-    side_offset_sd_mm=synthetic.SIDE_OFFSET_SD_MM,
-    rotation_sd=synthetic.REGISTRATION_TILT_SD,
-    wedge_position_sd_mm=synthetic.WEDGE_POSITION_SD_MM,
-    shared_offset_sd_mm=synthetic.REGISTRATION_OFFSET_SD_MM,
-    shared_tilt_sd=synthetic.SHARED_TILT_SD,
-    depth_sd_mm=synthetic.DEPTH_SD_MM,
-)
 
 #: Span of L drawn for the membrane models (mm): the paper's 10-15 mm (claim C5).
 L_RANGE_MM = (10.0, 15.0)
 #: Zero crossing x0 of the Boussinesq form (mm), beyond the 3 mm window.
 X0_RANGE_MM = (4.0, 8.0)
+#: Nearest distance to the wedge at which the Boussinesq form is evaluated (mm): its
+#: logarithm is infinite at the tip, where a misplaced wedge's reading can land
+#: (:data:`lineload.simulation.errors.SEEN_FLOOR_MM`).
+BOUSSINESQ_FLOOR_MM = 1e-3
 #: Resolution of a reading in tissue mm (0.1 mm on a 20x enlargement).
-RESOLUTION_MM = synthetic.IMAGE_RESOLUTION_MM / synthetic.MAGNIFICATION
+RESOLUTION_MM = IMAGE_RESOLUTION_MM / MAGNIFICATION
 
 #: The parameters whose intervals are checked, per model.
 CHECKED = {
@@ -138,7 +131,9 @@ def _true_profile(model, distance_mm, depth_mm, params):
     if model == "arc":
         return arc_deflection_mm(distance_mm, depth_mm, params["L_mm"])
     if model == "boussinesq":
-        return boussinesq_deflection_mm(distance_mm, params["A_mm"], params["x0_mm"])
+        # the logarithm is infinite at the wedge's tip: evaluated 1 um from it at least
+        near_mm = np.maximum(distance_mm, BOUSSINESQ_FLOOR_MM)
+        return boussinesq_deflection_mm(near_mm, params["A_mm"], params["x0_mm"])
     raise ValueError(f"unknown model {model!r}")
 
 
@@ -151,20 +146,25 @@ def _draw_params(rng, model, depth_mm, first_mm):
 
 
 def _read_trial(rng, model, params, distance_mm, depth_mm, noise, scenario):
-    """Both sides of one trial made by ``model`` and read with every digitising error."""
+    """Both sides of one trial made by ``model`` and read with every digitising error
+    (:func:`lineload.simulation.errors.read_side_mm`), rounded as the enlargement rounds."""
     rotation = rng.normal(0.0, noise.rotation_sd)
     wedge_mm = rng.normal(0.0, noise.wedge_position_sd_mm)
-    scale = 1.0 + rng.normal(0.0, noise.depth_sd_mm) / depth_mm
-    shared_mm = (
-        rng.normal(0.0, noise.shared_offset_sd_mm)
-        + rng.normal(0.0, noise.shared_tilt_sd) * distance_mm
-    )
+    depth_error_mm = rng.normal(0.0, noise.depth_sd_mm)
+    offset_mm = rng.normal(0.0, noise.shared_offset_sd_mm)
+    shared_tilt = rng.normal(0.0, noise.shared_tilt_sd)
+    errors = TrialErrors(offset_mm, rotation, shared_tilt, depth_error_mm, wedge_mm)
     sides = {}
-    for sign, side in ((1.0, "left"), (-1.0, "right")):
-        seen_mm = np.clip(distance_mm + sign * wedge_mm, 1e-3, None)
-        true_mm = scale * _true_profile(model, seen_mm, depth_mm, params)
-        errors_mm = draw_side_errors_mm(rng, distance_mm, noise, scenario.kernel, scenario.df)
-        read_mm = true_mm + shared_mm - sign * rotation * distance_mm + errors_mm
+    for side in ("left", "right"):
+        side_errors_mm = draw_side_errors_mm(rng, distance_mm, noise, scenario.kernel, scenario.df)
+        read_mm = read_side_mm(
+            lambda seen_mm: _true_profile(model, seen_mm, depth_mm, params),
+            distance_mm,
+            side,
+            depth_mm,
+            errors,
+            side_errors_mm,
+        )
         sides[side] = np.round(read_mm / RESOLUTION_MM) * RESOLUTION_MM
     return {
         "depth_mm": float(depth_mm),
@@ -197,9 +197,9 @@ def simulate_dataset(model, seed, window_mm=3.0, scenario=SCENARIOS[0], noise=TR
         ``distance_mm``, ``left_mm``, ``right_mm`` and ``mean_mm``.
     """
     rng = np.random.default_rng(seed)
-    distance_mm = synthetic.reading_distances_mm(window_mm + 0.5)
+    distance_mm = reading_distances_mm(window_mm + 0.5)
     trials = []
-    for subject in synthetic.shipped_subjects():
+    for subject in shipped_subjects():
         for depth_mm in subject.depths_mm:
             params = _draw_params(rng, model, depth_mm, float(distance_mm[0]))
             trial = _read_trial(rng, model, params, distance_mm, depth_mm, noise, scenario)
@@ -323,42 +323,6 @@ def bootstrap_study(fitted, seed, n_replicates, noise, window_mm=3.0, models=tup
     return rows
 
 
-def percent_interval(rate, low, high):
-    """A rate with its interval, in percent: ``97.1 % (95.9-98.0 %)``."""
-    return f"{100 * rate:.1f} % ({100 * low:.1f}-{100 * high:.1f} %)"
-
-
-def calibration_command(seed, **counts):
-    """The command that remakes a calibration table with these settings (for its footer).
-
-    ``calibration_command(2026, datasets=40)`` ->
-    ``snakemake --cores 2 calibration --config calibration='{seed: 2026, datasets: 40}'``.
-    """
-    settings = ", ".join(f"{key}: {value}" for key, value in {"seed": seed, **counts}.items())
-    return f"snakemake --cores 2 calibration --config calibration='{{{settings}}}'"
-
-
-def binomial_interval(successes, n, level=0.95):
-    """Clopper-Pearson interval of a binomial proportion.
-
-    Parameters
-    ----------
-    successes, n : int
-    level : float, optional
-
-    Returns
-    -------
-    tuple of float
-        ``(low, high)``; ``(nan, nan)`` when ``n`` is 0.
-    """
-    from scipy.stats import binomtest
-
-    if n == 0:
-        return math.nan, math.nan
-    interval = binomtest(int(successes), int(n)).proportion_ci(level, method="exact")
-    return float(interval.low), float(interval.high)
-
-
 def summarise_coverage(rows):
     """Coverage by scenario, model and parameter; then by species and depth as well.
 
@@ -417,65 +381,3 @@ def coverage_study(seed, n_datasets, models=tuple(CHECKED), scenarios=SCENARIOS,
                 for row in coverage_rows(model, (seed, i, j, k), window_mm, scenario):
                     rows.append({**row, "dataset": k})
     return rows
-
-
-def coverage_markdown(summary, command, notice=""):
-    """The pooled coverage rows as a Markdown table with the command that made them."""
-    from lineload.publishing.tables import markdown_table
-
-    pooled = [r for r in summary if r["species"] == "all"]
-    header = ["errors simulated", "model", "parameter", "trials", "covered", "coverage (95 % CI)"]
-    cells = [
-        [
-            r["scenario"],
-            r["model"],
-            r["parameter"],
-            str(r["n_trials"]),
-            str(r["n_covered"]),
-            percent_interval(r["coverage"], r["ci_low"], r["ci_high"]),
-        ]
-        for r in pooled
-    ]
-    text = (
-        "# Coverage of the nominal 95 % intervals\n\n"
-        "Simulated datasets of the shipped design, each trial made by the model named, read "
-        "with every digitising error of the reconstruction; the noise measured from each "
-        "dataset's left-right differences and the model fitted as the workflow fits it. "
-        "Aim: 93-97 %.\n\n"
-        + markdown_table(header, cells, "lllrrr")
-        + f"\n\nMade by `{command}`.\n"
-    )
-    if notice:
-        text += f"\n{notice}\n"
-    return text
-
-
-def bootstrap_markdown(summary, command, n_trials, notice=""):
-    """The parametric bootstrap's pooled coverage as Markdown, with the command."""
-    from lineload.publishing.tables import markdown_table
-
-    pooled = [r for r in summary if r["species"] == "all"]
-    header = ["model", "parameter", "trials x replicates", "covered", "coverage (95 % CI)"]
-    cells = [
-        [
-            r["model"],
-            r["parameter"],
-            str(r["n_trials"]),
-            str(r["n_covered"]),
-            percent_interval(r["coverage"], r["ci_low"], r["ci_high"]),
-        ]
-        for r in pooled
-    ]
-    text = (
-        "# A parametric bootstrap of the data's own fits\n\n"
-        f"Each of the {n_trials} trials made again, many times, from the model as fitted to "
-        "it, on its own reading grid, read with every error of the measured noise table; in "
-        "each replicate the noise measured again from the left-right differences and the "
-        "model fitted as the workflow fits it. An interval covers when it holds the fitted "
-        "value its replicate was made from. Aim: 93-97 %.\n\n"
-        + markdown_table(header, cells, "llrrr")
-        + f"\n\nMade by `{command}`.\n"
-    )
-    if notice:
-        text += f"\n{notice}\n"
-    return text

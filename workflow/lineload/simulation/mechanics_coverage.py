@@ -1,0 +1,120 @@
+"""Coverage of the membrane's intervals on reconstructions with fresh errors.
+
+The forces of the reconstruction come from a membrane under tension at rest, N0 and E
+known for each finger.  Each dataset of the verdict study (the same seeds) goes through
+the mechanics as rule ``mechanics`` runs it: its fitted arc L with their intervals, the
+forces with their noise, the stated error of one force reading.  The interval
+estimate +- 1.96 standard errors should hold the truth in 95 % of subjects.
+"""
+
+from __future__ import annotations
+
+from lineload.mechanics import mechanics_tables
+from lineload.simulation.rates import binomial_interval
+from lineload.simulation.readings import force_table
+from lineload.simulation.subjects import shipped_subjects
+from lineload.simulation.verdicts import reconstruction_fits
+
+__all__ = [
+    "MECHANICS_COLUMNS",
+    "MECHANICS_SUMMARY_COLUMNS",
+    "mechanics_study",
+    "summarise_mechanics",
+]
+
+#: Per subject and parameter: the estimate, its standard error, the truth, covered or not.
+MECHANICS_COLUMNS = [
+    "dataset",
+    "subject",
+    "n_depths",
+    "parameter",
+    "estimate",
+    "se",
+    "truth",
+    "covered",
+]
+#: Per parameter and kind of fit: how often the 95 % interval held the truth.
+MECHANICS_SUMMARY_COLUMNS = ["parameter", "fit", "n", "n_covered", "coverage", "ci_low", "ci_high"]
+
+#: Each parameter's columns in the mechanics table and its true value on a finger.
+_MEMBRANE = {
+    "pretension_N_per_mm": ("pretension_se_N_per_mm", lambda s: s.pretension_N_per_mm),
+    "stiffness_N_per_mm": ("stiffness_se_N_per_mm", lambda s: s.stiffness_N_per_mm),
+    "prestrain": ("prestrain_se", lambda s: s.prestrain),
+}
+
+
+def mechanics_study(seed, datasets, window_mm, priors, max_trials, force_sd_N, first=0):
+    """Coverage of the membrane's N0, E and pre-strain on reconstructions with fresh errors.
+
+    Parameters
+    ----------
+    seed, datasets, window_mm, priors, max_trials, first
+        As for :func:`lineload.simulation.verdicts.verdict_study` (dataset ``k`` has
+        the errors of its dataset ``k``).
+    force_sd_N : float
+        Config ``mechanics: force_sd_N``, the stated error of one force reading.
+
+    Returns
+    -------
+    list of dict
+        Columns :data:`MECHANICS_COLUMNS`.
+    """
+    subjects = shipped_subjects()
+    by_id = {s.subject: s for s in subjects}
+    lengths = {s.subject: s.contact_length_mm for s in subjects}
+    rows = []
+    for k in range(first, first + datasets):
+        fits, *_ = reconstruction_fits(subjects, (seed, k), window_mm, priors, max_trials)
+        forces = force_table(subjects, (seed, k))
+        table, _ = mechanics_tables(fits, forces, lengths, force_sd_N)
+        for _, row in table.iterrows():
+            subject = by_id[str(row["subject"])]
+            for parameter, (se_column, truth_of) in _MEMBRANE.items():
+                estimate, se, truth = (
+                    float(row[parameter]),
+                    float(row[se_column]),
+                    truth_of(subject),
+                )
+                rows.append(
+                    {
+                        "dataset": k,
+                        "subject": subject.subject,
+                        "n_depths": int(row["n_depths"]),
+                        "parameter": parameter,
+                        "estimate": estimate,
+                        "se": se,
+                        "truth": truth,
+                        "covered": bool(abs(estimate - truth) <= 1.96 * se),
+                    }
+                )
+    return rows
+
+
+def summarise_mechanics(rows):
+    """Coverage per parameter: over every subject, over-determined fits, exact ones."""
+    rows = list(rows)
+    summary = []
+    for parameter in _MEMBRANE:
+        for fit, keep in (
+            ("all", lambda r: True),
+            ("three or more depths", lambda r: r["n_depths"] > 2),
+            ("two depths (exact)", lambda r: r["n_depths"] == 2),
+        ):
+            group = [r for r in rows if r["parameter"] == parameter and keep(r)]
+            if not group:
+                continue
+            n, covered = len(group), sum(bool(r["covered"]) for r in group)
+            low, high = binomial_interval(covered, n)
+            summary.append(
+                {
+                    "parameter": parameter,
+                    "fit": fit,
+                    "n": n,
+                    "n_covered": covered,
+                    "coverage": covered / n,
+                    "ci_low": low,
+                    "ci_high": high,
+                }
+            )
+    return summary

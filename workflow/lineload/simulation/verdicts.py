@@ -1,0 +1,346 @@
+"""Verdict calibration: how often each claim's rule reaches the right verdict.
+
+The claims table (:mod:`lineload.claims`) gives each statement of the paper a
+verdict.  A verdict is only worth as much as the rate at which its rule reaches
+the right one, so this module measures that rate on datasets whose truth is
+known: the seven fingers of the shipped reconstruction (:mod:`lineload.simulation.synthetic`)
+with their true profiles unchanged, each dataset read with a fresh draw of every
+digitising error (reading and tracing errors, side and shared offsets, shared
+tilt, rotation, depth error, misplaced wedge, force noise).  Every dataset goes
+through the workflow's own steps, in memory: readings to tissue mm, the left-right
+mean, the noise measured from the left-right differences, the fits of every
+model with that noise, and the claims with their rules.
+
+The truth of each claim in each dataset is the verdict the same rules reach on
+the same design without any error: the true profiles read on the dataset's own
+reading grid (which decides, for instance, how well a logarithm fits next to the
+wedge), the true forces, and every uncertainty shrunk a thousandfold
+(:data:`TRUTH_SCALE`), so that the intervals close on the true values.  For
+each claim the study counts how often the workflow says ``holds``,
+``does not hold`` and ``cannot be checked``: a verdict opposite to the truth is
+wrong; "cannot be checked" is not wrong but is counted, since a rule that never
+commits is no test.  A last row counts the datasets with at least one wrong
+verdict, the rate a reader faces when reading the whole table.
+
+Dataset ``k`` of a study seeded ``seed`` is drawn from the generator seed
+``(seed, k)``, so any slice reruns alone with the same numbers.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from lineload.averaging import average_subjects, tissue_columns
+from lineload.claims import (
+    CLAIM_KINDS,
+    CLAIMS,
+    FAILS,
+    HOLDS,
+    IDENTITY,
+    PAPER_CLAIM,
+    UNTESTABLE,
+    ClaimSettings,
+    compute_claims,
+    trial_key,
+)
+from lineload.fitting.batch import fit_trials
+from lineload.noise import measure_noise_table, model_from_rows, trial_models
+from lineload.simulation.errors import TRUE_NOISE
+from lineload.simulation.rates import binomial_interval
+from lineload.simulation.readings import force_table, profile_table
+from lineload.simulation.subjects import MAGNIFICATION, shipped_subjects
+
+__all__ = [
+    "DATASET_COLUMNS",
+    "SUMMARY_COLUMNS",
+    "TRUTH_SCALE",
+    "UNCALIBRATED_CLAIMS",
+    "reconstruction_claims",
+    "reconstruction_fits",
+    "summarise_verdicts",
+    "verdict_study",
+]
+
+#: Every standard deviation of the noise, and of a force reading, times this when
+#: the rules judge the error-free readings: intervals a thousandth of their size.
+TRUTH_SCALE = 1e-3
+
+#: Columns of the per-dataset table: one row per dataset and claim.
+DATASET_COLUMNS = ["dataset", "claim", "truth", "verdict", "wrong"]
+
+#: Columns of the summary: one row per claim, then ``any`` (a dataset with a wrong verdict).
+SUMMARY_COLUMNS = [
+    "claim",
+    "truth",
+    "n_datasets",
+    "n_holds",
+    "n_fails",
+    "n_untestable",
+    "n_wrong",
+    "wrong_rate",
+    "wrong_ci_low",
+    "wrong_ci_high",
+]
+
+#: The opposite of each evidence verdict: saying it when the other is true is wrong.
+_OPPOSITE = {HOLDS: FAILS, FAILS: HOLDS}
+
+#: Claims the calibration does not judge: those that need the bending skin's fits (C13),
+#: which the reconstructions analysed in memory here do not make (their error rates are
+#: not yet measured; the claims table and the article say "not calibrated").
+UNCALIBRATED_CLAIMS = tuple(claim.id for claim in CLAIMS if "bending" in claim.needs)
+
+
+def _trials_of(averaged):
+    """Each trial's rows of the averaged columns, in table order: (subject, depth, slice)."""
+    subject = np.asarray(averaged["subject"])
+    depth = np.asarray(averaged["depth_mm"], dtype=float)
+    new = np.r_[True, (subject[1:] != subject[:-1]) | (depth[1:] != depth[:-1])]
+    starts = np.flatnonzero(new)
+    ends = np.r_[starts[1:], subject.size]
+    return [(subject[a], float(depth[a]), slice(a, b)) for a, b in zip(starts, ends, strict=True)]
+
+
+def _scaled_noise(scale):
+    """The generator's noise with every standard deviation times ``scale``."""
+    values = TRUE_NOISE.as_dict()
+    return type(TRUE_NOISE)(
+        **{k: v if k == "tracing_length_mm" else v * scale for k, v in values.items()}
+    )
+
+
+def reconstruction_fits(subjects, seed, window_mm, priors, max_trials, errors=True):
+    """One dataset of ``subjects`` read, averaged, its noise measured and fitted.
+
+    Each step calls what its rule's script calls: ``prepare_profiles``
+    (:func:`lineload.averaging.tissue_columns`, :func:`lineload.averaging.average_subjects`),
+    ``noise`` (:func:`lineload.noise.measure_noise_table`) and ``fit_models``
+    (:func:`lineload.noise.trial_models`, :func:`lineload.fitting.batch.fit_trials`), in
+    memory: nothing is written or read back.
+
+    Returns
+    -------
+    tuple
+        ``(fits, averaged, noise, trial_noise)``: the fit table (a DataFrame, as rule
+        ``fit_models`` writes it), the averaged columns, the dataset's noise model
+        (the generator's times :data:`TRUTH_SCALE` without errors) and each trial's
+        (list, in the fit table's order).
+    """
+    converted = [
+        tissue_columns(
+            profile_table(subject, seed, errors=errors),
+            subject.subject,
+            MAGNIFICATION,
+        )
+        for subject in subjects
+    ]
+    averaged = average_subjects(converted)
+    trials = _trials_of(averaged)
+    columns = {
+        name: np.asarray(averaged[name], dtype=float)
+        for name in ("distance_mm", "deflection_mm", "left_mm", "right_mm", "n_sides")
+    }
+    keys = [(name, depth) for name, depth, _ in trials]
+    if errors:
+        profiles = [
+            (columns["distance_mm"][r], columns["left_mm"][r], columns["right_mm"][r])
+            for *_, r in trials
+        ]
+        _, rows = measure_noise_table(profiles, priors, window_mm, max_trials)
+        noise = model_from_rows(rows)
+        trial_noise = trial_models(rows, keys)
+    else:
+        noise = _scaled_noise(TRUTH_SCALE)
+        trial_noise = [noise] * len(keys)
+    fitted = fit_trials(
+        [columns["distance_mm"][r] for *_, r in trials],
+        [columns["deflection_mm"][r] for *_, r in trials],
+        [depth for _, depth, _ in trials],
+        window_mm,
+        noise=trial_noise,
+        n_sides=[columns["n_sides"][r] for *_, r in trials],
+    )
+    species = {subject.subject: subject.species for subject in subjects}
+    fits = pd.DataFrame(
+        [
+            {"subject": name, "species": species[name], **row}
+            for (name, _, _), row in zip(trials, fitted, strict=True)
+        ]
+    )
+    return fits, averaged, noise, trial_noise
+
+
+def reconstruction_claims(
+    seed, window_mm, priors, max_trials, claims=None, errors=True, subjects=None
+):
+    """One dataset of the reconstruction with its own errors, analysed as the workflow does.
+
+    Parameters
+    ----------
+    seed : int or tuple of int
+        Generator seed of the dataset (1989 gives the shipped data).
+    window_mm : float
+        Fit window (config ``fit_window_mm``).
+    priors : dict
+        The noise priors (config ``noise``: ``shared_offset_sd_mm``,
+        ``shared_tilt_sd``, ``depth_sd_mm``, ``wedge_position_sd_mm``).
+    max_trials : int
+        Config ``noise: max_trials``.
+    claims : dict, optional
+        Settings of the claims (config ``claims``); schema defaults if None.
+    errors : bool, optional
+        False: the true readings on the same grid and the true forces, judged
+        with the generator's noise times :data:`TRUTH_SCALE` (nothing measured).
+    subjects : list of SubjectParameters, optional
+        The fingers' true profiles; the shipped reconstruction's if None (a
+        boundary world of :data:`BOUNDARY_WORLDS` changes some of them).
+
+    Returns
+    -------
+    pandas.DataFrame
+        The claims table (columns of :data:`lineload.claims.CLAIM_COLUMNS`).
+    """
+    subjects = shipped_subjects() if subjects is None else subjects
+    settings = dict(claims or {})
+    if not errors:
+        settings["noise_mm"] = None
+        settings["force_sd_N"] = TRUTH_SCALE * ClaimSettings(**settings).force_sd_N
+    fits, averaged, noise, trial_noise = reconstruction_fits(
+        subjects, seed, window_mm, priors, max_trials, errors
+    )
+    forces = force_table(subjects, seed, errors=errors)
+    # as rule claims_table judges them: the dataset's noise and each trial's
+    keys = zip(fits["subject"], fits["depth_mm"], strict=True)
+    noise_by_trial = {trial_key(*k): m for k, m in zip(keys, trial_noise, strict=True)}
+    settings = ClaimSettings(**settings, noise_model=noise, trial_noise=noise_by_trial)
+    claims = compute_claims(fits, pd.DataFrame(averaged), settings, forces=forces)
+    # the reconstructions do not fit the bending skin: its claim is not calibrated here
+    return claims[~claims["claim"].isin(UNCALIBRATED_CLAIMS)].reset_index(drop=True)
+
+
+def verdict_study(
+    seed,
+    datasets,
+    window_mm,
+    priors,
+    max_trials,
+    claims=None,
+    first=0,
+    subjects=None,
+    truth_claims=None,
+):
+    """The verdict of every claim on ``datasets`` reconstructions with fresh errors.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of the study; dataset ``k`` is generated with seed ``(seed, k)``.
+    datasets : int
+        How many datasets.
+    window_mm, priors, max_trials, claims
+        As for :func:`reconstruction_claims`.
+    first : int, optional
+        Number of the first dataset (a slice of a larger study).
+    subjects : list of SubjectParameters, optional
+        As for :func:`reconstruction_claims`.
+    truth_claims : dict, optional
+        Settings of the claims for the error-free truth (``claims`` if None): a
+        boundary world judges its truth as its boundary was placed.
+
+    Returns
+    -------
+    list of dict
+        Columns :data:`DATASET_COLUMNS`.
+    """
+    rows = []
+    for k in range(first, first + datasets):
+        read = reconstruction_claims(
+            (seed, k), window_mm, priors, max_trials, claims, subjects=subjects
+        )
+        true = reconstruction_claims(
+            (seed, k),
+            window_mm,
+            priors,
+            max_trials,
+            claims if truth_claims is None else truth_claims,
+            False,
+            subjects,
+        )
+        for claim, verdict, truth in zip(
+            read["claim"], read["verdict"], true["verdict"], strict=True
+        ):
+            rows.append(
+                {
+                    "dataset": k,
+                    "claim": claim,
+                    "truth": truth,
+                    "verdict": verdict,
+                    "wrong": verdict == _OPPOSITE.get(truth),
+                }
+            )
+    return rows
+
+
+def summarise_verdicts(rows):
+    """Counts of each verdict per claim, the wrong-verdict rate and its 95 % interval.
+
+    Parameters
+    ----------
+    rows : iterable of dict
+        As :func:`verdict_study` gives them.
+
+    Returns
+    -------
+    list of dict
+        Columns :data:`SUMMARY_COLUMNS`; one row per claim and true verdict (the
+        truth can differ between datasets: it depends on each dataset's reading
+        grid), claims in table order, then ``any``: datasets with at least one
+        wrong verdict among the paper's claims (kind ``paper claim``; the checks of
+        method and model, :data:`lineload.claims.CLAIM_KINDS`, apart).
+    """
+    by_claim, wrong_in = {}, {}
+    for row in rows:
+        by_claim.setdefault((row["claim"], row["truth"]), []).append(row)
+        counted = CLAIM_KINDS.get(row["claim"], PAPER_CLAIM) == PAPER_CLAIM and bool(row["wrong"])
+        wrong_in[row["dataset"]] = wrong_in.get(row["dataset"], False) or counted
+    order = {verdict: i for i, verdict in enumerate((HOLDS, FAILS, UNTESTABLE, IDENTITY))}
+    claims = list(dict.fromkeys(claim for claim, _ in by_claim))
+    keys = sorted(by_claim, key=lambda key: (claims.index(key[0]), order.get(key[1], 9)))
+    summary = []
+    for claim, truth in keys:
+        group = by_claim[(claim, truth)]
+        verdicts = [r["verdict"] for r in group]
+        n, wrong = len(group), sum(bool(r["wrong"]) for r in group)
+        low, high = binomial_interval(wrong, n)
+        summary.append(
+            {
+                "claim": claim,
+                "truth": truth,
+                "n_datasets": n,
+                "n_holds": verdicts.count(HOLDS),
+                "n_fails": verdicts.count(FAILS),
+                "n_untestable": verdicts.count(UNTESTABLE),
+                "n_wrong": wrong,
+                "wrong_rate": wrong / n,
+                "wrong_ci_low": low,
+                "wrong_ci_high": high,
+            }
+        )
+    n, wrong = len(wrong_in), sum(wrong_in.values())
+    low, high = binomial_interval(wrong, n)
+    summary.append(
+        {
+            "claim": "any",
+            "truth": "",
+            "n_datasets": n,
+            "n_holds": np.nan,
+            "n_fails": np.nan,
+            "n_untestable": np.nan,
+            "n_wrong": wrong,
+            "wrong_rate": wrong / n if n else np.nan,
+            "wrong_ci_low": low,
+            "wrong_ci_high": high,
+        }
+    )
+    return summary
