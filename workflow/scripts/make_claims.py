@@ -7,10 +7,10 @@ import pandas as pd
 
 from lineload.claims import (
     CLAIM_COLUMNS,
-    ClaimSettings,
     InternalError,
     claims_markdown,
     compute_claims,
+    judged_settings,
     trial_key,
 )
 from lineload.fitting.bending import with_bending
@@ -32,11 +32,7 @@ def make_claims(inputs, outputs, settings, notice):
     forces = read_forces(forces_paths[0]) if forces_paths else None
     rows = read_rows(noise_path)
     keys = list(zip(fits["subject"], fits["depth_mm"], strict=True))
-    settings = ClaimSettings(
-        **{**settings, "prior_multiples": tuple(settings.get("prior_multiples", ()))},
-        noise_model=model_from_rows(rows),
-        trial_noise={trial_key(*k): m for k, m in zip(keys, trial_models(rows, keys), strict=True)},
-    )
+    settings = judged_settings(settings, fits, model_from_rows(rows), trial_models(rows, keys))
     claims = compute_claims(fits, averaged, settings, forces=forces)
     by_multiple = {}
     for multiple in settings.prior_multiples:

@@ -49,7 +49,7 @@ from lineload.claims.registry import (
     claim_named,
     claims_using,
 )
-from lineload.claims.settings import ClaimSettings
+from lineload.claims.settings import ClaimSettings, judged_settings
 from lineload.claims.statistics import (
     asymmetry_excess,
     chord_curvature,
@@ -106,6 +106,7 @@ __all__ = [
     "compute_claims",
     "deformed_extent_mm",
     "deformed_extent_se_mm",
+    "judged_settings",
     "summary_sentence",
     "trial_key",
     "verdict_counts",

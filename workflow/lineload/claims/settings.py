@@ -7,9 +7,11 @@ from dataclasses import dataclass
 
 from lineload.io import config_defaults
 from lineload.noise import NoiseModel
+from lineload.trials import trial_key
 
 __all__ = [
     "ClaimSettings",
+    "judged_settings",
 ]
 
 
@@ -80,3 +82,36 @@ class ClaimSettings:
         if self.noise_model is None:
             raise ValueError("the claims need noise_mm or a noise model")
         return math.hypot(self.noise_model.reading_sd_mm, self.noise_model.tracing_sd_mm)
+
+
+def judged_settings(settings, fits, noise_model, trial_noise_models):
+    """The settings the claims are judged with: the config's, the dataset's noise model
+    and each trial's, keyed as the rules look them up.
+
+    Rule ``claims_table`` and the calibration's reconstructions both build their
+    settings here.
+
+    Parameters
+    ----------
+    settings : mapping
+        The config's ``claims`` values (and ``force_sd_N``); missing ones take the
+        schema's defaults.
+    fits : pandas.DataFrame
+        The fit table (``subject``, ``depth_mm``), in the order of ``trial_noise_models``.
+    noise_model : lineload.noise.NoiseModel
+        The dataset's noise model.
+    trial_noise_models : sequence of lineload.noise.NoiseModel
+        Each trial's noise model, one per row of ``fits``.
+
+    Returns
+    -------
+    ClaimSettings
+    """
+    values = dict(settings)
+    if "prior_multiples" in values:
+        values["prior_multiples"] = tuple(values["prior_multiples"])
+    keys = zip(fits["subject"], fits["depth_mm"], strict=True)
+    trial_noise = {
+        trial_key(*key): model for key, model in zip(keys, trial_noise_models, strict=True)
+    }
+    return ClaimSettings(**values, noise_model=noise_model, trial_noise=trial_noise)

@@ -42,7 +42,7 @@ from lineload.claims import (
     UNTESTABLE,
     ClaimSettings,
     compute_claims,
-    trial_key,
+    judged_settings,
 )
 from lineload.fitting.batch import fit_trials
 from lineload.noise import measure_noise_table, model_from_rows, trial_models
@@ -211,9 +211,7 @@ def reconstruction_claims(
     )
     forces = force_table(subjects, seed, errors=errors)
     # as rule claims_table judges them: the dataset's noise and each trial's
-    keys = zip(fits["subject"], fits["depth_mm"], strict=True)
-    noise_by_trial = {trial_key(*k): m for k, m in zip(keys, trial_noise, strict=True)}
-    settings = ClaimSettings(**settings, noise_model=noise, trial_noise=noise_by_trial)
+    settings = judged_settings(settings, fits, noise, trial_noise)
     claims = compute_claims(fits, pd.DataFrame(averaged), settings, forces=forces)
     # the reconstructions do not fit the bending skin: its claim is not calibrated here
     return claims[~claims["claim"].isin(UNCALIBRATED_CLAIMS)].reset_index(drop=True)
