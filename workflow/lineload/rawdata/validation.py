@@ -1041,6 +1041,7 @@ def check_images(
     problems=None,
     digitise=None,
     plausibility=None,
+    read=None,
 ):
     """Check ``images/images.csv`` and the photographs it names.
 
@@ -1069,11 +1070,17 @@ def check_images(
     plausibility : dict, optional
         The config's ``input_checks`` (:func:`plausibility_defaults` for any not
         given): the depths' range and the deflection factor.
+    read : collection of str, optional
+        The subjects whose photographs are opened (their files, pairs and readings
+        checked); None for every listed subject.  The other rows are checked as rows
+        of the sheet only: the raw-data check reads each batch's photographs in the
+        batch's job, and the sheet in the job that gathers them.
 
     Returns
     -------
     dict
-        Subject -> sorted depths (mm) of its photograph pairs; empty without images.csv.
+        Subject -> sorted depths (mm) of its photograph pairs (of the subjects read);
+        empty without images.csv.
     """
     shown = (raw_dir_shown or raw_dir).rstrip("/")
     limits = dict(plausibility or {})
@@ -1140,6 +1147,8 @@ def check_images(
                     f"a second {state} photograph of {subject} at {key[1]:g} mm; expected "
                     "one rest and one loaded photograph per depth",
                 )
+                continue
+            if read is not None and subject not in read:
                 continue
             path = os.path.join(raw_dir, "images", name)
             if problem := _photograph_file_problem(path, name, shown, raw_dir):
@@ -1771,7 +1780,9 @@ def check_dataset(
         The profiles and outlines already checked, batch by batch
         (:func:`check_subject_files` on every listed subject, in sheet order, merged):
         ``depths_mm``, ``outlines``, ``refused`` and their ``errors`` and
-        ``warnings``, taken as they are instead of reading those files here.
+        ``warnings``, taken as they are instead of reading those files here; and
+        ``photographs``, subject -> depths of its photograph pairs that passed
+        (:func:`check_images` with ``read``), whose photographs are then not opened here.
 
     Returns
     -------
@@ -1814,7 +1825,11 @@ def check_dataset(
             found,
             digitise,
             limits,
+            # checked batch by batch: the photographs were read there, the sheet is read here
+            read=None if checked is None else (),
         )
+    if checked is not None:
+        image_depths.update(checked.get("photographs", {}))
     check_subjects(
         subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern, photographed
     )
