@@ -22,7 +22,8 @@ Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
 With ``--against CHECKOUT`` (another checkout of the project, e.g. an older commit in a
 temporary ``git worktree``) only the rerun with nothing changed and the ``fits`` target at
 each scale are measured, for both checkouts in turn (this one, that one, this one, ...),
-so that a change in the machine's load falls on both alike; each runs its own code
+with the one-rule floor before each rerun, so that a change in the machine's load falls
+on all alike; each runs its own code
 (``PYTHONPATH`` is set to its ``workflow/``).  ``--python`` runs Snakemake with another
 interpreter (e.g. a venv of ``requirements.txt`` alone, as a user has it).
 
@@ -130,6 +131,19 @@ def make_scale_data(folder, n):
     )
 
 
+def make_one_rule_workflow(folder, python=sys.executable):
+    """A workflow of one rule with one param (which makes Snakemake import pandas to
+    compare it), built once: its rerun is what no workflow goes below."""
+    folder.mkdir()
+    (folder / "Snakefile").write_text(
+        'rule all:\n    input: "a.txt"\n\n'
+        'rule a:\n    output: "a.txt"\n    params: n=1\n'
+        '    shell: "echo {params.n} > {output}"\n'
+    )
+    run([python, "-m", "snakemake", "--cores", "2"], cwd=folder)
+    return folder
+
+
 def side_by_side(against, repeats, scales, python, work):
     """Rows (what, this checkout's median, the other's, both runs) measured alternately."""
     checkouts = {"this": REPO, "other": Path(against).resolve()}
@@ -147,11 +161,24 @@ def side_by_side(against, repeats, scales, python, work):
     shutil.copytree(REPO / "data" / "raw", raw)
     for name, checkout in checkouts.items():  # each its own results, built once
         run_in(checkout, snakemake(raw=raw, results=work / f"results-{name}", python=python))
+    one_rule = make_one_rule_workflow(work / "one-rule", python)
+    floor = []
     alternate(
         "rerun, nothing changed (shipped data)",
-        lambda name: None,
+        # the floor between the two, so that it sees the same load
+        lambda name: floor.append(
+            run([python, "-m", "snakemake", "--cores", "2"], cwd=one_rule)[0]
+        ),
         lambda name: snakemake(raw=raw, results=work / f"results-{name}", python=python),
         max(repeats, 5),
+    )
+    rows.append(
+        (
+            "floor: rerun of a one-rule workflow with one param, nothing changed",
+            statistics.median(floor),
+            float("nan"),
+            {"floor": floor},
+        )
     )
     for n in scales:
         scale_raw = work / f"raw{n}"
@@ -234,7 +261,7 @@ def main():
             "| what | this | other | every run (this; other) |",
             "|---|--:|--:|---|",
             *[
-                f"| {what} | {this:.2f} | {other:.2f} | "
+                f"| {what} | {this:.2f} | {'' if other != other else f'{other:.2f}'} | "
                 + "; ".join(" ".join(f"{t:.2f}" for t in ts) for ts in times.values())
                 + " |"
                 for what, this, other, times in rows
@@ -293,14 +320,7 @@ def main():
             max(args.repeats, 5), lambda: run([sys.executable, "-m", "snakemake", "--version"])
         )
         rows.append(("floor: `snakemake --version`", version, "", "Snakemake's start-up"))
-        one_rule = work / "one-rule"
-        one_rule.mkdir()
-        (one_rule / "Snakefile").write_text(
-            'rule all:\n    input: "a.txt"\n\n'
-            'rule a:\n    output: "a.txt"\n    params: n=1\n'
-            '    shell: "echo {params.n} > {output}"\n'
-        )
-        run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=one_rule)
+        one_rule = make_one_rule_workflow(work / "one-rule")
         trivial, _ = median_of(
             max(args.repeats, 5),
             lambda: run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=one_rule),
