@@ -22,7 +22,8 @@ Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
 With ``--against CHECKOUT`` (another checkout of the project, e.g. an older commit in a
 temporary ``git worktree``) only the rerun with nothing changed and the ``fits`` target at
 each scale are measured, for both checkouts in turn (this one, that one, this one, ...),
-so that a change in the machine's load falls on both alike; each runs its own code
+with the one-rule floor before each rerun, so that a change in the machine's load falls
+on all alike; each runs its own code
 (``PYTHONPATH`` is set to its ``workflow/``).  ``--python`` runs Snakemake with another
 interpreter (e.g. a venv of ``requirements.txt`` alone, as a user has it).
 
@@ -34,6 +35,7 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -69,7 +71,14 @@ def tree_rss_kb(root_pid):
 
 
 def run(command, cwd=REPO):
-    """Run a command; return (seconds, peak tree RSS in MB, stdout+stderr)."""
+    """Run a command; return (seconds, peak tree RSS in MB, stdout+stderr, CPU seconds).
+
+    The CPU seconds (user + system, of the command and every process it waited for)
+    move far less than the wall-clock ones when other work shares the machine: for a
+    rerun with nothing to do, one process that waits for nothing, they are what the
+    wall clock shows on an idle machine.
+    """
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     process = subprocess.Popen(
         command, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
@@ -86,9 +95,11 @@ def run(command, cwd=REPO):
     output, _ = process.communicate()
     seconds = time.perf_counter() - start
     sampler.join()
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     if process.returncode != 0:
         raise RuntimeError(f"{' '.join(map(str, command))} failed:\n{output[-3000:]}")
-    return seconds, peak[0] / 1024, output
+    return seconds, peak[0] / 1024, output, cpu
 
 
 def snakemake(*args, raw, results, cores=2, config=(), python=sys.executable):
@@ -130,29 +141,63 @@ def make_scale_data(folder, n):
     )
 
 
+def make_one_rule_workflow(folder, python=sys.executable):
+    """A workflow of one rule with one param (which makes Snakemake import pandas to
+    compare it), built once: its rerun is what no workflow goes below."""
+    folder.mkdir()
+    (folder / "Snakefile").write_text(
+        'rule all:\n    input: "a.txt"\n\n'
+        'rule a:\n    output: "a.txt"\n    params: n=1\n'
+        '    shell: "echo {params.n} > {output}"\n'
+    )
+    run([python, "-m", "snakemake", "--cores", "2"], cwd=folder)
+    return folder
+
+
 def side_by_side(against, repeats, scales, python, work):
     """Rows (what, this checkout's median, the other's, both runs) measured alternately."""
     checkouts = {"this": REPO, "other": Path(against).resolve()}
     rows = []
 
-    def alternate(what, prepare, command_for, n):
+    def alternate(what, prepare, command_for, n, cpu=False):
         times = {name: [] for name in checkouts}
+        cpus = {name: [] for name in checkouts}
         for _ in range(n):
             for name, checkout in checkouts.items():
                 prepare(name)
-                times[name].append(run_in(checkout, command_for(name))[0])
+                measured = run_in(checkout, command_for(name))
+                times[name].append(measured[0])
+                cpus[name].append(measured[3])
         rows.append((what, *(statistics.median(times[k]) for k in checkouts), times))
+        if cpu:
+            rows.append(
+                (f"{what}, CPU seconds", *(statistics.median(cpus[k]) for k in checkouts), cpus)
+            )
 
     raw = work / "raw"
     shutil.copytree(REPO / "data" / "raw", raw)
     for name, checkout in checkouts.items():  # each its own results, built once
         run_in(checkout, snakemake(raw=raw, results=work / f"results-{name}", python=python))
+    one_rule = make_one_rule_workflow(work / "one-rule", python)
+    floor = []
     alternate(
         "rerun, nothing changed (shipped data)",
-        lambda name: None,
+        # the floor between the two, so that it sees the same load
+        lambda name: floor.append(run([python, "-m", "snakemake", "--cores", "2"], cwd=one_rule)),
         lambda name: snakemake(raw=raw, results=work / f"results-{name}", python=python),
         max(repeats, 5),
+        cpu=True,
     )
+    for what, index in (("", 0), (", CPU seconds", 3)):
+        values = [measured[index] for measured in floor]
+        rows.append(
+            (
+                f"floor: rerun of a one-rule workflow with one param, nothing changed{what}",
+                statistics.median(values),
+                float("nan"),
+                {"floor": values},
+            )
+        )
     for n in scales:
         scale_raw = work / f"raw{n}"
         make_scale_data(scale_raw, n)
@@ -234,7 +279,7 @@ def main():
             "| what | this | other | every run (this; other) |",
             "|---|--:|--:|---|",
             *[
-                f"| {what} | {this:.2f} | {other:.2f} | "
+                f"| {what} | {this:.2f} | {'' if other != other else f'{other:.2f}'} | "
                 + "; ".join(" ".join(f"{t:.2f}" for t in ts) for ts in times.values())
                 + " |"
                 for what, this, other, times in rows
@@ -293,14 +338,7 @@ def main():
             max(args.repeats, 5), lambda: run([sys.executable, "-m", "snakemake", "--version"])
         )
         rows.append(("floor: `snakemake --version`", version, "", "Snakemake's start-up"))
-        one_rule = work / "one-rule"
-        one_rule.mkdir()
-        (one_rule / "Snakefile").write_text(
-            'rule all:\n    input: "a.txt"\n\n'
-            'rule a:\n    output: "a.txt"\n    params: n=1\n'
-            '    shell: "echo {params.n} > {output}"\n'
-        )
-        run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=one_rule)
+        one_rule = make_one_rule_workflow(work / "one-rule")
         trivial, _ = median_of(
             max(args.repeats, 5),
             lambda: run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=one_rule),

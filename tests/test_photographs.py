@@ -464,6 +464,39 @@ def test_the_example_passes_the_check(tmp_path):
     assert problems_of(example_copy(tmp_path / "raw")) == []
 
 
+def test_each_photograph_is_read_by_its_batch_and_not_by_the_gathering_check(tmp_path):
+    """The raw-data check reads a photograph in the job of its subject's batch
+    (check_images with ``read``); the job that gathers the batches reads the sheet only."""
+    from lineload.io import load_schema
+    from lineload.rawdata.validation import Problems, check_dataset, check_images
+
+    raw = example_copy(tmp_path / "raw")
+    damaged = raw / "images" / "M2_2mm_rest.png"
+    damaged.write_bytes(damaged.read_bytes()[:5000])
+    schema, ids = load_schema("images"), ["M1", "M2"]
+
+    def batch(subjects):
+        found = Problems()
+        depths = check_images(str(raw), schema, ids, None, found, DIGITISE, None, read=subjects)
+        return depths, found.errors
+
+    # M2's batch reads the damaged file and refuses it, M1's does not open it
+    depths, errors = batch({"M2"})
+    assert depths == {"M2": [1.0]} and len(errors) == 1, errors
+    assert "M2_2mm_rest.png" in errors[0] and "truncated" in errors[0]
+    assert batch({"M1"}) == ({"M1": [1.0, 2.0]}, [])
+    assert batch(()) == ({}, [])  # the sheet alone: no photograph read
+    # the gathering check takes the batches' findings, and opens no photograph itself
+    passed = {"M1": [1.0, 2.0], "M2": [1.0, 2.0]}
+    checked = {"depths_mm": {}, "outlines": {}, "refused": [], "errors": [], "warnings": []}
+    schemas = {n: load_schema(n) for n in ("subjects", "profiles", "outlines", "forces", "images")}
+    found = check_dataset(
+        str(raw), schemas, digitise=DIGITISE, checked={**checked, "photographs": passed}
+    )
+    assert found["depths_mm"] == passed
+    assert any("truncated" in p for p in problems_of(raw))  # read when not checked in batches
+
+
 def test_both_photographs_of_a_pair_refused_each_have_their_line(tmp_path):
     """Both files of a pair failing (missing, a name in the wrong case) gave StopIteration."""
     raw = example_copy(tmp_path / "raw")

@@ -27,7 +27,11 @@ ENVIRONMENT = "../../environment.yml"
 # snakefmt puts a `report(` call at a line start, where Snakemake reads its keyword.
 report_item = report
 
-# --config values typed as in a config file; `a__b=value` sets a nested key (settings.py)
+# --config values typed as in a config file; `a__b=value` sets a nested key (settings.py).
+# From the words as typed (ConfigSettings.config_args, which Snakemake keeps to pass
+# --config on to cluster jobs): `config` and ConfigSettings.config hold Snakemake's
+# reading, which has already cut "Sample #3" at the "#" and made every number inside
+# '{a: 1.25}' text; --configfile is Snakemake's own way to nested, typed values.
 settings.apply_command_line(config, workflow.config_settings.config_args)
 try:
     validate(config, "../schemas/config.schema.yaml")  # fills in the defaults

@@ -4,7 +4,8 @@
 
 
 rule check_profiles:
-    """Check a batch of subjects' profile and outline files (the large part of the check)."""
+    """Check a batch of subjects' profile, outline and photograph files (the large part
+    of the check: each photograph is read here, once)."""
     input:
         sheet=f"{RAW}/subjects.csv",
         profiles=lambda wildcards: [
@@ -16,6 +17,16 @@ rule check_profiles:
             RAW_FILES["outlines"][f"{s}.csv"]
             for s in BATCHES[wildcards.batch]
             if f"{s}.csv" in RAW_FILES["outlines"]
+        ],
+        # the photographs' sheet (and the truth, which it is checked against) and the
+        # batch's photographs that are there (one that is not is the check's to report)
+        images=[
+            RAW_FILES["images"][n]
+            for n in ("images.csv", "truth.csv")
+            if n in RAW_FILES["images"]
+        ],
+        photographs=lambda wildcards: [
+            f for s in BATCHES[wildcards.batch] for f in PHOTOGRAPHS.get(s, [])
         ],
         code=code("check_profiles.py"),
     output:
@@ -31,6 +42,8 @@ rule check_profiles:
         input_checks=config["input_checks"],
         window_mm=config["fit_window_mm"],
         min_points=config["min_points_in_window"],
+        # each pair is read as its job will read it: one that cannot be is refused here
+        digitise=config["digitise"],
     script:
         "../scripts/check_profiles.py"
 
@@ -58,8 +71,6 @@ checkpoint check_raw_data:
         input_checks=config["input_checks"],
         window_mm=config["fit_window_mm"],
         min_points=config["min_points_in_window"],
-        # photographs are read once by the check: one that cannot be is refused here
-        digitise=config["digitise"],
     script:
         "../scripts/check_raw_data.py"
 

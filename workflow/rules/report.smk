@@ -245,7 +245,7 @@ rule provenance:
 from lineload.publishing.bundle import bundle_name
 from lineload.publishing.citation import citation_or_default, software_name
 from lineload.publishing.crate import source_files
-from lineload.publishing.provenance import git_state
+from lineload.runtime.gitcommit import head_commit
 
 CITATION = citation_or_default(CITATION_FILES)
 #: The workflow's source as the crate and the bundle carry it (a copy under source/,
@@ -311,7 +311,7 @@ rule bundle:
             bundle_name(
                 software_name(CITATION),
                 CITATION["version"],
-                git_state(REPOSITORY)["commit"],
+                head_commit(REPOSITORY),
             ),
         ),
     log:

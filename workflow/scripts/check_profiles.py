@@ -1,47 +1,74 @@
-"""Rule check_profiles: one batch's profile and outline files against the data contract.
+"""Rule check_profiles: one batch's profile, outline and photograph files against the data contract.
 
 The raw-data check's part that reads the large files, run batch by batch so that it
 uses every core (and the cluster): lineload.rawdata.validation.check_subject_files on the
-batch's subjects.  The problems are written down, not raised: rule check_raw_data
-gathers every batch's, with the checks of the whole folder, and refuses the folder
-with all of them at once.
+batch's subjects, and check_images on their photographs (each read here, once).  The
+problems are written down, not raised: rule check_raw_data gathers every batch's, with
+the checks of the whole folder, and refuses the folder with all of them at once.
 """
 
 import os
 
 from lineload.io import json_text, load_schema, output_to, write_text
-from lineload.rawdata.validation import Problems, check_subject_files, plausibility_defaults
+from lineload.rawdata.validation import (
+    Problems,
+    check_images,
+    check_subject_files,
+    plausibility_defaults,
+)
 from lineload.runtime.jobparams import given
 
 
-def check_profiles(sheet, output, subjects, input_checks, window_mm, min_points):
+def checked_photographs(raw_dir, subjects, limits, digitise, found):
+    """Check the photographs of ``subjects`` (ids), adding their problems to ``found``.
+
+    Returns subject -> the depths of its pairs that passed.  The problems of the sheet
+    itself (images/images.csv) are the gathering job's to report: those found with no
+    photograph read are left out here.
+    """
+    if not os.path.isfile(os.path.join(raw_dir, "images", "images.csv")):
+        return {}
+    schema = load_schema("images")
+    sheet_only = Problems()
+    check_images(raw_dir, schema, subjects, None, sheet_only, digitise, limits, read=())
+    mine = Problems()
+    depths = check_images(raw_dir, schema, subjects, None, mine, digitise, limits, read=subjects)
+    found.errors += [e for e in mine.errors if e not in sheet_only.errors]
+    found.warnings += [w for w in mine.warnings if w not in sheet_only.warnings]
+    return depths
+
+
+def check_profiles(sheet, output, subjects, input_checks, window_mm, min_points, digitise):
     """Check the files of ``subjects`` (id -> its sheet row) in the folder of ``sheet``."""
     raw_dir = os.path.dirname(sheet)  # as configured: the messages name it so
     schemas = {name: load_schema(name) for name in ("profiles", "outlines")}
     # the subjects with a profile file (one without is the whole folder's check to report)
     listed = [s for s in subjects if os.path.isfile(os.path.join(raw_dir, "profiles", f"{s}.csv"))]
     found = Problems()
+    limits = {**plausibility_defaults(), **input_checks}
     depths_mm, outlines, refused = check_subject_files(
         raw_dir,
         schemas,
         listed,
         {s: subjects[s]["magnification"] for s in listed},
         found,
-        {**plausibility_defaults(), **input_checks},
+        limits,
         (window_mm, min_points),
     )
+    photographs = checked_photographs(raw_dir, list(subjects), limits, digitise, found)
     checked = {
         "subjects": listed,
         "depths_mm": depths_mm,
         "outlines": outlines,
+        "photographs": photographs,
         "refused": [s for s in listed if s in refused],
         "errors": found.errors,
         "warnings": found.warnings,
     }
     write_text(json_text(checked), output)
     print(
-        f"{len(listed)} subjects' profiles checked, {len(outlines)} outlines: "
-        f"{len(found.errors)} problems -> {output}"
+        f"{len(listed)} subjects' profiles checked, {len(outlines)} outlines, "
+        f"{len(photographs)} photographed: {len(found.errors)} problems -> {output}"
     )
 
 

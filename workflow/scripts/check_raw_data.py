@@ -1,7 +1,8 @@
 """Rule check_raw_data: every raw file against the data contract, every problem at once.
 
-Reads the raw folder (lineload.rawdata.validation.check_dataset), the profile and outline
-files as the check_profiles jobs found them batch by batch, and writes what the
+Reads the raw folder (lineload.rawdata.validation.check_dataset), the profile, outline
+and photograph files as the check_profiles jobs found them batch by batch (no
+photograph is opened here: images/images.csv is read as a sheet), and writes what the
 later jobs need to know of it: the depths per subject, the outline depths and
 the warnings.  A refused folder prints one line per problem on stderr (and into
 the log), writes nothing else and exits with 1; every job that reads raw data
@@ -22,19 +23,24 @@ TABLES = ("subjects", "profiles", "outlines", "forces", "images")
 
 def merged(batches):
     """The check_profiles jobs' findings as one, in sheet order (the batches' order)."""
-    checked = {"depths_mm": {}, "outlines": {}, "refused": [], "errors": [], "warnings": []}
+    checked = {
+        "depths_mm": {},
+        "outlines": {},
+        "photographs": {},
+        "refused": [],
+        "errors": [],
+        "warnings": [],
+    }
     for path in batches:
         batch = read_json(path)
-        checked["depths_mm"].update(batch["depths_mm"])
-        checked["outlines"].update(batch["outlines"])
+        for key in ("depths_mm", "outlines", "photographs"):
+            checked[key].update(batch[key])
         for key in ("refused", "errors", "warnings"):
             checked[key] += batch[key]
     return checked
 
 
-def check_raw_data(
-    sheet, files, batches, output, log, input_checks, window_mm, min_points, digitise
-):
+def check_raw_data(sheet, files, batches, output, log, input_checks, window_mm, min_points):
     """Check the folder of ``sheet``; write the summary (or every problem into ``log``).
     Returns the lines for the user: at most MAX_REPORTED errors and where the rest are."""
     raw_dir = os.path.dirname(sheet)  # as configured: the messages name it so
@@ -45,7 +51,6 @@ def check_raw_data(
             schemas,
             plausibility=input_checks,
             window=(window_mm, min_points),
-            digitise=digitise,
             checked=merged(batches),
         )
     except InputError as error:

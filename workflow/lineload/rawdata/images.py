@@ -114,6 +114,7 @@ def check_images(
     problems=None,
     digitise=None,
     plausibility=None,
+    read=None,
 ):
     """Check ``images/images.csv`` and the photographs it names.
 
@@ -143,10 +144,17 @@ def check_images(
         The config's ``input_checks`` (:func:`plausibility_defaults` for any not
         given): the depths' range and the deflection factor.
 
+    read : collection of str, optional
+        The subjects whose photographs are opened (their files, pairs and readings
+        checked); None for every listed subject.  The other rows are checked as rows
+        of the sheet only: the raw-data check reads each batch's photographs in the
+        batch's job, and the sheet in the job that gathers them.
+
     Returns
     -------
     dict
-        Subject -> sorted depths (mm) of its photograph pairs; empty without images.csv.
+        Subject -> sorted depths (mm) of its photograph pairs (of the subjects read);
+        empty without images.csv.
     """
     shown = (raw_dir_shown or raw_dir).rstrip("/")
     limits = dict(plausibility or {})
@@ -213,6 +221,8 @@ def check_images(
                     f"a second {state} photograph of {subject} at {key[1]:g} mm; expected "
                     "one rest and one loaded photograph per depth",
                 )
+                continue
+            if read is not None and subject not in read:
                 continue
             path = os.path.join(raw_dir, "images", name)
             if problem := _photograph_file_problem(path, name, shown, raw_dir):

@@ -463,7 +463,9 @@ def check_dataset(
         The profiles and outlines already checked, batch by batch
         (:func:`check_subject_files` on every listed subject, in sheet order, merged):
         ``depths_mm``, ``outlines``, ``refused`` and their ``errors`` and
-        ``warnings``, taken as they are instead of reading those files here.
+        ``warnings``, taken as they are instead of reading those files here; and
+        ``photographs``, subject -> depths of its photograph pairs that passed
+        (:func:`check_images` with ``read``), whose photographs are then not opened here.
 
     Returns
     -------
@@ -506,7 +508,11 @@ def check_dataset(
             found,
             digitise,
             limits,
+            # checked batch by batch: the photographs were read there, the sheet is read here
+            read=None if checked is None else (),
         )
+    if checked is not None:
+        image_depths.update(checked.get("photographs", {}))
     check_subjects(
         subjects, sheet_shown, profile_dir, profile_dir_shown, found, id_pattern, photographed
     )

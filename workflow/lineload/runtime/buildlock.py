@@ -33,13 +33,14 @@ def lock_path(results_dir):
     return os.path.join(results_dir, LOCK_NAME)
 
 
-def this_build(argv=()):
-    """Who this build is: process id, host, working folder, start time (UTC) and command.
+def this_build(targets=()):
+    """Who this build is: process id, host, working folder, start time (UTC) and targets.
 
     Parameters
     ----------
-    argv : sequence of str, optional
-        The command line (for the message another build shows).
+    targets : iterable of str, optional
+        What the build was asked for (Snakemake's ``workflow.dag_settings.targets``;
+        none for the default target), written into the lock file for whoever finds it.
 
     Returns
     -------
@@ -50,7 +51,7 @@ def this_build(argv=()):
         "host": socket.gethostname(),
         "cwd": os.getcwd(),
         "started": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
-        "command": " ".join(os.path.basename(a) if i == 0 else a for i, a in enumerate(argv)),
+        "targets": sorted(map(str, targets)),
     }
 
 

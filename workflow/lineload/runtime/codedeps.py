@@ -11,6 +11,7 @@ runs when called).  Standard library only, so it is cheap at parse time.
 from __future__ import annotations
 
 import ast
+import os
 import re
 import textwrap
 from functools import cache
@@ -21,6 +22,22 @@ __all__ = ["PACKAGE", "PACKAGE_DIR", "module_files", "script_dependencies"]
 PACKAGE = "lineload"
 #: The folder of this package.
 PACKAGE_DIR = Path(__file__).resolve().parents[1]
+
+
+@cache
+def _layout(package_dir):
+    """The package's folders and ``.py`` files, relative (POSIX), listed once a process.
+
+    One walk of the folder instead of a file-system look-up for every name an
+    import statement might mean (Snakemake reads the rules on every start)."""
+    folders, files = set(), set()
+    for folder, subfolders, names in os.walk(package_dir):
+        relative = os.path.relpath(folder, package_dir).replace(os.sep, "/")
+        prefix = "" if relative == "." else f"{relative}/"
+        subfolders[:] = [d for d in subfolders if d != "__pycache__"]
+        folders.update(prefix + d for d in subfolders)
+        files.update(prefix + n for n in names if n.endswith(".py"))
+    return frozenset(folders), frozenset(files)
 
 
 def module_files(module, package_dir=PACKAGE_DIR):
@@ -34,7 +51,8 @@ def module_files(module, package_dir=PACKAGE_DIR):
     module : str
         Dotted name starting with ``lineload``.
     package_dir : pathlib.Path, optional
-        Folder of the package (tests point it at a package of their own).
+        Folder of the package (tests point it at a package of their own).  Its
+        layout is read once a process (:func:`_layout`).
 
     Returns
     -------
@@ -45,23 +63,21 @@ def module_files(module, package_dir=PACKAGE_DIR):
     parts = module.split(".")
     if parts[0] != PACKAGE:
         return []
-    files = []
-    folder = package_dir
+    folders, sources = _layout(package_dir)
+    found, prefix = [], ""
     for part in parts[1:]:
-        init = folder / "__init__.py"
-        if init.is_file():
-            files.append(init)
-        if (folder / part).is_dir():
-            folder = folder / part
-        elif (folder / f"{part}.py").is_file():
-            files.append(folder / f"{part}.py")
-            return files
+        if f"{prefix}__init__.py" in sources:
+            found.append(f"{prefix}__init__.py")
+        if f"{prefix}{part}" in folders:
+            prefix = f"{prefix}{part}/"
+        elif f"{prefix}{part}.py" in sources:
+            found.append(f"{prefix}{part}.py")
+            return [package_dir / name for name in found]
         else:
             return []
-    init = folder / "__init__.py"
-    if init.is_file():
-        files.append(init)
-    return files
+    if f"{prefix}__init__.py" in sources:
+        found.append(f"{prefix}__init__.py")
+    return [package_dir / name for name in found]
 
 
 def _module_name(path, package_dir):

@@ -630,13 +630,14 @@ def where_to_look(documents, report, built=()):
     return "\n".join(lines)
 
 
-def named_targets(argv, targets):
-    """What the targets named on the command line make, in the order given.
+def named_targets(asked, targets):
+    """What the targets asked for make, in the order of ``targets``.
 
     Parameters
     ----------
-    argv : list of str
-        The command line (``sys.argv``).
+    asked : collection of str
+        The targets of this run (Snakemake's ``workflow.dag_settings.targets``: rule
+        names and files; empty for the default target).
     targets : dict
         Target (a rule's name) -> list of (what, path) it makes.
 
@@ -644,10 +645,7 @@ def named_targets(argv, targets):
     -------
     list of (str, str)
     """
-    built = []
-    for word in argv[1:]:
-        built += targets.get(word, [])
-    return built
+    return [made for name, makes in targets.items() if name in asked for made in makes]
 
 
 def report_argument(argv):
