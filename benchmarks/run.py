@@ -20,8 +20,9 @@ Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
   and the time the jobs of the last clean build took (from their benchmark files).
 
 With ``--against CHECKOUT`` (another checkout of the project, e.g. an older commit in a
-temporary ``git worktree``) only the rerun with nothing changed and the ``fits`` target at
-each scale are measured, for both checkouts in turn (this one, that one, this one, ...),
+temporary ``git worktree``) only the clean build (with the import baseline before each),
+the rerun with nothing changed and the ``fits`` target at each scale are measured,
+for both checkouts in turn (this one, that one, this one, ...),
 with the one-rule floor before each rerun, so that a change in the machine's load falls
 on all alike; each runs its own code
 (``PYTHONPATH`` is set to its ``workflow/``).  ``--python`` runs Snakemake with another
@@ -45,6 +46,8 @@ import threading
 import time
 from pathlib import Path
 
+#: What every job imports at least: the clean build is measured in multiples of it.
+BASELINE_IMPORTS = "import numpy, pandas, scipy.optimize, matplotlib.pyplot"
 #: The targets the issues set (issue 34: clean build; issue 33: rerun and scale fits).
 #: The clean build, in multiples of the import baseline of the same session.
 CLEAN_BUILD_TARGET = 12
@@ -184,8 +187,36 @@ def side_by_side(against, repeats, scales, python, work):
 
     raw = work / "raw"
     shutil.copytree(REPO / "data" / "raw", raw)
-    for name, checkout in checkouts.items():  # each its own results, built once
-        run_in(checkout, snakemake(raw=raw, results=work / f"results-{name}", python=python))
+    baseline = []
+    alternate(
+        "clean build, default target (shipped data)",
+        # the import baseline before each build, so that their ratio sees one load
+        lambda name: (
+            shutil.rmtree(work / f"results-{name}", ignore_errors=True),
+            baseline.append(run([python, "-c", BASELINE_IMPORTS])),
+        ),
+        lambda name: snakemake(raw=raw, results=work / f"results-{name}", python=python),
+        repeats,
+        cpu=True,
+    )
+    clean_row = rows[-2]
+    base = statistics.median(measured[0] for measured in baseline)
+    rows.append(
+        (
+            f"import baseline (`{BASELINE_IMPORTS}`)",
+            base,
+            float("nan"),
+            {"baseline": [m[0] for m in baseline]},
+        )
+    )
+    rows.append(
+        (
+            f"clean build / import baseline (target <= {CLEAN_BUILD_TARGET:g})",
+            clean_row[1] / base,
+            clean_row[2] / base,
+            {},
+        )
+    )
     one_rule = make_one_rule_workflow(work / "one-rule", python)
     floor = []
     alternate(
@@ -302,9 +333,7 @@ def main():
     try:
         baseline, _ = median_of(
             args.repeats,
-            lambda: run(
-                [sys.executable, "-c", "import numpy, pandas, scipy.optimize, matplotlib.pyplot"]
-            ),
+            lambda: run([sys.executable, "-c", BASELINE_IMPORTS]),
         )
         rows.append(
             ("import numpy, pandas, scipy.optimize, matplotlib.pyplot", baseline, "", "baseline")
