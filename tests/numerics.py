@@ -326,6 +326,7 @@ def fit_row_tolerances(row, x_mm, y_mm, sandwich=False):
         # (relative 1e-8 or less): far below this
         tolerances[f"{model}_L_prior_share"] = 1e-6
     tolerances["boussinesq_A_prior_share"] = 1e-6
+    tolerances["boussinesq_A_wedge_share"] = 1e-6  # a ratio of the same variances
     if np.isfinite(row["boussinesq_A_mm"]):
         A, x0 = row["boussinesq_A_mm"], row["boussinesq_x0_mm"]
         # without a zero crossing (A <= 0) the row has no intercept: size from the data

@@ -127,6 +127,9 @@ class BatchFits:
         Share of the variance of the model's first parameter (L, or A) that the
         stated priors make (shared offset, tilt and depth error; for A also the
         wedge's position); NaN without a noise model.
+    wedge_share : numpy.ndarray
+        Share of that variance the wedge's position alone makes (A only: the fits of L
+        do not take it in); NaN without a noise model and for the fits of L.
     errors : dict of int to str
         Why a trial has no fit, by trial index.
     """
@@ -141,6 +144,7 @@ class BatchFits:
         self.fitted = np.zeros(count, dtype=bool)
         self.at_bound = np.zeros(count, dtype=bool)
         self.prior_share = np.full(count, np.nan)
+        self.wedge_share = np.full(count, np.nan)
         self.errors = {}
         self._chunks = []
         self._where = np.full((count, 2), -1)
@@ -158,6 +162,7 @@ class BatchFits:
         self.chi2[fitted] = chunk.chi2[ok]
         self.at_bound[fitted] = chunk.at_bound[ok]
         self.prior_share[fitted] = chunk.prior_share[ok]
+        self.wedge_share[fitted] = chunk.wedge_share[ok]
         self.fitted[fitted] = True
         self._where[trial_index, 0] = len(self._chunks)
         self._where[trial_index, 1] = np.arange(trial_index.size)
@@ -559,8 +564,10 @@ def fit_trials(
         fit = fits[model]
         for name, values in (*fit.params.items(), *list(fit.measures.items())[1:]):
             columns[f"{model}_{name}"] = values.tolist()
-        first = next(iter(fit.params))
-        columns[f"{model}_{first.removesuffix('_mm')}_prior_share"] = fit.prior_share.tolist()
+        first = next(iter(fit.params)).removesuffix("_mm")
+        columns[f"{model}_{first}_prior_share"] = fit.prior_share.tolist()
+        if f"{first}_wedge_share" in FAMILIES[model].table_columns:
+            columns[f"{model}_{first}_wedge_share"] = fit.wedge_share.tolist()
         if "L_mm" in fit.params:
             columns[f"{model}_L_at_bound"] = fit.at_bound.tolist()
     spread = {model: [fits[model].params["L_mm"]] for model in WINDOW_MODELS}

@@ -91,8 +91,9 @@ def _wedge_moments(x_mm, mask, wedge_sd_mm):
 
 
 def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
-    """95 % intervals on A and x0 given the points' covariance ``C`` (the sandwich), and
-    the share of A's variance that the stated priors make (NaN without their split).
+    """95 % intervals on A and x0 given the points' covariance ``C`` (the sandwich), the
+    share of A's variance that the stated priors make (NaN without their split), and the
+    share the wedge's position alone makes (0 when its prior is 0).
 
     The least-squares line ``a - A ln x`` has covariance ``V = (X'X)^-1 X'CX
     (X'X)^-1`` (``X = [1, -ln x]``); A's interval is ``A +- 1.96 sqrt(V_AA)``,
@@ -113,15 +114,37 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
     ``A**2 S``; the fitted A and x0 stay the least-squares values.  The
     correction assumes the logarithm holds down to the first reading, as the
     model says; for a profile that is smoother there it widens the intervals
-    a little, and it rests on the prior (its share of A's variance is reported
-    with the others', :func:`lineload.fitting.intervals._prior_share`).
+    a little, and it rests on the prior: its share of A's variance is in the
+    priors' share with the others' (:func:`lineload.fitting.intervals._prior_share`)
+    and reported alone too (``A_wedge_share``, ``A**2 (h h')_AA / V_AA``).
+
+    The shift is a prior, not estimated from each trial. The wedge's shift ``d`` reaches
+    the readings only through the left-right difference, where it adds ``2 d w'(x)`` to
+    the finger's own difference of its two sides, ``a(x) = w_l(x) - w_r(x)``. ``d``
+    could be told from ``a`` only if ``a`` were known to lie in a family that ``w'`` is
+    not in; nothing in the readings says which family. For every ``d'``, the finger
+    ``a'(x) = a(x) + 2 (d - d') w'(x)`` read with the wedge at ``d'`` gives the same
+    readings, and ``a'`` is a finger as plausible as ``a``: one side stiffer than the
+    other, a bone off the axis, or a pad a little thicker on one side each make a smooth
+    difference with a component along ``w'``. For the membrane, ``w'`` is a line, which
+    the offset and rotation of the sides already hold; for this form it is ``-A/x``, and
+    a finger one of whose sides has a larger ``A`` makes a multiple of ``ln x``, which
+    the noise fit's fixed effects (offset, slope, quadratic and the wedge's ``-A/x``)
+    fit to within the reading noise with a shift of the prior's size:
+    ``tests/test_wedge_share.py`` recovers a known shift from a symmetric finger and
+    fits a finger whose sides' ``A`` differ by 10 %, read without any shift, with a
+    shift of more than half the default prior (``docs/calibration/wedge.md``, made by
+    ``docs/calibration/scripts/wedge_study.py``, gives the sizes). So the shift is not
+    identifiable apart from the finger's own asymmetry; it stays a prior (config
+    ``noise.wedge_position_sd_mm``, an assumed default), and the fit table shows its
+    weight.
     """
     X = np.stack([np.ones(trials.x.shape), -np.log(trials.x)], axis=-1)
     X = np.where(trials.mask[:, :, None], X, 0.0)
     z = np.sqrt(CHI2_1DOF_95)
     count = A_mm.size
     ends = {name: np.full(count, np.nan) for name in ("A_low", "A_high", "x0_low", "x0_high")}
-    share = np.full(count, np.nan)
+    share, wedge_share = np.full(count, np.nan), np.full(count, np.nan)
     information = np.einsum("tik,til->tkl", X, X)
     ok = np.isfinite(A_mm) & (np.abs(np.linalg.det(information)) > 0)
     if ok.any():
@@ -140,6 +163,8 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
         wedge = (A**2)[:, None, None] * np.einsum("tkn,tln->tkl", h, h)
         V = V + wedge
         sd_A = np.sqrt(np.maximum(V[:, 1, 1], 0.0)) / stretch
+        with np.errstate(divide="ignore", invalid="ignore"):
+            wedge_share[rows] = np.clip(wedge[:, 1, 1] / V[:, 1, 1], 0.0, 1.0)
         part = trials.take(rows)
         if part.prior_covariance is not None:
             # the priors' share of A's variance: shared offset, tilt, depth and the wedge
@@ -163,7 +188,7 @@ def _boussinesq_sandwich_intervals(trials, intercept, A_mm):
         "x0_ci_low_mm": ends["x0_low"],
         "x0_ci_high_mm": ends["x0_high"],
     }
-    return intervals, share
+    return intervals, share, wedge_share
 
 
 def fit_boussinesq_chunk(trials, depth_mm=None):
@@ -188,10 +213,12 @@ def fit_boussinesq_chunk(trials, depth_mm=None):
         x[rising], A_mm[rising, None], x0_mm[rising, None]
     )
     params = {"A_mm": A_mm, "x0_mm": x0_mm}
-    share = None
+    share = wedge_share = None
     if trials.covariance is None:
         params.update(_boussinesq_intervals(trials, intercept, A_mm))
     else:
-        intervals, share = _boussinesq_sandwich_intervals(trials, intercept, A_mm)
+        intervals, share, wedge_share = _boussinesq_sandwich_intervals(trials, intercept, A_mm)
         params.update(intervals)
-    return _ChunkFit("boussinesq", trials, params, residual, prior_share=share)
+    return _ChunkFit(
+        "boussinesq", trials, params, residual, prior_share=share, wedge_share=wedge_share
+    )

@@ -262,6 +262,7 @@ FAMILIES = {
                 "A_ci_low_mm",
                 "A_ci_high_mm",
                 "A_prior_share",
+                "A_wedge_share",
                 "x0_ci_low_mm",
                 "x0_ci_high_mm",
                 *_MEASURE_COLUMNS,

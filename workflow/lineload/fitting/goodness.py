@@ -121,7 +121,15 @@ class _ChunkFit:
     what a solver returns; the engine adds the measures (:func:`_measures`)."""
 
     def __init__(
-        self, model, trials, params, residual_mm, errors=None, at_bound=None, prior_share=None
+        self,
+        model,
+        trials,
+        params,
+        residual_mm,
+        errors=None,
+        at_bound=None,
+        prior_share=None,
+        wedge_share=None,
     ):
         self.model = model
         self.trials = trials
@@ -129,6 +137,7 @@ class _ChunkFit:
         count = trials.n.size
         self.at_bound = np.zeros(count, dtype=bool) if at_bound is None else at_bound
         self.prior_share = np.full(count, np.nan) if prior_share is None else prior_share
+        self.wedge_share = np.full(count, np.nan) if wedge_share is None else wedge_share
         self.residual_mm = residual_mm
         self.errors = errors or {}
         self.chi2 = (

@@ -253,6 +253,7 @@ def _fit_facts(fits, checks, noise_mm):
         "noise_mm": f"{noise_mm:g}",
         "prior_share_L": _share_span(fits, "waterbed_L_prior_share"),
         "prior_share_A": _share_span(fits, "boussinesq_A_prior_share"),
+        "wedge_share_A": _share_span(fits, "boussinesq_A_wedge_share"),
     }
 
 
@@ -353,7 +354,8 @@ def _prior_facts(claims):
 
 
 def _share_span(fits, column):
-    """The range of a ``*_prior_share`` column in per cent ('–' without one)."""
+    """The range of a ``*_prior_share`` or ``*_wedge_share`` column in per cent ('–'
+    without one)."""
     if column not in fits:
         return "–"
     return span_text(100 * fits[column].to_numpy(float), 0, " %")

@@ -150,12 +150,13 @@ def column_label(column):
 #: Decimals of a value without an uncertainty, by its column's unit or kind (the first
 #: suffix that matches), as the article prints them: mm to the micrometre and a tenth
 #: (RMSE 0.0172), AICc to 0.1; the smallest and largest L over the fit windows as L
-#: itself (0.01 mm), a prior's share of an interval to 0.001.
+#: itself (0.01 mm), a prior's (or the wedge's) share of an interval to 0.001.
 _PLAIN_DECIMALS = (
     ("_aicc", 1),
     ("_window_min_mm", 2),
     ("_window_max_mm", 2),
     ("_prior_share", 3),
+    ("_wedge_share", 3),
     ("_mm", 4),
     ("_um", 1),
     ("_N", 3),
