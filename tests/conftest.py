@@ -350,6 +350,20 @@ def shipped_build(tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
+def photograph_build(tmp_path_factory):
+    """The photograph example (``data/photographs``, which test_photographs.py shows is
+    the generator's, byte for byte, with ``config/photographs.yaml``) built whole, from
+    images to article: ``(raw, results)``."""
+
+    def make(folder):
+        raw, results = REPO / "data" / "photographs", folder / "results"  # raw: read only
+        config = ("--configfile", str(REPO / "config" / "photographs.yaml"))
+        return raw, results, run_snakemake(*config, raw=raw, results=results)
+
+    return shared(tmp_path_factory, "photographs", make)
+
+
+@pytest.fixture(scope="session")
 def checkout_build(tmp_path_factory):
     """A copy of the checkout with the small dataset (the notice, outlines) in its folder
     ``raw`` and its results in ``results``, both named relative to it, built whole from
