@@ -63,7 +63,10 @@ def write_small_dataset(raw_dir, subjects=None, magnification=20.0, seed=7):
 
 #: Modules whose tests run longest (a real cluster, builds killed and resumed, a copied
 #: checkout built whole): collected first, so that pytest-xdist starts them first and
-#: the short tests fill the other workers meanwhile.
+#: the short tests fill the other workers meanwhile.  That needs ``--maxschedchunk=1``
+#: (pyproject.toml): by default xdist 3.8 first hands each worker a quarter of its share
+#: of consecutive tests (83 of 1007 on three workers), so one worker got every long test
+#: in a row.
 LONGEST_FIRST = ("test_slurm.py", "test_cluster.py", "test_portable.py", "test_determinism.py")
 
 
@@ -347,6 +350,20 @@ def shipped_build(tmp_path_factory):
     outputs = [f"tables/{name}" for name in ("fits.csv", "claims.csv", "mechanics.csv")]
     outputs.append("article/reproduction.pdf")
     return shared_build(tmp_path_factory, "shipped", shipped, outputs)
+
+
+@pytest.fixture(scope="session")
+def photograph_build(tmp_path_factory):
+    """The photograph example (``data/photographs``, which test_photographs.py shows is
+    the generator's, byte for byte, with ``config/photographs.yaml``) built whole, from
+    images to article: ``(raw, results)``."""
+
+    def make(folder):
+        raw, results = REPO / "data" / "photographs", folder / "results"  # raw: read only
+        config = ("--configfile", str(REPO / "config" / "photographs.yaml"))
+        return raw, results, run_snakemake(*config, raw=raw, results=results)
+
+    return shared(tmp_path_factory, "photographs", make)
 
 
 @pytest.fixture(scope="session")

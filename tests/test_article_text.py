@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 import articletext
-from conftest import REPO, reading_grid_mm, run_snakemake, shared, shared_build
+from conftest import REPO, reading_grid_mm, shared_build
 from lineload.publishing.article import calibration_design
 
 TEMPLATE = REPO / "workflow" / "article" / "reproduction.typ"
@@ -42,18 +42,6 @@ def write_half_space_dataset(folder, seed=11):
 @pytest.fixture(scope="session")
 def half_space_build(tmp_path_factory):
     return shared_build(tmp_path_factory, "half-space", write_half_space_dataset, OUTPUTS)
-
-
-@pytest.fixture(scope="session")
-def photograph_build(tmp_path_factory):
-    def make(folder):
-        raw, results = REPO / "data" / "photographs", folder / "results"
-        config = ("--configfile", str(REPO / "config" / "photographs.yaml"))
-        targets = [str(results / o) for o in OUTPUTS]  # before --configfile, which takes many
-        done = run_snakemake(*targets, *config, raw=raw, results=results)
-        return raw, results, done
-
-    return shared(tmp_path_factory, "photographs", make)
 
 
 @pytest.fixture(scope="session")

@@ -261,7 +261,7 @@ def test_the_shipped_photograph_example_is_the_generators():
 
 
 @pytest.mark.e2e
-def test_the_photograph_example_builds_from_images_to_article(tmp_path):
+def test_the_photograph_example_builds_from_images_to_article(photograph_build):
     from lineload.simulation.synthetic import (
         PHOTOGRAPH_DEPTHS_MM,
         PHOTOGRAPH_SUBJECTS,
@@ -269,10 +269,7 @@ def test_the_photograph_example_builds_from_images_to_article(tmp_path):
         trial_parameters,
     )
 
-    raw = photograph_folder(tmp_path / "raw")
-    results = tmp_path / "results"
-    made = run_snakemake(raw=raw, results=results, config=["digitise__reach_mm=6.5"])
-    assert made.returncode == 0, made.stderr[-3000:]
+    _, results = photograph_build  # the whole build, shared with test_article_text.py
     assert (results / "article" / "reproduction.pdf").stat().st_size > 0
     fits = pd.read_csv(results / "tables" / "fits.csv")
     assert sorted(fits["subject"].unique()) == sorted(PHOTOGRAPH_SUBJECTS)
