@@ -284,7 +284,7 @@ def _comparison_text(n_better, n_compared):
     return (
         "Near the wedge neither form leaves the smaller residuals in every trial: the waterbed "
         f"does in {n_better} of {counted(n_compared, 'trial')}, the half-space form in the "
-        f"other {n_compared - n_better}"
+        + ("other one" if n_compared - n_better == 1 else f"other {n_compared - n_better}")
     )
 
 
