@@ -954,3 +954,12 @@ def test_c13_is_not_made_to_hold_by_its_own_noise_correction():
     same["bending_rmse_mm"] = same["waterbed_rmse_mm"]  # the fit took nothing, in every trial
     row = CLAIM_FUNCTIONS["C13"](same, averaged, ClaimSettings(noise_mm=0.002))
     assert row["verdict"] != HOLDS, row["our_value"]
+
+
+def test_the_summary_sentence_agrees_in_number():
+    from lineload.claims import summary_sentence
+
+    one_each = pd.DataFrame({"verdict": [HOLDS, FAILS], "kind": ["paper claim"] * 2})
+    assert "1 holds and 1 does not" in summary_sentence(one_each)
+    several = pd.DataFrame({"verdict": [HOLDS, HOLDS, FAILS, FAILS], "kind": ["paper claim"] * 4})
+    assert "2 hold and 2 do not" in summary_sentence(several)

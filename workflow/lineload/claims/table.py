@@ -106,7 +106,8 @@ def summary_sentence(claims):
     counts = verdict_counts(claims)
     text = (
         f"Of the paper's {counts['paper_claims']} claims about fingers, the data tested "
-        f"{counts['evidence']}: {counts[HOLDS]} hold and {counts[FAILS]} do not"
+        f"{counts['evidence']}: {counts[HOLDS]} {'holds' if counts[HOLDS] == 1 else 'hold'} "
+        f"and {counts[FAILS]} {'does' if counts[FAILS] == 1 else 'do'} not"
     )
     extras = []
     if counts[UNTESTABLE]:
