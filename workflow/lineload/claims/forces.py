@@ -12,6 +12,7 @@ from lineload.claims.rows import _every, _list, _n, _row
 from lineload.claims.verdicts import FAILS, HOLDS, UNTESTABLE
 from lineload.publishing.tables import format_fixed
 from lineload.publishing.tables import span_text as _span
+from lineload.trials import trial_key
 
 __all__ = [
     "claim_c11",
@@ -55,7 +56,7 @@ def _force_checks(fits, forces, force_sd_N):
         L_sd = mechanics.sd_from_interval(
             rows[f"{variant}_L_ci_low_mm"], rows[f"{variant}_L_ci_high_mm"]
         )
-        force = np.array([lookup.get((str(subject), round(d, 9)), np.nan) for d in depth])
+        force = np.array([lookup.get(trial_key(subject, d), np.nan) for d in depth])
         use = np.isfinite(force) & np.isfinite(L_mm) & np.isfinite(L_sd)
         if np.unique(depth[use]).size < 2:
             continue

@@ -15,6 +15,7 @@ from lineload.claims.trials import _averaged_covariance_mm2, _label, _trials, _w
 from lineload.claims.verdicts import FAILS, HOLDS, NO_MARGIN, UNTESTABLE
 from lineload.publishing.tables import format_fixed
 from lineload.publishing.tables import span_text as _span
+from lineload.trials import DEPTH_DECIMALS
 
 __all__ = [
     "claim_c1",
@@ -39,7 +40,7 @@ def claim_c1(fits, averaged, settings):
         covariance = _averaged_covariance_mm2(x, sides, w, fit, settings)
         threshold_mm = fraction * float(fit["depth_mm"])
         extent = deformed_extent_se_mm(x, w, threshold_mm, covariance)
-        key = round(float(fit["depth_mm"]), 9)
+        key = round(float(fit["depth_mm"]), DEPTH_DECIMALS)
         extents.setdefault(key, {}).setdefault(str(fit["species"]), []).append(extent)
     rule = (
         "Extent of a trial = distance at which the averaged deflection last falls through "

@@ -39,6 +39,7 @@ from lineload.bending import bending_deflection_mm
 from lineload.fitting.goodness import FitResult, goodness_of_fit
 from lineload.fitting.optimize import CHI2_1DOF_95
 from lineload.fitting.windows import in_fit_window, window_covariance
+from lineload.trials import DEPTH_DECIMALS
 
 __all__ = [
     "BENDING_COLUMNS",
@@ -376,8 +377,8 @@ def with_bending(fits, bending):
     columns = [c for c in bending.columns if c.startswith("bending_")]
     keep = fits.drop(columns=[c for c in columns if c in fits.columns])
     right = bending[["subject", "depth_mm", *columns]].copy()
-    right["depth_mm"] = right["depth_mm"].astype(float).round(9)
-    left = keep.assign(_depth=keep["depth_mm"].astype(float).round(9))
+    right["depth_mm"] = right["depth_mm"].astype(float).round(DEPTH_DECIMALS)
+    left = keep.assign(_depth=keep["depth_mm"].astype(float).round(DEPTH_DECIMALS))
     merged = left.merge(
         right.rename(columns={"depth_mm": "_depth"}), on=["subject", "_depth"], how="left"
     )

@@ -13,6 +13,7 @@ import re
 from lineload.rawdata.errors import collecting
 from lineload.rawdata.plausibility import plausibility_defaults
 from lineload.rawdata.sheets import read_table
+from lineload.trials import trial_key
 
 __all__ = ["check_forces", "read_forces"]
 
@@ -107,7 +108,7 @@ def check_forces(
                     f"profiles/{subject}.csv ({listed})",
                 )
                 continue
-            key = (subject, round(float(depth_mm), 9))
+            key = trial_key(subject, depth_mm)
             if key in seen:
                 found.error(
                     shown,
