@@ -8,7 +8,7 @@ from snakemake.exceptions import IncompleteCheckpointException, WorkflowError
 from snakemake.io import strip_wildcard_constraints
 from snakemake.utils import min_version, validate
 
-from lineload.runtime import buildlock, codedeps, settings, startup
+from lineload.runtime import batches, buildlock, codedeps, settings, startup
 from lineload.rawdata import validation
 from lineload.runtime.interrupt import stop_on_sigterm
 from lineload.io import load_schema
@@ -82,17 +82,10 @@ NOTICE = config["data_notice"] = startup.notice_text(
     config["data_notice"], RAW_FILES["notice"]
 )
 
-# Per-subject work runs in batches (Python's start-up paid once per job): up to 8 jobs
-# per rule; a batch of one is named after its subject, a larger one "M1+124".
-PER_JOB = config["subjects_per_job"]
-if PER_JOB == "auto":
-    PER_JOB = max(1, -(-len(SUBJECT_IDS) // 8))
-BATCHES = {}
-for start in range(0, len(SUBJECT_IDS), PER_JOB):
-    members = SUBJECT_IDS[start : start + PER_JOB]
-    BATCHES[members[0] if len(members) == 1 else f"{members[0]}+{len(members) - 1}"] = (
-        members
-    )
+# Per-subject work runs in batches (Python's start-up paid once per job): see
+# lineload.runtime.batches for the split; a batch of one is named after its subject,
+# a larger one "M1+124".
+BATCHES = batches.batches(SUBJECT_IDS, config["subjects_per_job"])
 BATCH_IDS = list(BATCHES)
 
 
