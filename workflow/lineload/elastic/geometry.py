@@ -316,9 +316,9 @@ def sample_sections(species, count, seed, fits=None):
                 if name == "bone_length":
                     continue
                 span = getattr(species, name)
-                values[f"{name}_mm"] = span.low_mm + share * (span.high_mm - span.low_mm)
+                values[f"{name}_mm"] = float(span.low_mm + share * (span.high_mm - span.low_mm))
             low, high = BONE_LENGTH_SHARE
-            values["bone_length_mm"] = values["length_mm"] * (low + u[2] * (high - low))
+            values["bone_length_mm"] = float(values["length_mm"] * (low + u[2] * (high - low)))
             try:
                 section = FingerSection(**values)
             except ValueError:
