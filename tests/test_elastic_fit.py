@@ -64,7 +64,7 @@ def _defaults(node):
 def config_grid():
     """The library's grid at the configuration's defaults (the committed library's)."""
     schema = yaml.safe_load(SCHEMA.read_text())
-    return LibraryGrid.from_config(_defaults(schema["properties"]["elastic"])["library"])
+    return LibraryGrid.from_config(_defaults(schema["properties"]["elastic"]))
 
 
 @cache

@@ -1,5 +1,5 @@
 # The elastic fingertip's solution library (not part of the default build): the
-# finite-element finger solved over its grid (config elastic.library), one job per
+# finite-element finger solved over its grid (config elastic), one job per
 # species, gathered into one table. Minutes on two cores; the table is kept in the
 # repository (data/elastic/library.csv), from which the default build's elastic_fits
 # reads. Build with `snakemake --cores 2 elastic_library`.
@@ -24,7 +24,7 @@ rule elastic_library_species:
         ENVIRONMENT
     params:
         species=lambda wildcards: wildcards.species,
-        grid=config["elastic"]["library"],
+        grid={k: v for k, v in config["elastic"].items() if k != "library_file"},
     script:
         "../scripts/build_elastic_library.py"
 

@@ -61,7 +61,7 @@ SIZE_DECIMALS = 4
 
 @dataclass(frozen=True)
 class LibraryGrid:
-    """The library's grid (the configuration's ``elastic.library``).
+    """The library's grid (the configuration's ``elastic`` keys).
 
     Attributes
     ----------
@@ -97,19 +97,19 @@ class LibraryGrid:
     grade: float
 
     @classmethod
-    def from_config(cls, library):
-        """The grid from the configuration's ``elastic.library`` mapping."""
+    def from_config(cls, elastic):
+        """The grid from the configuration's ``elastic`` mapping (other keys ignored)."""
         return cls(
-            depths_mm=tuple(float(d) for d in library["depths_mm"]),
-            ratio_max=float(library["ratio_max"]),
-            ratios=int(library["ratios"]),
-            thicknesses=int(library["thicknesses"]),
-            sections=int(library["sections"]),
-            seed=int(library["seed"]),
-            first_mm=float(library["distances_mm"]["first"]),
-            last_mm=float(library["distances_mm"]["last"]),
-            distances=int(library["distances_mm"]["points"]),
-            grade=float(library["grade"]),
+            depths_mm=tuple(float(d) for d in elastic["depths_mm"]),
+            ratio_max=float(elastic["ratio_max"]),
+            ratios=int(elastic["ratios"]),
+            thicknesses=int(elastic["thicknesses"]),
+            sections=int(elastic["sections"]),
+            seed=int(elastic["section_seed"]),
+            first_mm=float(elastic["first_distance_mm"]),
+            last_mm=float(elastic["last_distance_mm"]),
+            distances=int(elastic["distances"]),
+            grade=float(elastic["grade"]),
         )
 
     def modulus_ratios(self):
