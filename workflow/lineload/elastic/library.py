@@ -11,9 +11,8 @@ per unit length per unit pulp modulus (mm) comes with each profile: a recorded f
 the modulus.
 
 One row per (species, section, thickness, ratio, depth): the section's sizes, the force, then
-the deflections, columns ``deflection_at_<x>_mm``. :func:`library_columns` names them;
-:func:`library_rows` builds a species' rows, :func:`grid_distances_mm` reads the distances back
-from a table's header.
+the deflections, columns ``deflection_at_<x>_mm`` (:mod:`lineload.elastic.table`, which the
+fits read without importing the solver). :func:`library_rows` builds a species' rows.
 """
 
 from __future__ import annotations
@@ -25,38 +24,24 @@ import numpy as np
 from lineload.elastic import materials, solver
 from lineload.elastic import mesh as meshing
 from lineload.elastic.geometry import SPECIES, sample_sections
+from lineload.elastic.table import (
+    DEFLECTION_DECIMALS,
+    KEY_COLUMNS,
+    SIZE_DECIMALS,
+    column_of,
+    grid_distances_mm,
+    library_columns,
+)
 from lineload.elastic.wedge import Wedge
 
 __all__ = [
-    "DEFLECTION_PREFIX",
     "KEY_COLUMNS",
     "LibraryGrid",
     "grid_distances_mm",
     "library_columns",
     "library_rows",
+    "library_sections",
 ]
-
-#: The columns that say which profile a row is, then its force.
-KEY_COLUMNS = (
-    "species",
-    "section",
-    "length_mm",
-    "height_mm",
-    "bone_length_mm",
-    "bone_height_mm",
-    "pad_thickness_mm",
-    "layer_thickness_mm",
-    "modulus_ratio",
-    "depth_mm",
-    "force_per_length_per_pulp_modulus_mm",
-    "elements",
-)
-#: A deflection column is ``deflection_at_<distance>_mm``.
-DEFLECTION_PREFIX = "deflection_at_"
-#: Decimals of the deflections written (mm): 1 nm, far below the mesh's micrometres.
-DEFLECTION_DECIMALS = 6
-#: Decimals of the sizes written (mm).
-SIZE_DECIMALS = 4
 
 
 @dataclass(frozen=True)
@@ -126,26 +111,6 @@ class LibraryGrid:
     def distances_mm(self):
         """The distance grid (mm), rounded as its column names write it."""
         return np.round(np.geomspace(self.first_mm, self.last_mm, self.distances), SIZE_DECIMALS)
-
-
-def _column(distance_mm):
-    return f"{DEFLECTION_PREFIX}{distance_mm:.{SIZE_DECIMALS}f}_mm"
-
-
-def library_columns(distances_mm):
-    """The library's columns for a distance grid."""
-    return [*KEY_COLUMNS, *(_column(x) for x in distances_mm)]
-
-
-def grid_distances_mm(columns):
-    """The distances (mm) of a library table's deflection columns, in column order."""
-    return np.array(
-        [
-            float(c[len(DEFLECTION_PREFIX) : -len("_mm")])
-            for c in columns
-            if c.startswith(DEFLECTION_PREFIX)
-        ]
-    )
 
 
 def library_sections(species, grid):
@@ -224,7 +189,7 @@ def library_rows(species, grid, sections=None, thicknesses_mm=None, ratios=None,
                             ),
                             "elements": solution.elements,
                             **{
-                                _column(x): round(float(w), DEFLECTION_DECIMALS)
+                                column_of(x): round(float(w), DEFLECTION_DECIMALS)
                                 for x, w in zip(distances_mm, deflection_mm, strict=True)
                             },
                         }

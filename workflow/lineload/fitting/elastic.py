@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lineload.elastic.library import grid_distances_mm
+from lineload.elastic.table import DEFLECTION_PREFIX, grid_distances_mm
 from lineload.fitting.goodness import goodness_of_fit
 from lineload.fitting.optimize import CHI2_1DOF_95
 from lineload.fitting.windows import in_fit_window
@@ -138,7 +138,7 @@ def library_blocks(table):
     from scipy.interpolate import CubicSpline  # here: the fit table's job imports this
 
     distance_mm = grid_distances_mm(table.columns)
-    columns = [c for c in table.columns if c.startswith("deflection_at_")]
+    columns = [c for c in table.columns if c.startswith(DEFLECTION_PREFIX)]
     blocks = {}
     for (species, depth_mm), rows in table.groupby(["species", "depth_mm"], sort=True):
         rows = rows.sort_values(["section", "layer_thickness_mm", "modulus_ratio"])
