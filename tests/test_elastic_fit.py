@@ -237,3 +237,80 @@ def test_trials_without_a_library_block_or_points_get_a_note():
     assert np.isnan(rows[1]["elastic_layered_modulus_ratio"])
     far = fit_elastic_trials([x], [y], ["human"], [1.0], 10.0, blocks())[0]
     assert "past the library" in far["elastic_note"]
+
+
+# --- Figures (drawn by functions not yet in the registry) ------------------------------------
+
+
+def _library_made_dataset():
+    """Two subjects (a monkey, a human) at 1 and 2 mm from library profiles with noise, their
+    elastic fits, and the subject sheet."""
+    from lineload.fitting.elastic import ELASTIC_COLUMNS
+
+    rng = np.random.default_rng(5)
+    points, x_all, y_all, species_all, depth_all, keys = [], [], [], [], [], []
+    for subject, species, k in (("M1", "monkey", 40), ("H1", "human", 72)):
+        for depth_mm in (1.0, 2.0):
+            block = find_block(blocks(), species, depth_mm)
+            y = block.curves_at(DISTANCE_MM)[3, 1, k] + rng.normal(0, NOISE_SD_MM, DISTANCE_MM.size)
+            points += [
+                {"subject": subject, "depth_mm": depth_mm, "distance_mm": xi, "deflection_mm": yi}
+                for xi, yi in zip(DISTANCE_MM, y, strict=True)
+            ]
+            x_all.append(DISTANCE_MM)
+            y_all.append(y)
+            species_all.append(species)
+            depth_all.append(depth_mm)
+            keys.append((subject, species))
+    rows = fit_elastic_trials(x_all, y_all, species_all, depth_all, WINDOW_MM, blocks())
+    elastic = pd.DataFrame(
+        [{"subject": s, "species": p, **row} for (s, p), row in zip(keys, rows, strict=True)]
+    )[ELASTIC_COLUMNS]
+    subjects = pd.DataFrame(
+        {"subject": ["M1", "H1"], "species": ["monkey", "human"], "label": ["Monkey 1", "Human 1"]}
+    )
+    return pd.DataFrame(points), elastic, subjects
+
+
+def test_the_examples_draw_each_fit_from_the_library_at_its_parameters():
+    import matplotlib.pyplot as plt
+
+    from lineload.figures.elastic import figure_elastic_examples
+
+    averaged, elastic, subjects = _library_made_dataset()
+    fig = figure_elastic_examples(averaged, elastic, library_table(), subjects, WINDOW_MM)
+    try:
+        axes = [ax for ax in fig.axes if any(line.get_gid() == "data" for line in ax.lines)]
+        assert len(axes) == 2
+        for ax, (subject, depth_mm) in zip(axes, [("M1", 1.0), ("H1", 1.0)], strict=True):
+            row = elastic[(elastic["subject"] == subject) & (elastic["depth_mm"] == depth_mm)]
+            data = next(line for line in ax.lines if line.get_gid() == "data")
+            x, y = data.get_xdata(), data.get_ydata()
+            for name in ("homogeneous", "layered"):
+                curve = next(line for line in ax.lines if line.get_gid() == f"elastic:{name}")
+                at_points = np.interp(np.log(x), np.log(curve.get_xdata()), curve.get_ydata())
+                sse = float(np.sum((y - at_points) ** 2))
+                # the drawn curve is the fitted one: its sum of squares is the table's (to the
+                # 300-point curve's interpolation and the ratio's refinement)
+                expected = float(row[f"elastic_{name}_sse_mm2"].iloc[0])
+                assert sse == pytest.approx(expected, rel=0.05)
+    finally:
+        plt.close(fig)
+
+
+def test_the_ratio_figure_marks_estimates_at_the_librarys_end_open():
+    import matplotlib.pyplot as plt
+
+    from lineload.figures.elastic import figure_elastic_ratios
+
+    _, elastic, subjects = _library_made_dataset()
+    elastic.loc[0, "elastic_layered_ratio_at_bound"] = 1.0
+    fig = figure_elastic_ratios(elastic, subjects)
+    try:
+        gids = [line.get_gid() for ax in fig.axes for line in ax.lines if line.get_gid()]
+        assert gids.count("ratio-bound:M1") == 1
+        assert gids.count("ratio:M1") == 1 and gids.count("ratio:H1") == 2
+    finally:
+        plt.close(fig)
+    empty = figure_elastic_ratios(elastic.iloc[0:0], subjects)
+    plt.close(empty)

@@ -45,6 +45,7 @@ __all__ = [
     "LibraryBlock",
     "fit_elastic",
     "fit_elastic_trials",
+    "fitted_curve_mm",
     "library_blocks",
 ]
 
@@ -184,6 +185,37 @@ def find_block(blocks, species, depth_mm):
         if name == species and abs(depth - depth_mm) <= DEPTH_TOLERANCE_MM:
             return block
     return None
+
+
+def fitted_curve_mm(block, distance_mm, section, thickness_mm, ratio):
+    """A fitted finger's deflection (mm) at the given distances, from the library.
+
+    Parameters
+    ----------
+    block : LibraryBlock
+        The library's profiles of the trial's species and depth.
+    distance_mm : array_like
+        Distances inside the block's reach (mm).
+    section : int
+        The section's index in the library (``*_section`` of the fit table).
+    thickness_mm : float
+        The outer layer's thickness (mm; any of the block's for a homogeneous finger).
+    ratio : float
+        The modulus ratio, within the block's (1 for a homogeneous finger); between the fine
+        grid's ratios the deflection is linear in ``ln ratio``.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
+    curves = block.curves_at(distance_mm)
+    g = int(np.flatnonzero(block.sections == section)[0])
+    t = int(np.argmin(np.abs(block.thicknesses_mm - thickness_mm)))
+    log_r = np.log(block.ratios)
+    position = np.interp(np.log(ratio), log_r, np.arange(log_r.size))
+    k = min(int(position), log_r.size - 2)
+    weight = position - k
+    return curves[g, t, k] * (1 - weight) + curves[g, t, k + 1] * weight
 
 
 def _interval(ratios, profile_sse, limit):
