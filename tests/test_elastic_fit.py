@@ -174,35 +174,63 @@ def test_interpolation_matches_a_direct_solve_between_the_library_ratios(species
 # --- Fits ------------------------------------------------------------------------------------
 
 
-def _noisy_fits(species, depth_mm, section, thickness, k, replicates, seed):
+def _noisy_fits(species, depth_mm, section, thickness, k, replicates, seed, covariance=None):
     block = find_block(blocks(), species, depth_mm)
     truth = block.curves_at(DISTANCE_MM)[section, thickness, k]
     rng = np.random.default_rng(seed)
     fits = [
-        fit_elastic(DISTANCE_MM, truth + rng.normal(0, NOISE_SD_MM, truth.size), block)
+        fit_elastic(DISTANCE_MM, truth + rng.normal(0, NOISE_SD_MM, truth.size), block, covariance)
         for _ in range(replicates)
     ]
     return block.ratios[k], pd.DataFrame(fits)
+
+
+#: The noise's own covariance: independent points of the stated SD.
+KNOWN_MM2 = NOISE_SD_MM**2 * np.eye(DISTANCE_MM.size)
 
 
 def _covers(fits, ratio):
     return (fits["layered_ratio_ci_low"] <= ratio) & (ratio <= fits["layered_ratio_ci_high"])
 
 
+@pytest.mark.parametrize("covariance", [None, KNOWN_MM2], ids=["unknown", "known"])
 @pytest.mark.parametrize(("species", "depth_mm", "node"), [("human", 1.0, 4), ("monkey", 1.5, 2)])
-def test_layered_ratio_is_recovered_with_an_interval_that_covers(species, depth_mm, node):
+def test_layered_ratio_is_recovered_with_an_interval_that_covers(
+    species, depth_mm, node, covariance
+):
     # library-made profiles (a section and thickness of the library, a ratio between two of
-    # its nodes) with noise: the estimate centres on the truth and the 95 % interval covers
-    # it at about its rate (200 replicates: a coverage of 0.95 has a Monte-Carlo error of
-    # 0.015, so 0.90 is more than three of those below)
+    # its nodes) with noise: the estimate centres on the truth and the 95 % interval (noise
+    # of unknown size, or its covariance given) covers it at about its rate (200
+    # replicates: a coverage of 0.95 has a Monte-Carlo error of 0.015, so 0.90 is more than
+    # three of those below)
     k = node * RATIO_REFINEMENT + RATIO_REFINEMENT // 2
-    ratio, fits = _noisy_fits(species, depth_mm, 3, 1, k, 200, seed=36)
+    ratio, fits = _noisy_fits(species, depth_mm, 3, 1, k, 200, seed=36, covariance=covariance)
     assert np.median(fits["layered_modulus_ratio"]) == pytest.approx(ratio, rel=0.05)
     assert _covers(fits, ratio).mean() >= 0.90
     # the complement: a ratio half as large again is hardly ever inside
     assert _covers(fits, 1.5 * ratio).mean() <= 0.10
     # the layered finger describes them better than the homogeneous one, beyond AICc's cost
     assert (fits["layered_aicc"] < fits["homogeneous_aicc"]).mean() >= 0.95
+
+
+def test_the_interval_grows_with_the_covariance_as_the_sandwich_says():
+    # a covariance four times larger doubles the interval's width in ln(ratio) (the rise
+    # allowed is proportional to it; the sum of squares is quadratic near its minimum), and
+    # an understated one shrinks it and loses coverage: how the interval moves when the
+    # noise model is wrong. (At a quarter of the covariance the width, 0.018 in ln ratio,
+    # is below the fine grid's 0.023 steps: not compared, only its coverage)
+    k = 4 * RATIO_REFINEMENT + RATIO_REFINEMENT // 2
+    ratio, known = _noisy_fits("human", 1.0, 3, 1, k, 100, seed=11, covariance=KNOWN_MM2)
+    _, doubled = _noisy_fits("human", 1.0, 3, 1, k, 100, seed=11, covariance=4 * KNOWN_MM2)
+    _, halved = _noisy_fits("human", 1.0, 3, 1, k, 100, seed=11, covariance=KNOWN_MM2 / 4)
+
+    def width(fits):
+        return np.log(fits["layered_ratio_ci_high"] / fits["layered_ratio_ci_low"])
+
+    assert np.median(width(doubled) / width(known)) == pytest.approx(2.0, rel=0.1)
+    assert np.median(width(halved)) < np.median(width(known))
+    # about half the width: a normal estimate inside +-0.98 of its SD, 67 % of the time
+    assert _covers(halved, ratio).mean() < 0.8 < 0.9 <= _covers(known, ratio).mean()
 
 
 @pytest.mark.parametrize("species", ["monkey", "human"])

@@ -131,6 +131,7 @@ rule elastic_fits:
     input:
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
         library=os.path.relpath(REPOSITORY / config["elastic"]["library_file"]),
+        noise=rules.noise.output[0],
         code=code("fit_elastic.py"),
     output:
         report_item(

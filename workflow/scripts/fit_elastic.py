@@ -10,13 +10,14 @@ from lineload.io import output_to, write_rows
 from lineload.runtime.jobparams import given
 
 
-def fit_elastic(averaged, library, output, batches, window_mm):
+def fit_elastic(averaged, library, noise, output, batches, window_mm):
     """Fit both fingers by interpolation in the kept library, on the fit window the other
-    models use; one row per trial, in the subject sheet's order."""
+    models use, with each trial's noise for the ratio's interval; one row per trial, in the
+    subject sheet's order."""
     blocks = library_blocks(pd.read_csv(library))
     rows = []
     for table, subjects in zip(averaged, batches, strict=True):
-        batch = read_batch(table, subjects, sides=False)
+        batch = read_batch(table, subjects, noise)
         start = time.perf_counter()
         fitted = fit_elastic_trials(
             batch.distance_mm,
@@ -25,6 +26,8 @@ def fit_elastic(averaged, library, output, batches, window_mm):
             batch.depth_mm,
             window_mm,
             blocks,
+            noise=batch.noise,
+            n_sides=batch.n_sides,
         )
         seconds = time.perf_counter() - start
         print(f"{table}: {len(batch)} trials in {1000 * seconds:.1f} ms")
@@ -45,6 +48,7 @@ if __name__ == "__main__":
         fit_elastic(
             list(snakemake.input.averaged),
             snakemake.input.library,
+            snakemake.input.noise,
             snakemake.output[0],
             **given(snakemake.params),
         )

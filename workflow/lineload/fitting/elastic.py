@@ -24,9 +24,14 @@ reach, as the Boussinesq form's ``x0`` does), the ratio and the layer's thicknes
 continuous parameter, so this count is a convention, stated where the table is described.
 
 Interval of the ratio: the profile-likelihood interval, the ratios whose best sum of squares
-(over sections and thicknesses) stays within ``n ln(SSE / SSE_min) <= chi2(1, 95 %)`` of the
-minimum (errors independent, of unknown variance), as the bending fit's without a covariance.
-An interval that reaches an end of the library's ratios is flagged and runs to that end.
+(over sections and thicknesses) stays under a threshold above the minimum, as the bending
+fit's. Without a covariance of the points the threshold is ``n ln(SSE / SSE_min) <= chi2``
+(errors independent, of unknown variance). With one (``covariance_mm2``, the trial's noise
+model, measured apart from the fit) it is the sandwich's: with ``J`` the curve's derivative in
+``ln ratio`` at the estimate (the nuisances held), the estimate's variance is
+``J'CJ / (J'J)^2`` and the sum of squares may rise by ``chi2 J'CJ / J'J``. ``chi2`` is the
+95 % point of chi-square with one degree of freedom. An interval that reaches an end of the
+library's ratios is flagged and runs to that end.
 """
 
 from __future__ import annotations
@@ -38,7 +43,7 @@ import numpy as np
 from lineload.elastic.table import DEFLECTION_PREFIX, grid_distances_mm
 from lineload.fitting.goodness import goodness_of_fit
 from lineload.fitting.optimize import CHI2_1DOF_95
-from lineload.fitting.windows import in_fit_window
+from lineload.fitting.windows import in_fit_window, window_covariance
 
 __all__ = [
     "ELASTIC_COLUMNS",
@@ -234,7 +239,20 @@ def _interval(ratios, profile_sse, limit):
     return float(low), float(high), low_i == 0, high_i == ratios.size - 1
 
 
-def fit_elastic(distance_mm, deflection_mm, block):
+def _rise_allowed(curves, g, t, k, profile_min, n, log_step, covariance_mm2):
+    """How far above its minimum the profile's sum of squares may rise inside the interval."""
+    if covariance_mm2 is None:
+        return profile_min * np.expm1(CHI2_1DOF_95 / n)
+    last = curves.shape[2] - 1
+    up, down = min(k + 1, last), max(k - 1, 0)
+    slope = (curves[g, t, up] - curves[g, t, down]) / ((up - down) * log_step)
+    norm = float(slope @ slope)
+    if norm == 0.0:
+        return np.inf
+    return CHI2_1DOF_95 * float(slope @ np.asarray(covariance_mm2) @ slope) / norm
+
+
+def fit_elastic(distance_mm, deflection_mm, block, covariance_mm2=None):
     """Fit the homogeneous and the layered finger to one trial's averaged profile.
 
     Parameters
@@ -243,6 +261,9 @@ def fit_elastic(distance_mm, deflection_mm, block):
         The trial's points to fit (mm), distances inside the block's reach.
     block : LibraryBlock
         The library's profiles of the trial's species and depth.
+    covariance_mm2 : array_like, optional
+        Covariance of the deflections (mm^2), measured apart from the fit: the ratio's
+        interval honours it (the fit itself stays least squares).
 
     Returns
     -------
@@ -281,8 +302,9 @@ def fit_elastic(distance_mm, deflection_mm, block):
         if curvature > 0:
             step = np.log(block.ratios[1] / block.ratios[0])
             ratio = block.ratios[k] * np.exp(0.5 * step * (f0 - f2) / curvature)
-    limit = profile[k] * np.exp(CHI2_1DOF_95 / x.size)
-    low, high, low_end, high_end = _interval(block.ratios, profile, limit)
+    log_step = float(np.log(block.ratios[1] / block.ratios[0]))
+    rise = _rise_allowed(curves, g, t, k, profile[k], x.size, log_step, covariance_mm2)
+    low, high, low_end, high_end = _interval(block.ratios, profile, profile[k] + rise)
     out.update(
         {
             "layered_modulus_ratio": float(ratio),
@@ -340,7 +362,9 @@ ELASTIC_COLUMNS = [
 MIN_POINTS = N_PARAMS["layered"] + 3
 
 
-def fit_elastic_trials(distance_mm, deflection_mm, species, depth_mm, window_mm, blocks):
+def fit_elastic_trials(
+    distance_mm, deflection_mm, species, depth_mm, window_mm, blocks, noise=None, n_sides=None
+):
     """Fit both fingers to many trials, each on its points inside the fit window.
 
     Parameters
@@ -355,6 +379,10 @@ def fit_elastic_trials(distance_mm, deflection_mm, species, depth_mm, window_mm,
         Outer edge of the fitted region (mm), as for every other model.
     blocks : dict
         The library (:func:`library_blocks`).
+    noise : sequence of lineload.noise.NoiseModel, optional
+        One per trial: the ratio's interval honours each trial's covariance.
+    n_sides : sequence of array_like, optional
+        Sides read at each point (with ``noise``; 2 where not given).
 
     Returns
     -------
@@ -364,7 +392,8 @@ def fit_elastic_trials(distance_mm, deflection_mm, species, depth_mm, window_mm,
         trial's species and depth, the window reaches past the library, or too few points.
     """
     rows = []
-    for x, y, name, depth in zip(distance_mm, deflection_mm, species, depth_mm, strict=True):
+    trials = zip(distance_mm, deflection_mm, species, depth_mm, strict=True)
+    for number, (x, y, name, depth) in enumerate(trials):
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
         keep = in_fit_window(x, window_mm) & np.isfinite(y)
         row = {"depth_mm": float(depth), "fit_window_mm": float(window_mm)}
@@ -383,7 +412,11 @@ def fit_elastic_trials(distance_mm, deflection_mm, species, depth_mm, window_mm,
         if note:
             rows.append({**row, **dict.fromkeys(columns, np.nan), "elastic_note": note})
             continue
-        fitted = fit_elastic(x[keep], y[keep], block)
+        covariance = None
+        if noise is not None:
+            sides = None if n_sides is None else n_sides[number]
+            covariance = window_covariance(x, y, depth, window_mm, noise[number], sides)
+        fitted = fit_elastic(x[keep], y[keep], block, covariance)
         rows.append(
             {
                 **row,
