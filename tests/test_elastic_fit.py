@@ -342,3 +342,15 @@ def test_the_ratio_figure_marks_estimates_at_the_librarys_end_open():
         plt.close(fig)
     empty = figure_elastic_ratios(elastic.iloc[0:0], subjects)
     plt.close(empty)
+
+
+def test_a_broken_library_stops_the_job_with_one_message_naming_it(tmp_path):
+    import runpy
+
+    script = runpy.run_path(str(REPO / "workflow" / "scripts" / "fit_elastic.py"), run_name="x")
+    broken = tmp_path / "library.csv"
+    library_table().iloc[1:].to_csv(broken, index=False)
+    output = tmp_path / "elastic_fits.csv"
+    with pytest.raises(SystemExit, match=r"library\.csv: not the elastic finger's .*full grid"):
+        script["fit_elastic"]([], str(broken), None, str(output), [], WINDOW_MM)
+    assert not output.exists()

@@ -14,7 +14,13 @@ def fit_elastic(averaged, library, noise, output, batches, window_mm):
     """Fit both fingers by interpolation in the kept library, on the fit window the other
     models use, with each trial's noise for the ratio's interval; one row per trial, in the
     subject sheet's order."""
-    blocks = library_blocks(pd.read_csv(library))
+    try:
+        blocks = library_blocks(pd.read_csv(library))
+    except (ValueError, KeyError, pd.errors.ParserError) as error:
+        raise SystemExit(
+            f"{library}: not the elastic finger's solution library ({error}); rebuild it with "
+            "`snakemake elastic_library` or point elastic.library_file at one"
+        ) from None
     rows = []
     for table, subjects in zip(averaged, batches, strict=True):
         batch = read_batch(table, subjects, noise)

@@ -224,7 +224,8 @@ def fitted_curve_mm(block, distance_mm, section, thickness_mm, ratio):
 
 
 def _interval(ratios, profile_sse, limit):
-    """Ends of the ratios whose profile stays under the limit (linear crossings), and flags."""
+    """Ends of the ratios whose profile stays under the limit (linear crossings; the hull, should
+    the profile dip under it more than once), and whether each end is the library's."""
     inside = np.flatnonzero(profile_sse <= limit)
     low_i, high_i = inside[0], inside[-1]
     log_r = np.log(ratios)
