@@ -13,6 +13,10 @@ Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
 - the `fits` target on scale datasets of 1,000 and 10,000 subjects x 4 depths made by the
   generator in a temporary folder, with the peak memory of the whole process tree, and a
   rerun of it with nothing changed;
+- the elastic finger's fits by interpolation in the kept library (both fingers), milliseconds
+  per trial on profiles made from the library with noise (issue 36: at most 5 ms);
+- with `--elastic-library`: the `elastic_library` target (the finite-element solves of the
+  library's grid), with its factorisations per second from the jobs' logs;
 - with `--calibration 1 2 ...`: the boundary calibration (one job per world and block of
   datasets) at each core count, and its speed-up over the first;
 - what no workflow can go below: Snakemake's own start-up (`snakemake --version`), a rerun of
@@ -55,6 +59,10 @@ CLEAN_BUILD_TARGET = 12
 RERUN_OVER_FLOOR_S = 0.2
 #: The `fits` target on the scale datasets, seconds by number of subjects.
 FITS_TARGET_S = {1000: 7, 10000: 35}
+#: The elastic finger's fit of one trial by interpolation in its library (issue 36), ms.
+ELASTIC_FIT_TARGET_MS = 5.0
+#: Trials timed for it.
+ELASTIC_FIT_TRIALS = 200
 
 REPO = Path(__file__).resolve().parents[1]
 PAGE_KB = os.sysconf("SC_PAGE_SIZE") / 1024
@@ -257,6 +265,35 @@ def side_by_side(against, repeats, scales, python, work):
     return rows
 
 
+def elastic_fit_ms():
+    """Milliseconds per trial of the elastic fits, on noisy profiles made from the library.
+
+    Each trial is a profile of the kept library (a species, depth, section, thickness and
+    ratio taken in turn) on the shipped reading grid inside 3 mm, with 0.005 mm of noise;
+    the library's blocks are read once beforehand, as the fit job reads them.
+    """
+    import numpy as np
+    import pandas as pd
+
+    sys.path.insert(0, str(REPO / "workflow"))
+    from lineload.fitting.elastic import fit_elastic, library_blocks
+    from lineload.rawdata.readings import reading_distances_mm
+
+    blocks = list(library_blocks(pd.read_csv(REPO / "data" / "elastic" / "library.csv")).values())
+    x = reading_distances_mm(3.0)
+    x = x[(x > 0) & (x <= 3.0)]
+    rng = np.random.default_rng(0)
+    trials = []
+    for k in range(ELASTIC_FIT_TRIALS):
+        block = blocks[k % len(blocks)]
+        g, t, r = (k % n for n in block.deflection_mm.shape[:3])
+        trials.append((x, block.curves_at(x)[g, t, r] + rng.normal(0, 0.005, x.size), block))
+    start = time.perf_counter()
+    for distance_mm, deflection_mm, block in trials:
+        fit_elastic(distance_mm, deflection_mm, block)
+    return 1000 * (time.perf_counter() - start) / len(trials)
+
+
 def jobs_run(output):
     """Rules that ran, with counts, from the jobs Snakemake announced.
 
@@ -299,6 +336,11 @@ def main():
         default=4,
         help="verdict_datasets of the timed calibration (blocks of half as many)",
     )
+    parser.add_argument(
+        "--elastic-library",
+        action="store_true",
+        help="also time the elastic_library target (the finite-element library, minutes)",
+    )
     parser.add_argument("--against", type=Path, help="another checkout, measured alternately")
     parser.add_argument("--python", default=sys.executable, help="the Python that runs Snakemake")
     args = parser.parse_args()
@@ -337,6 +379,16 @@ def main():
         )
         rows.append(
             ("import numpy, pandas, scipy.optimize, matplotlib.pyplot", baseline, "", "baseline")
+        )
+
+        per_trial_ms = statistics.median(elastic_fit_ms() for _ in range(args.repeats))
+        rows.append(
+            (
+                f"elastic fits by interpolation, {ELASTIC_FIT_TRIALS} trials",
+                per_trial_ms * ELASTIC_FIT_TRIALS / 1000,
+                "",
+                f"{per_trial_ms:.2f} ms per trial; target <= {ELASTIC_FIT_TARGET_MS:g} ms",
+            )
         )
 
         raw = work / "raw"
@@ -480,6 +532,27 @@ def main():
                 )
             )
             previous = (n, seconds)
+
+        if args.elastic_library:
+            library_results = work / "elastic"
+            seconds, runs = median_of(
+                1,
+                lambda: run(snakemake("elastic_library", raw=raw, results=library_results)),
+            )
+            rates = [
+                line.split("(")[-1].split(" factorisations per second")[0]
+                for log in sorted((library_results / "logs" / "elastic_library").glob("*.log"))
+                for line in log.read_text().splitlines()
+                if "factorisations per second" in line
+            ]
+            rows.append(
+                (
+                    "`elastic_library` target (finite-element solves), --cores 2",
+                    seconds,
+                    f"{max(r[1] for r in runs):.0f} MB",
+                    "factorisations per second per job: " + ", ".join(rates),
+                )
+            )
 
         first = None
         for cores in args.calibration or ():
