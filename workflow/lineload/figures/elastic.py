@@ -18,11 +18,11 @@ import numpy as np
 from matplotlib import ticker
 from matplotlib.lines import Line2D
 
+from lineload.figures.estimates import draw_estimates_by_depth
 from lineload.figures.style import (
     DEFLECTION_LABEL,
     DOUBLE_COLUMN_MM,
     SINGLE_COLUMN_MM,
-    SPECIES_PLURAL,
     WINDOW_STYLE,
     add_footer,
     legend_columns,
@@ -41,8 +41,6 @@ STYLES = {
     "homogeneous": {"color": "#999999", "linestyle": "--", "label": "homogeneous elastic finger"},
     "layered": {"color": "#000000", "linestyle": "-", "label": "layered elastic finger"},
 }
-#: Marker of each species in the ratio figure.
-SPECIES_MARKERS = {"monkey": "o", "human": "s"}
 #: The depth the examples prefer (the paper's Fig. 2), else the trial's deepest.
 EXAMPLE_DEPTH_MM = 1.0
 
@@ -175,70 +173,23 @@ def figure_elastic_ratios(elastic, subjects, notice=""):
     rows = _fitted(elastic)
     if rows is None or not len(rows):
         return message_figure("No trial of this dataset has an elastic fit.", notice)
-    table = subject_table(subjects)
-    present = [s for s in ("monkey", "human") if (rows["species"] == s).any()]
-    present += sorted(set(rows["species"]) - set(present))
-    fig = new_figure(SINGLE_COLUMN_MM if len(present) == 1 else DOUBLE_COLUMN_MM, 70.0)
-    axes = fig.subplots(1, len(present), squeeze=False, sharey=True)[0]
-    for ax, species in zip(axes, present, strict=True):
-        mine = rows[rows["species"] == species]
-        members = [s for s in table.index if s in set(mine["subject"])]
-        members += sorted(set(mine["subject"]) - set(members))
-        depths = sorted(set(mine["depth_mm"].astype(float)))
-        step = min(np.diff(depths)) if len(depths) > 1 else 0.5
-        for k, subject in enumerate(members):
-            offset = (k - (len(members) - 1) / 2) * 0.6 * step / max(len(members), 1)
-            colour = f"C{k % 10}"
-            for _, row in mine[mine["subject"] == subject].iterrows():
-                x = float(row["depth_mm"]) + offset
-                low, high = (
-                    float(row["elastic_layered_ratio_ci_low"]),
-                    float(row["elastic_layered_ratio_ci_high"]),
-                )
-                bound = float(row["elastic_layered_ratio_at_bound"]) > 0
-                ax.plot([x, x], [low, high], color=colour, linewidth=0.9)
-                ax.plot(
-                    x,
-                    float(row["elastic_layered_modulus_ratio"]),
-                    linestyle="none",
-                    marker=SPECIES_MARKERS.get(species, "D"),
-                    markersize=4.0,
-                    color=colour,
-                    markerfacecolor="white" if bound else colour,
-                    gid=f"ratio-bound:{subject}" if bound else f"ratio:{subject}",
-                )
-            label = table.loc[subject, "label"] if subject in table.index else subject
-            ax.plot(
-                [],
-                [],
-                linestyle="none",
-                marker=SPECIES_MARKERS.get(species, "D"),
-                color=colour,
-                label=str(label),
-            )
-        ax.set_yscale("log")
+    high = float(np.nanmax(rows["elastic_layered_ratio_ci_high"].astype(float)))
+
+    def ratio_ticks(ax):
         ax.yaxis.set_major_locator(ticker.FixedLocator([1, 2, 5, 10, 20, 50, 100, 200, 500]))
-        ax.yaxis.set_major_formatter(ticker.FuncFormatter(lambda value, _: f"{value:g}"))
-        ax.yaxis.set_minor_formatter(ticker.NullFormatter())
-        high = float(np.nanmax(rows["elastic_layered_ratio_ci_high"].astype(float)))
-        ax.set_ylim(0.8, 1.6 * high)  # from below the homogeneous finger's 1
-        ax.set_xticks(depths, [f"{d:g}" for d in depths])
-        ax.set_xlabel("indentation depth W₀ (mm)")
-        ax.set_title(SPECIES_PLURAL.get(species, species).capitalize(), loc="left")
-        ax.legend(loc="lower left", ncols=2, fontsize=7.0)
-    axes[0].set_ylabel("outer layer's modulus / pulp's (log scale)")
-    handles = [
-        Line2D([], [], linestyle="none", marker="o", color="0.3", label="estimate, 95 % interval"),
-        Line2D(
-            [],
-            [],
-            linestyle="none",
-            marker="o",
-            color="0.3",
-            markerfacecolor="white",
-            label="at the library's end",
-        ),
-    ]
-    fig.legend(handles=handles, loc="outside upper center", ncols=legend_columns(fig, handles, 2))
-    add_footer(fig, notice)
-    return fig
+
+    return draw_estimates_by_depth(
+        rows,
+        subjects,
+        value="elastic_layered_modulus_ratio",
+        low="elastic_layered_ratio_ci_low",
+        high="elastic_layered_ratio_ci_high",
+        at_bound="elastic_layered_ratio_at_bound",
+        gid="ratio",
+        ylabel="outer layer's modulus / pulp's (log scale)",
+        bound_label="at the library's end",
+        ylim=(0.8, 1.6 * high),  # from below the homogeneous finger's 1
+        notice=notice,
+        decorate=ratio_ticks,
+        legend_loc="lower left",
+    )

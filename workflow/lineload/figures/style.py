@@ -57,6 +57,7 @@ __all__ = [
     "REST_COLOUR",
     "SCHEMATIC_MM",
     "SINGLE_COLUMN_MM",
+    "SPECIES_MARKERS",
     "SPECIES_PLURAL",
     "STYLE",
     "WINDOW_STYLE",
@@ -97,6 +98,8 @@ NOTE_FONT_PT = 7.0
 LEGEND_ROW_MM = 3.6
 
 SPECIES_PLURAL = {"monkey": "monkeys", "human": "humans"}
+#: Marker of each species wherever species are told apart by marker.
+SPECIES_MARKERS = {"monkey": "o", "human": "s"}
 
 #: Colour of each model of the fit table (the registry's: Okabe-Ito palette, safe for
 #: colour-blind readers).

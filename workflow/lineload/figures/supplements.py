@@ -30,6 +30,7 @@ from lineload.figures.style import (
     MODEL_LINESTYLES,
     MODEL_NAMES,
     SINGLE_COLUMN_MM,
+    SPECIES_MARKERS,
     SPECIES_PLURAL,
     WINDOW_STYLE,
     add_footer,
@@ -62,8 +63,6 @@ __all__ = [
 REFIT_COLOURS = {model: FAMILIES[model].colour for model in REFIT_MODELS}
 #: Depths side by side in the residual and parabola-against-arc supplements; more wrap.
 DEPTHS_PER_ROW = 4
-#: Marker of each species where trials are drawn as points.
-SPECIES_MARKERS = {"monkey": "o", "human": "s"}
 
 
 def depths_per_row(n_depths):
