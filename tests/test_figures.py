@@ -3,6 +3,7 @@ reproducible.  Figure functions are called directly on data built here; one work
 on a small dataset checks the rules, the file formats and byte-for-byte rebuilds."""
 
 import contextlib
+import functools
 import importlib
 import inspect
 import struct
@@ -533,6 +534,8 @@ def every_figure(notice):
         "noise_mm": None,
         "noise": noise_table(),
         "bending": bending_table(fits),
+        "elastic": elastic_table(averaged, subjects),
+        "elastic_library": elastic_library(),
     }
     assert set(values) == set(registry.ARGUMENTS)
     figures = {}
@@ -646,7 +649,35 @@ def layout_values(n_per_species, n_depths, notice=NOTICE):
         "mechanics": mechanics,
         "mechanics_trials": mechanics_trials,
         "bending": bending_table(fits),
+        "elastic": elastic_table(averaged, subjects),
+        "elastic_library": elastic_library(),
     }, with_intervals
+
+
+@functools.cache
+def elastic_library():
+    """The committed library of elastic solutions (read once)."""
+    return pd.read_csv(REPO / "data" / "elastic" / "library.csv")
+
+
+def elastic_table(averaged, subjects):
+    """The elastic fits of a test dataset, from the committed library: trials at depths the
+    library lacks keep their note and no values, as a lab's would."""
+    from lineload.fitting.elastic import ELASTIC_COLUMNS, fit_elastic_trials, library_blocks
+
+    species = dict(zip(subjects["subject"], subjects["species"], strict=True))
+    keys, x, y = [], [], []
+    for (subject, depth_mm), trial in averaged.groupby(["subject", "depth_mm"], sort=False):
+        keys.append((subject, species[subject], float(depth_mm)))
+        x.append(trial["distance_mm"].to_numpy(float))
+        y.append(trial["deflection_mm"].to_numpy(float))
+    rows = fit_elastic_trials(
+        x, y, [k[1] for k in keys], [k[2] for k in keys], WINDOW_MM,
+        library_blocks(elastic_library()),
+    )  # fmt: skip
+    return pd.DataFrame(
+        [{"subject": k[0], "species": k[1], **row} for k, row in zip(keys, rows, strict=True)]
+    )[ELASTIC_COLUMNS]
 
 
 def bending_table(fits):
@@ -876,13 +907,16 @@ def test_registry_lists_each_figure_once_in_its_group():
             "supplement_mechanics",
         ],
         "bending": ["supplement_bending", "supplement_bending_lengths"],  # Figures 13-14
+        "elastic": ["supplement_elastic", "supplement_elastic_ratios"],  # Figures 15-16
     }
     # the paper's figures in its order, then the supplements
     assert names[:7] == [f"figure{i}" for i in range(1, 8)]
     categories = [figure.category for figure in registry.FIGURES]
-    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 7
+    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 9
     for figure in registry.FIGURES:
-        assert figure.module in ("data", "schematics", "supplements", "bending"), figure.name
+        assert figure.module in ("data", "schematics", "supplements", "bending", "elastic"), (
+            figure.name
+        )
         assert figure.title and "\n" not in figure.title, figure.name
     used = {name for figure in registry.FIGURES for name in figure.arguments}
     assert used == set(registry.ARGUMENTS)  # no argument is described but never taken

@@ -11,6 +11,7 @@ rule article:
         checked=checked_raw_data,
         fits=rules.fits_table.output[0],
         bending=rules.bending_table.output[0],
+        elastic=rules.elastic_fits.output[0],
         claims=rules.claims_table.output.csv,
         checks=rules.sensitivity_tables.output.checks,
         noise=rules.noise.output[0],

@@ -35,7 +35,7 @@ __all__ = [
 KINDS = ("file", "dataset", "setting")
 
 #: The jobs that draw figures, each a group of figures drawn in one process.
-GROUPS = ("outlines", "schematics", "fits", "supplements", "bending")
+GROUPS = ("outlines", "schematics", "fits", "supplements", "bending", "elastic")
 
 #: Report categories of the figures.
 CATEGORIES = ("Paper figures", "Supplement")
@@ -115,6 +115,13 @@ ARGUMENTS = {
     "bending": Argument(
         "file", "the bending skin's fits, one row per subject and depth (tables/bending.csv)"
     ),
+    "elastic": Argument(
+        "file",
+        "the elastic finger's fits, one row per subject and depth (tables/elastic_fits.csv)",
+    ),
+    "elastic_library": Argument(
+        "file", "the elastic finger's solution library the fits were made from (elastic)"
+    ),
 }
 
 
@@ -129,7 +136,7 @@ class Figure:
     group : str
         The job that draws it, one of :data:`GROUPS`.
     module : str
-        ``data``, ``schematics``, ``supplements`` or ``bending``: the module
+        ``data``, ``schematics``, ``supplements``, ``bending`` or ``elastic``: the module
         ``lineload.figures.<module>`` that holds the function.
     function : str
         Name of the figure function in that module.
@@ -305,6 +312,24 @@ FIGURES = (
         ("bending", "averaged", "subjects", "notice"),
         category="Supplement",
         title="The skin's fitted bending length by species and depth, with its interval",
+    ),
+    Figure(
+        "supplement_elastic",
+        "elastic",
+        "elastic",
+        "figure_elastic_examples",
+        ("averaged", "elastic", "elastic_library", "subjects", "fit_window_mm", "notice"),
+        category="Supplement",
+        title="The homogeneous and the layered elastic finger on a monkey and a human",
+    ),
+    Figure(
+        "supplement_elastic_ratios",
+        "elastic",
+        "elastic",
+        "figure_elastic_ratios",
+        ("elastic", "subjects", "notice"),
+        category="Supplement",
+        title="The layered finger's fitted modulus ratio by species and depth, with its interval",
     ),
 )
 

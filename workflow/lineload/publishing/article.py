@@ -38,6 +38,7 @@ __all__ = [
     "counted",
     "dataset_design",
     "design_text",
+    "elastic_facts",
     "every",
     "group_depths_text",
     "join_words",
@@ -745,4 +746,57 @@ def bending_facts(bending, fits, claims):
         "better_aicc": f"{better} of {counted(len(fitted), 'trial')}",
         "wall": str(fitted["wall"].iloc[0]) if "wall" in fitted and len(fitted) else "clamped",
         "c13": str(c13.iloc[0]) if len(c13) else "",
+    }
+
+
+def elastic_facts(elastic, fits):
+    """What the article says of the elastic finger (issue: the later literature's model).
+
+    Parameters
+    ----------
+    elastic : pandas.DataFrame or None
+        The elastic fits (``tables/elastic_fits.csv``); None or empty without one.
+    fits : pandas.DataFrame
+        The fit table (the waterbed's RMSE, the yardstick on the same points).
+
+    Returns
+    -------
+    dict or None
+        Counts and ranges as text: trials fitted and not, how many layered ratios lie at
+        the library's largest ratio, the range of the others, the RMSE of each elastic
+        fit and of the waterbed over the same trials, how many trials the layered finger
+        wins over the homogeneous one by AICc and how many it fits better than the
+        waterbed. None when no trial has an elastic fit.
+    """
+    if elastic is None or not len(elastic):
+        return None
+    fitted = elastic[np.isfinite(elastic["elastic_layered_modulus_ratio"].astype(float))]
+    if not len(fitted):
+        return None
+    at_end = fitted["elastic_layered_ratio_at_bound"].astype(float) > 0
+    free = fitted[~at_end]
+    merged = fitted.merge(
+        fits[["subject", "depth_mm", "waterbed_rmse_mm"]], on=["subject", "depth_mm"], how="left"
+    )
+    layered = merged["elastic_layered_rmse_mm"].to_numpy(float)
+    homogeneous = merged["elastic_homogeneous_rmse_mm"].to_numpy(float)
+    waterbed = merged["waterbed_rmse_mm"].to_numpy(float)
+    layered_wins = int((merged["elastic_layered_aicc"] < merged["elastic_homogeneous_aicc"]).sum())
+    return {
+        "n": counted(len(fitted), "trial"),
+        "every": every(len(fitted), "trial"),
+        "not_fitted": counted(len(elastic) - len(fitted), "trial"),
+        "all_fitted": len(fitted) == len(elastic),
+        "at_end": counted(int(at_end.sum()), "trial"),
+        "all_at_end": bool(at_end.all()),
+        "none_at_end": not bool(at_end.any()),
+        "free": counted(len(free), "trial"),
+        "free_range": span_text(free["elastic_layered_modulus_ratio"].to_numpy(float), 3, ""),
+        "largest_ratio": f"{float(fitted['elastic_layered_ratio_ci_high'].max()):g}",
+        "rmse_layered": span_text(layered, 3),
+        "rmse_homogeneous": span_text(homogeneous, 3),
+        "rmse_waterbed": span_text(waterbed, 3),
+        "layered_wins": f"{layered_wins} of {counted(len(fitted), 'trial')}",
+        "beats_waterbed": f"{int((layered < waterbed).sum())} of {counted(len(fitted), 'trial')}",
+        "none_beats_waterbed": not bool((layered < waterbed).any()),
     }
