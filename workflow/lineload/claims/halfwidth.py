@@ -343,7 +343,7 @@ def claim_c7(fits, averaged, settings, deflection=None):
         )
     our = (
         f"numerical zero / (L/3) - 1: largest |deviation| {deviations.max():.1e} over "
-        f"{deviations.size} trials"
+        f"{_n(deviations.size, 'trial')}"
     )
     reason = (
         "Every fitted curve crosses zero at L/3, as eq. 19 requires of any L; this says "

@@ -90,6 +90,7 @@ SETTINGS = (
     "symmetry_margin",
     "shift_margin",
     "circularity_margin",
+    "slope_min_df",
     "force_sd_N",
 )
 
@@ -326,6 +327,7 @@ CLAIMS = (
         "noise, relative to W₀², is above zero (one-sided t-test).",
         family="fit_quality",
         function="claim_c8",
+        settings=("significance", "slope_min_df"),
         boundary_world="one-shape-at-every-depth",
         built_in=BuiltIn(
             HOLDS,
@@ -413,6 +415,7 @@ CLAIMS = (
         family="bending",
         function="claim_c13",
         needs=("fits", "averaged", "noise", "bending"),
+        settings=("significance", "slope_min_df"),
     ),
 )
 
