@@ -495,7 +495,14 @@ def claim_named(claim_id, claims=CLAIMS):
 
 
 def claim_function(claim):
-    """The function of an entry (imports its family module)."""
+    """The function of an entry (imports its family module).
+
+    The families are named in an import statement too: the workflow finds the modules
+    a job runs from import statements (:mod:`lineload.runtime.codedeps`), and without
+    it a change to a claim's rule would not rebuild the claims table.
+    """
+    from lineload.claims import bending, fit_quality, forces, halfwidth, shape  # noqa: F401
+
     return getattr(importlib.import_module(claim.import_path), claim.function)
 
 
