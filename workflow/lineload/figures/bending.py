@@ -234,7 +234,9 @@ def figure_bending_lengths(bending, averaged, subjects, notice=""):
         ax.set_xlabel("indentation depth W₀ (mm)")
         ax.set_title(SPECIES_PLURAL.get(species, species).capitalize(), loc="left")
         ax.legend(loc="upper left", ncols=2, fontsize=7.0)
-    axes[0].set_ylabel("bending length l_b (mm, log scale)")
+    # the symbol is the caption's: a subscript in matplotlib's mathtext would print
+    # below the 7-point floor
+    axes[0].set_ylabel("bending length (mm, log scale)")
     handles = [
         Line2D([], [], linestyle="none", marker="o", color="0.3", label="estimate, 95 % interval"),
         Line2D(
