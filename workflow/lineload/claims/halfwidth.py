@@ -171,9 +171,9 @@ def claim_c6(fits, averaged, settings):
     alpha = settings.significance
     z_equivalence = norm.ppf(1.0 - alpha)
     rule = (
-        "A property of the paper's method at the data's W0/L, not counted as evidence about "
+        "A property of the paper's method at the data's W₀/L, not counted as evidence about "
         "fingers: both fits are one-parameter curves of the same membrane, so the gap "
-        "between their L is fixed by W0/L up to a standard error of hundredths of a percent. "
+        "between their L is fixed by W₀/L up to a standard error of hundredths of a percent. "
         "An equivalence test with the workflow's margin (config claims: shift_margin = "
         f"{_pct(margin, 0)}, reasons in the config schema; not the paper's 8 %, a bound on "
         "|U|/X). Neglecting U (eq. 19 read at the deformed position) is negligible if it "
