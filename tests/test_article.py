@@ -14,11 +14,25 @@ from lineload.claims import CLAIM_COLUMNS, CLAIM_KINDS
 from lineload.figures.registry import FIGURES
 from lineload.figures.style import MIN_FONT_PT, SCHEMATIC_MM
 from lineload.fitting.batch import FIT_COLUMNS
-from lineload.publishing.article import article_facts, join_words, number_words, shown, span_text
+from lineload.publishing.article import (
+    article_facts,
+    counted_words,
+    join_words,
+    number_words,
+    shown,
+    span_text,
+)
 
 
 def test_words_for_the_text():
     assert [number_words(n) for n in (0, 1, 4, 10, 11)] == ["no", "one", "four", "ten", "11"]
+    # counts and their nouns agree through one function, in words or in digits
+    assert [counted_words(n, "subject") for n in (1, 3, 12)] == [
+        "one subject",
+        "three subjects",
+        "12 subjects",
+    ]
+    assert counted_words(1, "degree of freedom", "degrees of freedom") == "one degree of freedom"
     assert join_words(["a"]) == "a" and join_words(["a", "b", "c"]) == "a, b and c"
     assert span_text([2.0, np.nan, 1.25]) == "1.25 to 2.00 mm"
     assert span_text([3.0, 3.0], 1) == "3.0 mm" and span_text([]) == "none"
