@@ -184,6 +184,40 @@ def test_kinds_of_the_rows():
     }
 
 
+def test_c2_says_sides_alike_within_the_noise_in_words_and_gives_the_deciding_bound():
+    fits = table([fit_row("MK", "monkey", 1.0), fit_row("MK", "monkey", 2.0)])
+    rng = np.random.default_rng(3)
+
+    def sides(sd_mm, offset_mm=0.0):
+        # left and right differ by 2 x (offset + noise of SD sd_mm)
+        return pd.concat(
+            [
+                profile(
+                    "MK",
+                    d,
+                    power_profile_mm(d, 5.0),
+                    asymmetry_mm=offset_mm + rng.normal(0, sd_mm, GRID_MM.size),
+                )
+                for d in (1.0, 2.0)
+            ]
+        )
+
+    # differences a quarter of what the stated noise gives: none beyond the noise, said
+    # in words, not as a '0 %' that reads as a rounding
+    stated = SETTINGS.reading_noise_mm  # one side's; the difference has twice its variance
+    row = CLAIM_FUNCTIONS["C2"](fits, sides(stated / 4 / math.sqrt(2)), SETTINGS)
+    assert "0 in both trials (no more than the noise alone gives)" in row["our_value"]
+    assert "0 %" not in row["our_value"].split(";")[0], row["our_value"]
+    # differences as large as the noise: the bound the test compares with the margin
+    row = CLAIM_FUNCTIONS["C2"](fits, sides(stated / math.sqrt(2)), SETTINGS)
+    bound = float(row["our_value"].split("bound at most ")[1].split(" %")[0]) / 100
+    assert row["verdict"] == HOLDS and 0 < bound < SETTINGS.symmetry_margin, row["our_value"]
+    # sides 2 x 3 µm apart at 1 mm: 0.6 % of W0, printed with the digits to show it
+    row = CLAIM_FUNCTIONS["C2"](fits, sides(0.0, 0.003), ClaimSettings(noise_mm=0.0005))
+    largest = float(row["our_value"].split("largest ")[1].split(" %")[0])
+    assert largest == pytest.approx(0.6, abs=0.02), row["our_value"]
+
+
 def test_smallest_margin_is_where_the_equivalence_test_starts_to_hold():
     fits = table([fit_row("MK", "monkey", 1.0)])
     w = power_profile_mm(1.0, 5.0)
@@ -251,7 +285,12 @@ def test_c1_flips_when_humans_are_not_wider_and_is_untestable_without_humans():
     fits, averaged = dataset(9.0)
     only_monkeys = fits[fits["species"] == "monkey"]
     row = CLAIM_FUNCTIONS["C1"](only_monkeys, averaged, SETTINGS)
-    assert row["verdict"] == UNTESTABLE and "no human" in row["our_value"]
+    assert row["verdict"] == UNTESTABLE
+    # what there is in the value, what is missing once, in the reason; counts in words
+    assert row["our_value"].startswith("monkeys ") and "(1 trial)" in row["our_value"]
+    assert row["our_value"].endswith("humans: no trials")
+    said = row["our_value"] + " " + row["reason"]
+    assert said.count("no human") == 1 and "no human trials" in row["reason"]
 
 
 def test_extent_standard_error_matches_repeated_readings():
@@ -543,8 +582,9 @@ def test_c7_is_an_identity_and_a_curve_that_breaks_it_stops_the_build():
         claim_c7(fits, None, SETTINGS, deflection=curve_with_zero_at_half_L)
 
 
-def misfit_subjects(growth_mm, subjects=("A", "B", "C"), seed=5):
-    """Waterbed profiles with a near-field dip of ``growth_mm(depth)``, three monkeys."""
+def misfit_subjects(growth_mm, subjects=("A", "B", "C", "D"), seed=5):
+    """Waterbed profiles with a near-field dip of ``growth_mm(depth)``, four monkeys (the
+    3 degrees of freedom between subjects the default ``slope_min_df`` asks)."""
     depths = (0.5, 1.0, 1.5, 2.0)
     rng = np.random.default_rng(seed)
     trials = []
@@ -578,6 +618,25 @@ def test_c8_tests_the_slope_of_the_excess_misfit_across_subjects():
         [profile("A", 1.0, power_profile_mm(1.0, 5.0)), profile("B", 2.0, power_profile_mm(2, 5))]
     )
     assert verdict("C8", single, averaged) == UNTESTABLE
+
+
+def test_c8_cannot_be_checked_on_too_few_subjects_however_alike():
+    # four monkeys whose misfit grows with depth: 3 degrees of freedom, it holds
+    fits, averaged = misfit_subjects(lambda d: 0.05 * d**2)
+    assert SETTINGS.slope_min_df == 3  # the schema's default
+    assert CLAIM_FUNCTIONS["C8"](fits, averaged, SETTINGS)["verdict"] == HOLDS
+    # two of them, as in the photograph example: 1 degree of freedom, not a finding
+    two = fits[fits["subject"].isin(["A", "B"])]
+    row = CLAIM_FUNCTIONS["C8"](two, averaged, SETTINGS)
+    assert row["verdict"] == UNTESTABLE, row["our_value"]
+    assert "1 degree of freedom" in row["our_value"] and "at least 4 are needed" in row["reason"]
+    # three: 2 degrees of freedom, still too few
+    three = fits[fits["subject"].isin(["A", "B", "C"])]
+    assert CLAIM_FUNCTIONS["C8"](three, averaged, SETTINGS)["verdict"] == UNTESTABLE
+    # the minimum, not the data, stops it: with one degree of freedom allowed the same
+    # two subjects give the t-test's verdict
+    lowered = replace(SETTINGS, slope_min_df=1)
+    assert CLAIM_FUNCTIONS["C8"](two, averaged, lowered)["verdict"] == HOLDS
 
 
 def shape_subjects(shape, subjects=(("A", 9.0), ("B", 10.0), ("C", 11.0), ("D", 12.0)), seed=7):

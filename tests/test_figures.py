@@ -6,6 +6,7 @@ import contextlib
 import functools
 import importlib
 import inspect
+import re
 import struct
 import subprocess
 import sys
@@ -789,6 +790,18 @@ def test_every_figure_keeps_its_text_on_the_page_and_apart(n_subjects, n_depths)
         assert min(abs(width_mm - w) for w in FIGURE_WIDTHS_MM) < 1e-6, name
         assert height_mm <= 240.0, (name, height_mm)  # a journal page, captions aside
         assert text_problems(fig) == [], name
+        assert [t for t, _ in drawn_texts(fig) if SYMBOL_AS_LETTERS.search(t)] == [], name
+
+
+#: A symbol with its subscript written as a plain letter or digit (W0, l_b, theta0):
+#: the figures write W₀ and θ₀, and leave l_b to the caption.
+SYMBOL_AS_LETTERS = re.compile(r"\b(?:W0|l_b|theta0|x0)\b")
+
+
+def test_a_symbol_written_in_plain_letters_is_found():
+    assert SYMBOL_AS_LETTERS.search("parabola, W0 = depth")
+    assert SYMBOL_AS_LETTERS.search("bending length l_b (mm)")
+    assert not SYMBOL_AS_LETTERS.search("parabola, W₀ = depth; W₀/L = 0.1; M10 at 1 mm")
 
 
 SENSITIVITY_TRIALS = [
@@ -1031,6 +1044,29 @@ def test_mechanics_figure_without_forces_shows_ratios_against_the_papers_bound()
     # one depth only: nothing to compare, the figure says so
     single = trials[trials["depth_mm"] == 1.0]
     assert len(supplements.figure_mechanics(single, table, subjects).axes) == 1
+
+
+TWO_MONKEYS = {"M1": ("monkey", [1.0, 2.0]), "M2": ("monkey", [1.0, 2.0])}
+
+
+@pytest.mark.parametrize("with_forces", [True, False])
+@pytest.mark.parametrize("spec", [PAPER_LIKE, TWO_MONKEYS], ids=["paper-like", "two-monkeys"])
+def test_mechanics_figures_y_label_stays_beside_its_panels(spec, with_forces):
+    # one row of panels (the photograph example's two monkeys) is lower than the label
+    # is long: centred on the figure, it ran up into the legend
+    _, fits, subjects = make_dataset(spec)
+    table, trials = mechanics_inputs(fits, subjects, with_forces=with_forces)
+    fig = supplements.figure_mechanics(trials, table, subjects, "a notice for the footer")
+    canvas = FigureCanvasAgg(fig)
+    fig.draw_without_rendering()
+    renderer = canvas.get_renderer()
+    label = fig._supylabel.get_window_extent(renderer)
+    panels = [ax.get_window_extent(renderer) for ax in fig.axes]
+    assert min(p.y0 for p in panels) - 0.5 <= label.y0
+    assert label.y1 <= max(p.y1 for p in panels) + 0.5
+    (legend,) = fig.legends
+    assert label.y1 < legend.get_window_extent(renderer).y0
+    assert text_problems(fig) == []
 
 
 def test_noted_legend_sits_above_with_the_note_as_its_title():

@@ -90,6 +90,7 @@ SETTINGS = (
     "symmetry_margin",
     "shift_margin",
     "circularity_margin",
+    "slope_min_df",
     "force_sd_N",
 )
 
@@ -326,6 +327,7 @@ CLAIMS = (
         "noise, relative to W₀², is above zero (one-sided t-test).",
         family="fit_quality",
         function="claim_c8",
+        settings=("significance", "slope_min_df"),
         boundary_world="one-shape-at-every-depth",
         built_in=BuiltIn(
             HOLDS,
@@ -413,6 +415,7 @@ CLAIMS = (
         family="bending",
         function="claim_c13",
         needs=("fits", "averaged", "noise", "bending"),
+        settings=("significance", "slope_min_df"),
     ),
 )
 
@@ -492,7 +495,14 @@ def claim_named(claim_id, claims=CLAIMS):
 
 
 def claim_function(claim):
-    """The function of an entry (imports its family module)."""
+    """The function of an entry (imports its family module).
+
+    The families are named in an import statement too: the workflow finds the modules
+    a job runs from import statements (:mod:`lineload.runtime.codedeps`), and without
+    it a change to a claim's rule would not rebuild the claims table.
+    """
+    from lineload.claims import bending, fit_quality, forces, halfwidth, shape  # noqa: F401
+
     return getattr(importlib.import_module(claim.import_path), claim.function)
 
 

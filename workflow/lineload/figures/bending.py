@@ -190,7 +190,9 @@ def figure_bending_lengths(bending, averaged, subjects, notice=""):
         high="bending_length_ci_high_mm",
         at_bound="bending_length_at_bound",
         gid="lb",
-        ylabel="bending length l_b (mm, log scale)",
+        # the symbol is the caption's: a subscript in matplotlib's mathtext would print
+        # below the 7-point floor
+        ylabel="bending length (mm, log scale)",
         bound_label="at the range's end (one-sided interval)",
         ylim=(low_end / 2, high_end * 40),  # room above for the subjects' key
         notice=notice,

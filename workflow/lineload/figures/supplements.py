@@ -35,6 +35,7 @@ from lineload.figures.style import (
     WINDOW_STYLE,
     add_footer,
     grid_shape,
+    grid_ylabel,
     label_outer_axes,
     log_distance_axis,
     message_figure,
@@ -853,11 +854,11 @@ def figure_mechanics(mechanics_trials, mechanics, subjects, notice=""):
     # labels on the outer panels (short: neighbouring panels' labels would collide);
     # one y label for the whole grid
     label_outer_axes(axes, present, "depth (mm, log scale)", "")
-    fig.supylabel(
+    ylabel = (
         "force on the wedge (N, log scale)"
         if absolute
-        else "force / force at the smallest depth (log scale)",
-        fontsize=8,
+        # relative to what, the legend's title says
+        else "relative force (log scale)"
     )
     handles = []
     if absolute:
@@ -886,4 +887,6 @@ def figure_mechanics(mechanics_trials, mechanics, subjects, notice=""):
     )
     fig.legend(handles=handles, loc="outside upper center", ncols=3, title=title, title_fontsize=7)
     add_footer(fig, notice)
+    # placed last: the legend and the footer take their room first
+    grid_ylabel(fig, axes[present], ylabel, fontsize=8)
     return fig

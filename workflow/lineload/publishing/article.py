@@ -36,6 +36,7 @@ __all__ = [
     "bending_facts",
     "calibration_design",
     "counted",
+    "counted_words",
     "dataset_design",
     "design_text",
     "elastic_facts",
@@ -97,8 +98,11 @@ def group_depths_text(members, depths_mm):
     return _depths_text(common) + (f" ({'; '.join(others)})" if others else "")
 
 
-def _plural(species, count):
-    return species if count == 1 else f"{species}s"
+def counted_words(count, noun, plural=None):
+    """:func:`~lineload.publishing.tables.counted` with a small count in words, as a
+    sentence writes it: ``"one subject"``, ``"three monkeys"``, ``"12 trials"``."""
+    count = int(count)
+    return f"{number_words(count)} {counted(count, noun, plural).split(' ', 1)[1]}"
 
 
 #: How many photographed subjects' quality figures the article prints (the report has all).
@@ -177,7 +181,7 @@ def _data_facts(subjects, depths_mm, notice):
             {
                 "species": species,
                 "count": len(members),
-                "count_words": f"{number_words(len(members))} {_plural(species, len(members))}",
+                "count_words": counted_words(len(members), species),
                 "subjects": join_words(members),
                 "depths": group_depths_text(members, depths_mm),
                 "n_trials": sum(len(depths_mm[s]) for s in members),
@@ -699,7 +703,7 @@ def _mechanics_facts(mechanics):
     return {
         "n_subjects": len(rows),
         "n_words": number_words(len(rows)),
-        "subjects_text": f"{number_words(len(rows))} {'subject' if len(rows) == 1 else 'subjects'}",
+        "subjects_text": counted_words(len(rows), "subject"),
         "with_contact_lengths": with_lengths,
         "any_exact": bool((mechanics["dof"].to_numpy(int) == 0).any()),
         "rows": rows,
