@@ -181,12 +181,13 @@ def make_photograph_scale_data(folder, pairs):
 
 
 def job_seconds(results, rule):
-    """Wall and CPU seconds of every job of ``rule``, from its benchmark files."""
+    """Wall seconds, CPU seconds and peak memory (MB) of every job of ``rule``, from its
+    benchmark files."""
     rows = []
     for path in sorted((results / "benchmarks" / rule).glob("*.tsv")):
         header, values = path.read_text().splitlines()[:2]
         row = dict(zip(header.split("\t"), values.split("\t"), strict=True))
-        rows.append((float(row["s"]), float(row["cpu_time"])))
+        rows.append((float(row["s"]), float(row["cpu_time"]), float(row["max_rss"])))
     return rows
 
 
@@ -205,8 +206,9 @@ def photograph_scale(pairs, cores, python, work):
         f"Digitising {pairs} photograph pairs ({pairs // 2} subjects, batches of "
         "`subjects_per_job: auto`), after the raw-data check:",
         "",
-        "| cores | wall s | CPU s (jobs) | CPU ms a pair | jobs | load average |",
-        "|--:|--:|--:|--:|--:|---|",
+        "| cores | wall s | CPU s (all) | CPU s (jobs) | CPU ms a pair (jobs) | jobs "
+        "| largest job MB | load average |",
+        "|--:|--:|--:|--:|--:|--:|--:|---|",
     ]
     for n in cores:
         shutil.rmtree(results / "digitised", ignore_errors=True)
@@ -215,13 +217,15 @@ def photograph_scale(pairs, cores, python, work):
             "--forcerun", "digitise", "--until", "digitise",
             raw=raw, results=results, cores=n, config=config, python=python,
         )  # fmt: skip
-        seconds, _, _, _ = run(command)
+        seconds, _, _, everything = run(command)
         jobs = job_seconds(results, "digitise")
-        cpu = sum(c for _, c in jobs)
+        cpu = sum(c for _, c, _ in jobs)
+        memory = max(m for _, _, m in jobs)
         load = os.getloadavg()
         lines.append(
-            f"| {n} | {seconds:.1f} | {cpu:.1f} | {1000 * cpu / pairs:.1f} | {len(jobs)} | "
-            f"{load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} |"
+            f"| {n} | {seconds:.1f} | {everything:.1f} | {cpu:.1f} | {1000 * cpu / pairs:.1f} "
+            f"| {len(jobs)} | "
+            f"{memory:.0f} | {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} |"
         )
     return lines
 
