@@ -206,9 +206,9 @@ def photograph_scale(pairs, cores, python, work):
         f"Digitising {pairs} photograph pairs ({pairs // 2} subjects, batches of "
         "`subjects_per_job: auto`), after the raw-data check:",
         "",
-        "| cores | wall s | CPU s (all) | CPU s (jobs) | CPU ms a pair (jobs) | jobs "
-        "| largest job MB | load average |",
-        "|--:|--:|--:|--:|--:|--:|--:|---|",
+        "| cores | wall s | CPU s (all) | jobs' wall s, summed | CPU s (jobs) "
+        "| CPU ms a pair (jobs) | jobs | largest job MB | load average |",
+        "|--:|--:|--:|--:|--:|--:|--:|--:|---|",
     ]
     for n in cores:
         shutil.rmtree(results / "digitised", ignore_errors=True)
@@ -223,7 +223,8 @@ def photograph_scale(pairs, cores, python, work):
         memory = max(m for _, _, m in jobs)
         load = os.getloadavg()
         lines.append(
-            f"| {n} | {seconds:.1f} | {everything:.1f} | {cpu:.1f} | {1000 * cpu / pairs:.1f} "
+            f"| {n} | {seconds:.1f} | {everything:.1f} | {sum(w for w, _, _ in jobs):.1f} "
+            f"| {cpu:.1f} | {1000 * cpu / pairs:.1f} "
             f"| {len(jobs)} | "
             f"{memory:.0f} | {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} |"
         )
