@@ -771,11 +771,14 @@ def _local_variance(z_mm, n_columns, pixel_mm, split):
 def _reading_sds_mm(x, z_rest, z_load, dx, tip_x_mm, readings, window_mm):
     """Each reading's own SD (mm; the registration's shared error apart).
 
-    A reading is the mean over its columns of the resting outline's edge minus the
-    loaded one's; the two photographs' errors are independent, so its variance is the
-    sum of each outline's local variance of such a mean (:func:`_local_variance`), at
-    the reading's columns (the resting outline's moved onto the loaded one's): a steep
-    or glaring stretch, rougher than the rest, counts as rough as it is.
+    A reading is the line through its columns of the resting outline's edge minus the
+    loaded one's, taken at its distance (:func:`_sample`); the two photographs' errors
+    are independent, so its variance is the sum of each outline's local variance of a
+    mean over as many columns (:func:`_local_variance`), at the reading's columns (the
+    resting outline's moved onto the loaded one's): a steep or glaring stretch, rougher
+    than the rest, counts as rough as it is.  A line taken off its columns' centre
+    varies more than their mean: by ``1 + n (x0 - mean)^2 / sum (x - mean)^2`` for
+    independent errors (least squares), a bound for errors correlated along the outline.
     """
     pixel_mm = float(np.median(np.diff(x)))
     n = max(1, int(np.sum(np.abs(x - x[x.size // 2]) <= window_mm)))
@@ -784,17 +787,17 @@ def _reading_sds_mm(x, z_rest, z_load, dx, tip_x_mm, readings, window_mm):
         x - dx, x, _local_variance(z_rest, n, pixel_mm, z_rest.size)
     )
     fallback = float(np.nanmax(local)) if np.isfinite(local).any() else float("nan")
+    read = np.isfinite(z_load)
     sds = {}
     for side, sign in (("left", -1.0), ("right", 1.0)):
-        centres = tip_x_mm + sign * readings[side][0]
-        at = (
-            np.array(
-                [np.nanmean(local[np.abs(x - c) <= max(window_mm, pixel_mm)]) for c in centres]
-            )
-            if centres.size
-            else np.empty(0)
-        )
-        sds[side] = np.sqrt(np.where(np.isfinite(at), at, fallback))
+        variances = []
+        for c in tip_x_mm + sign * readings[side][0]:
+            at = float(np.nanmean(local[np.abs(x - c) <= max(window_mm, pixel_mm)]))
+            columns = x[read & (np.abs(x - c) <= window_mm)]
+            spread = float(np.sum((columns - columns.mean()) ** 2)) if columns.size else 0.0
+            off = 1.0 + (columns.size * (c - columns.mean()) ** 2 / spread if spread > 0 else 0.0)
+            variances.append((at if np.isfinite(at) else fallback) * off)
+        sds[side] = np.sqrt(np.array(variances, dtype=float))
     return sds
 
 
