@@ -294,8 +294,14 @@ def test_the_photograph_example_builds_from_images_to_article(photograph_build):
                 errors.extend((rows["deflection_image_mm"] - truth)[near])
             # over the fit window, both sides: better than half a hand reading's noise
             assert np.sqrt(np.mean(np.square(errors))) < HAND_READING_SD_MM / 2, (name, depth)
-        quality = json.loads((results / "digitised" / f"{name}.json").read_text())
+        record = json.loads((results / "digitised" / f"{name}.json").read_text())
+        assert [r["subject"] for r in record["subjects"]] == [name]  # a batch of one
+        quality = record["subjects"][0]
         assert [t["depth_mm"] for t in quality["trials"]] == list(PHOTOGRAPH_DEPTHS_MM)
+        # the photographs are named as in the raw folder, never by an absolute path
+        for trial in quality["trials"]:
+            assert trial["loaded"] == f"images/{name}_{trial['depth_mm']:g}mm_loaded.png"
+            assert trial["rest"] == f"images/{name}_{trial['depth_mm']:g}mm_rest.png"
         # the job's own comparison with images/truth.csv agrees: within half a reading
         assert all(t["error_rms_um"] < 1000 * HAND_READING_SD_MM / 2 for t in quality["trials"])
         assert (results / "digitised" / f"{name}.png").is_file()
@@ -303,8 +309,10 @@ def test_the_photograph_example_builds_from_images_to_article(photograph_build):
         noise = pd.read_csv(results / "tables" / "noise.csv")
         for trial in quality["trials"]:
             own = noise[noise["scope"] == f"{name} at {trial['depth_mm']:g} mm"]
-            assert list(own["parameter"]) == ["shared_offset_sd_mm"]
-            assert own["value"].iloc[0] == pytest.approx(trial["registration_sd_um"] / 1000)
+            own = dict(zip(own["parameter"], own["value"], strict=True))
+            assert list(own) == ["shared_offset_sd_mm", "reading_sd_mm"]
+            assert own["shared_offset_sd_mm"] == pytest.approx(trial["registration_sd_um"] / 1000)
+            assert own["reading_sd_mm"] == pytest.approx(trial["own_reading_sd_um"] / 1000)
     # the photographs are raw inputs: in the provenance record and in the crate
     record = json.loads((results / "provenance.json").read_text())
     assert "images/images.csv" in record["raw_data"]["sha256"]

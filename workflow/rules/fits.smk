@@ -6,8 +6,8 @@ rule noise:
     """Measure the digitising noise from every trial's left-right differences."""
     input:
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
-        # each photographed subject's digitising record: its trials' registration errors
-        quality=expand(rules.digitise.output.quality, subject=list(PHOTOGRAPHS)),
+        # each digitise batch's records: its trials' registration and own reading errors
+        quality=expand(rules.digitise.output.quality, batch=list(DIGITISE_BATCHES)),
         code=code("estimate_noise.py"),
     output:
         report_item(

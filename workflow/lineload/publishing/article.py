@@ -109,25 +109,36 @@ def counted_words(count, noun, plural=None):
 PHOTOGRAPH_FIGURES = 4
 
 
-def photograph_facts(records, subjects, figures):
+def _batch_label(batch, subjects):
+    """How a figure's caption names a digitise batch: its subject's label, or its size."""
+    members = [r["subject"] for r in batch["subjects"]]
+    if len(members) == 1:
+        return subjects[members[0]]["label"]
+    return f"the batch of {len(members)} subjects from {members[0]} to {members[-1]}"
+
+
+def photograph_facts(batches, subjects, figures):
     """What the article says of the subjects read from photographs (None if there are none).
 
     Parameters
     ----------
-    records : list of dict
-        The digitise jobs' quality records (``digitised/<subject>.json``), sheet order.
+    batches : list of dict
+        The digitise jobs' quality records (``digitised/<batch>.json``: ``batch`` and
+        its ``subjects``, each with its ``trials``), sheet order.
     subjects : dict
         Subject id -> ``{"label", ...}`` (the subject sheet).
     figures : list of str
-        Each record's quality figure, as the article names it (relative to the results).
+        Each batch's quality figure, as the article names it (relative to the results).
 
     Returns
     -------
     dict or None
         ``subjects`` (named), ``all`` (every subject photographed), ``n_trials``, the
         ranges of the reading uncertainty and registration residual (um) and of the first
-        distance read (mm), the figures to print, and one row per trial.
+        distance read (mm), the figures to print (a batch's id, ``subject``, names it),
+        and one row per trial.
     """
+    records = [record for batch in batches for record in batch["subjects"]]
     if not records:
         return None
     trials = [(r["subject"], t) for r in records for t in r["trials"]]
@@ -158,10 +169,10 @@ def photograph_facts(records, subjects, figures):
             [t["error_rms_um"] for _, t in trials if t.get("error_rms_um") is not None], 1, " µm"
         ),
         "figures": [
-            {"file": f, "subject": r["subject"], "label": subjects[r["subject"]]["label"]}
-            for f, r in list(zip(figures, records, strict=True))[:PHOTOGRAPH_FIGURES]
+            {"file": f, "subject": b["batch"], "label": _batch_label(b, subjects)}
+            for f, b in list(zip(figures, batches, strict=True))[:PHOTOGRAPH_FIGURES]
         ],
-        "n_figures": len(records),
+        "n_figures": len(batches),
         "rows": rows,
     }
 

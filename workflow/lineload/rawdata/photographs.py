@@ -19,9 +19,13 @@ camera images, and makes such images for the reconstruction:
   loaded outline on the resting one far from the wedge, where the load does not reach
   (a vertical and a horizontal shift, least squares; its residual is reported), leaves
   unread the columns near the tip whose edge glare has weakened, and reads the
-  deflection of each side at the given distances, each reading the mean of the columns
-  within a small window; it estimates the digitising noise of one reading from the
-  outlines' roughness (and its correlation along them) and the registration's error.
+  deflection of each side at the given distances, each reading the straight line
+  through the columns within a small window, taken at its distance; it states each
+  reading's own uncertainty from both outlines' local scatter (their errors'
+  correlation along the outline included), and the registration's from what it left
+  (least squares with correlated errors).  docs/calibration/digitiser.md measures these
+  stated uncertainties against rendered pairs
+  (:mod:`lineload.simulation.digitiser`).
 
 Coordinates: ``x`` along the image from left to right, ``z`` upward, both tissue mm;
 pixel ``(row, column)`` has its centre at ``x = x0 + (column + 0.5) / ppmm`` and
@@ -48,6 +52,7 @@ __all__ = [
     "Scene",
     "digitise_pair",
     "digitise_photographs",
+    "own_reading_sd_mm",
     "photograph_problem",
     "profile_rows",
     "quality_record",
@@ -431,9 +436,8 @@ class DigitisedTrial:
     edge_noise_mm : float
         The outline's own roughness (one column's edge, SD).
     reading_sd_mm : float
-        The digitising uncertainty of one reading: the edge noise of both images,
-        averaged over the columns of a reading (their errors correlated), and the
-        error of the registration.
+        The digitising uncertainty of one reading, the median over the trial's
+        readings: its own (``reading_sds_mm``) and the registration's together.
     registration_sd_mm : float
         The registration's own error, an offset shared by every reading of the
         trial, both sides alike (the part of ``reading_sd_mm`` that left-right
@@ -447,6 +451,9 @@ class DigitisedTrial:
         against the background): ``tip_x_mm`` itself unless the sheet gave the tip.
     pixel_mm : float, optional
         The size of a pixel (tissue mm).
+    reading_sds_mm : dict, optional
+        Side -> each reading's own SD (mm), the registration's shared error apart: the
+        edge errors of both outlines averaged over its columns, at its place.
     """
 
     readings: dict
@@ -459,6 +466,7 @@ class DigitisedTrial:
     outlines: dict = None
     apex_x_mm: float | None = None
     pixel_mm: float | None = None
+    reading_sds_mm: dict = None
 
 
 def _roughness_mm(z_mm, window_px=25):
@@ -485,25 +493,35 @@ def _roughness_mm(z_mm, window_px=25):
     return sd, min(max(rho, 0.0), 0.99)
 
 
-def _mean_sd(sd, rho, n):
-    """SD of the mean of ``n`` neighbouring columns whose errors correlate as AR(1)."""
-    n = max(int(n), 1)
-    lags = np.arange(1, n)
-    variance = sd**2 / n * (1.0 + 2.0 * np.sum((1.0 - lags / n) * rho**lags))
-    return float(np.sqrt(variance))
-
-
 def _sample(x_mm, z_mm, at_mm, half_window_mm):
-    """Mean of the outline over the columns within ``half_window_mm`` of each point
-    (NaN where a window holds no column with an edge: that reading is unreadable)."""
+    """The outline at each point from the columns within ``half_window_mm`` of it: their
+    straight line (least squares) at the point, their mean where they are too few or all
+    at one place (NaN where a window holds no column with an edge: that reading is
+    unreadable).
+
+    The columns' mean alone would be the outline at their mean position, up to half a
+    pixel from the point: on a slope of 0.2 at 10 um a pixel, a 1 um error that no
+    smoothing removes.  The line through them takes the slope out.
+    """
     ok = np.isfinite(z_mm)
     x, z = x_mm[ok], z_mm[ok]
     lo = np.searchsorted(x, at_mm - half_window_mm, side="left")
     hi = np.searchsorted(x, at_mm + half_window_mm, side="right")
-    sums = np.concatenate([[0.0], np.cumsum(z)])
     counts = hi - lo
-    mean = np.where(counts > 0, (sums[hi] - sums[lo]) / np.maximum(counts, 1), np.nan)
-    return mean, counts
+    n = np.maximum(counts, 1)
+    # sums over each window, about the point itself (well conditioned)
+    windows = [slice(a, b) for a, b in zip(lo, hi, strict=True)]
+    offsets = [x[w] - at for w, at in zip(windows, at_mm, strict=True)]
+    sum_d = np.array([o.sum() for o in offsets])
+    sum_dd = np.array([(o * o).sum() for o in offsets])
+    sum_z = np.array([z[w].sum() for w in windows])
+    sum_dz = np.array([(o * z[w]).sum() for o, w in zip(offsets, windows, strict=True)])
+    spread = sum_dd - sum_d**2 / n
+    slope = np.where(
+        spread > 0, (sum_dz - sum_d * sum_z / n) / np.where(spread > 0, spread, 1.0), 0.0
+    )
+    value = sum_z / n - slope * sum_d / n
+    return np.where(counts > 0, value, np.nan), counts
 
 
 def digitise_pair(
@@ -599,27 +617,188 @@ def digitise_pair(
         inside = np.isfinite(values)
         readings[side] = (distances_mm[inside], values[inside])
         columns.extend(counts[inside])
-    # one reading: the mean over its columns of two outlines' edges (the rest's and the
-    # loaded one's, errors correlated along each), and the registration's own error
-    # (its residual over the far columns, shared by every reading)
+    # each reading's own error: the mean over its columns of two outlines' edge errors,
+    # and the registration's error, shared by every reading (_reading_sds_mm)
     rough = [_roughness_mm(z_rest), _roughness_mm(z_load)]
     edge = float(np.sqrt(np.nanmean([sd**2 for sd, _ in rough])))
-    rho = float(np.nanmean([r for _, r in rough]))
-    n_columns = float(np.median(columns)) if columns else 1.0
-    per_reading = np.sqrt(2.0) * _mean_sd(edge, rho, n_columns)
-    registration_sd = _mean_sd(registration_rms, rho, int(far.sum())) * np.sqrt(2.0)
+    design = np.column_stack([np.ones(far.sum()), -np.interp(x[far] - dx, x[ok_rest], slope)])
+    registration_sd = _registration_sd_mm(design, final, np.flatnonzero(far))
+    own = _reading_sds_mm(x, z_rest, z_load, dx, tip_x_mm, readings, window_mm)
+    totals = np.concatenate([np.hypot(own[side], registration_sd) for side in own])
     return DigitisedTrial(
         readings=readings,
         tip_x_mm=float(tip_x_mm),
         shift_mm=(float(dx), float(dz)),
         registration_rms_mm=registration_rms,
         edge_noise_mm=float(edge),
-        reading_sd_mm=float(np.hypot(per_reading, registration_sd)),
+        reading_sd_mm=float(np.median(totals)) if totals.size else float(registration_sd),
         registration_sd_mm=float(registration_sd),
         outlines={"x_mm": x, "loaded_mm": z_load, "rest_mm": rest_on_loaded},
         apex_x_mm=None if apex_x_mm is None else float(apex_x_mm),
         pixel_mm=1.0 / scene.pixels_per_mm,
+        reading_sds_mm=own,
     )
+
+
+#: How the digitiser states its uncertainties (docs/calibration/digitiser.md measures
+#: them against rendered pairs): an outline's edge errors are its residual about a moving
+#: quadratic over :data:`TREND_MM` of outline (long against the errors' own correlation,
+#: which blur, smoothing and the skin's grain make a few pixels long: a shorter trend
+#: follows them and hides their slow part; short against the profile's own bends), and
+#: their local size is taken over :data:`LOCAL_SCATTER_MM` either side of a reading.
+TREND_MM = 1.0
+TREND_ORDER = 4
+LOCAL_SCATTER_MM = 0.5
+
+
+def _autocovariance(residual, blocks, max_lag):
+    """Autocovariance of ``residual`` at lags 0..``max_lag``, pooled over the contiguous
+    runs of column indices ``blocks`` (a gap between runs is not a lag)."""
+    runs = np.split(residual, np.flatnonzero(np.diff(blocks) != 1) + 1)
+    gamma = np.zeros(max_lag + 1)
+    pairs = np.zeros(max_lag + 1)
+    for run in runs:
+        for lag in range(min(max_lag, run.size - 1) + 1):
+            gamma[lag] += np.sum(run[: run.size - lag] * run[lag:])
+            pairs[lag] += run.size - lag
+    return gamma / np.maximum(pairs, 1.0)
+
+
+def _correlation_lags(gamma):
+    """The lags up to the first at which the autocovariance is no longer positive: the
+    window of the integrated autocorrelation (beyond it the estimate is noise)."""
+    stop = np.flatnonzero(gamma <= 0.0)
+    return int(stop[0]) if stop.size else gamma.size
+
+
+def _registration_sd_mm(design, residual, columns, max_lag=200):
+    """SD of the registration's vertical offset: least squares with errors correlated
+    along the outline (a sandwich, ``(X'X)^-1 X' S X (X'X)^-1``, whose ``S`` holds the
+    residual's own autocovariance up to its first non-positive lag).
+
+    Parameters
+    ----------
+    design : numpy.ndarray
+        ``(n, 2)``: the offset's and the shift's columns of the far columns.
+    residual : numpy.ndarray
+        What the registration left there (mm).
+    columns : numpy.ndarray
+        Their column indices (gaps split the lags).
+    """
+    gamma = _autocovariance(residual, columns, min(max_lag, residual.size // 4))
+    lags = _correlation_lags(gamma)
+    runs = np.split(np.arange(residual.size), np.flatnonzero(np.diff(columns) != 1) + 1)
+    middle = gamma[0] * design.T @ design
+    for lag in range(1, lags):
+        for run in runs:
+            if run.size > lag:
+                a, b = design[run[:-lag]], design[run[lag:]]
+                middle += gamma[lag] * (a.T @ b + b.T @ a)
+    bread = np.linalg.inv(design.T @ design)
+    variance = (bread @ middle @ bread)[0, 0]
+    return float(np.sqrt(max(variance, 0.0)))
+
+
+def _trend_residual(z_mm, trend_px, split):
+    """The outline's residual about a moving quadratic of ``trend_px`` columns, each
+    side of column ``split`` on its own (a trend across the wedge's notch would take its
+    bend for scatter); NaN where no edge was found."""
+    from scipy.signal import savgol_filter
+
+    residual = np.full(z_mm.shape, np.nan)
+    for part in (slice(0, split), slice(split, z_mm.size)):
+        z = z_mm[part]
+        ok = np.isfinite(z)
+        if ok.sum() < max(trend_px, 7):
+            continue
+        index = np.arange(z.size)
+        filled = np.interp(index, index[ok], z[ok])
+        window = min(trend_px, z.size) - (1 - min(trend_px, z.size) % 2)  # odd
+        residual[part] = np.where(ok, filled - savgol_filter(filled, window, TREND_ORDER), np.nan)
+    return residual
+
+
+def _mean_variance_factor(residual, n_columns, trend_px):
+    """How much larger the variance of a mean of ``n_columns`` edge errors is than the
+    mean square of the same mean of their residual about the moving quadratic.
+
+    The quadratic takes part of the errors with it, the more the longer they are
+    correlated.  With the errors' correlation taken from the residual's own
+    autocorrelation up to its first non-positive lag (zero beyond) and the moving
+    quadratic's weights ``h`` (Savitzky-Golay), the mean's weights are ``b`` (``1/n``
+    over ``n`` columns) on the errors and ``a = b - b * h`` on the residual: the factor
+    is ``b' R b / a' R a``.
+    """
+    from scipy.linalg import toeplitz
+    from scipy.signal import savgol_coeffs
+
+    runs = np.isfinite(residual)
+    if runs.sum() < 3 * trend_px:
+        return float("nan")
+    columns = np.flatnonzero(runs)
+    gamma = _autocovariance(residual[runs], columns, min(trend_px, 200))
+    lags = _correlation_lags(gamma)
+    window = trend_px | 1
+    h = savgol_coeffs(window, TREND_ORDER)
+    b = np.zeros(window + n_columns - 1)
+    b[window // 2 : window // 2 + n_columns] = 1.0 / n_columns
+    a = b - np.convolve(np.ones(n_columns) / n_columns, h)  # the mean of the residual
+    rho = np.zeros(b.size)
+    rho[:lags] = gamma[:lags] / gamma[0]
+    correlation = toeplitz(rho)
+    return float((b @ correlation @ b) / (a @ correlation @ a))
+
+
+def _local_variance(z_mm, n_columns, pixel_mm, split):
+    """Each column's local variance (mm^2) of the mean of ``n_columns`` neighbouring
+    columns' edge errors: the outline's residual about its moving quadratic
+    (:func:`_trend_residual`), averaged over ``n_columns``, squared, averaged over
+    ``LOCAL_SCATTER_MM`` either side and scaled for what the quadratic took
+    (:func:`_mean_variance_factor`); NaN where too few columns."""
+    trend_px = max(7, round(TREND_MM / pixel_mm))
+    half_px = max(3, round(LOCAL_SCATTER_MM / pixel_mm))
+    residual = _trend_residual(z_mm, trend_px, split)
+    factor = _mean_variance_factor(residual, n_columns, trend_px)
+    ok = np.isfinite(residual)
+    means = ndimage.uniform_filter1d(np.where(ok, residual, 0.0), n_columns, mode="nearest")
+    full = ndimage.uniform_filter1d(ok.astype(float), n_columns, mode="nearest") > 1 - 1e-9
+    size = 2 * half_px + 1
+    sums = ndimage.uniform_filter1d(np.where(full, means**2, 0.0), size, mode="nearest")
+    counts = ndimage.uniform_filter1d(full.astype(float), size, mode="nearest")
+    return np.where(counts * size >= 10, factor * sums / np.maximum(counts, 1e-12), np.nan)
+
+
+def _reading_sds_mm(x, z_rest, z_load, dx, tip_x_mm, readings, window_mm):
+    """Each reading's own SD (mm; the registration's shared error apart).
+
+    A reading is the line through its columns of the resting outline's edge minus the
+    loaded one's, taken at its distance (:func:`_sample`); the two photographs' errors
+    are independent, so its variance is the sum of each outline's local variance of a
+    mean over as many columns (:func:`_local_variance`), at the reading's columns (the
+    resting outline's moved onto the loaded one's): a steep or glaring stretch, rougher
+    than the rest, counts as rough as it is.  A line taken off its columns' centre
+    varies more than their mean: by ``1 + n (x0 - mean)^2 / sum (x - mean)^2`` for
+    independent errors (least squares), a bound for errors correlated along the outline.
+    """
+    pixel_mm = float(np.median(np.diff(x)))
+    n = max(1, int(np.sum(np.abs(x - x[x.size // 2]) <= window_mm)))
+    split = int(np.searchsorted(x, tip_x_mm))
+    local = _local_variance(z_load, n, pixel_mm, split) + np.interp(
+        x - dx, x, _local_variance(z_rest, n, pixel_mm, z_rest.size)
+    )
+    fallback = float(np.nanmax(local)) if np.isfinite(local).any() else float("nan")
+    read = np.isfinite(z_load)
+    sds = {}
+    for side, sign in (("left", -1.0), ("right", 1.0)):
+        variances = []
+        for c in tip_x_mm + sign * readings[side][0]:
+            at = float(np.nanmean(local[np.abs(x - c) <= max(window_mm, pixel_mm)]))
+            columns = x[read & (np.abs(x - c) <= window_mm)]
+            spread = float(np.sum((columns - columns.mean()) ** 2)) if columns.size else 0.0
+            off = 1.0 + (columns.size * (c - columns.mean()) ** 2 / spread if spread > 0 else 0.0)
+            variances.append((at if np.isfinite(at) else fallback) * off)
+        sds[side] = np.sqrt(np.array(variances, dtype=float))
+    return sds
 
 
 def digitise_photographs(
@@ -907,11 +1086,28 @@ def truth_error_um(trial, truth, window_mm):
     return float(1000 * np.sqrt(np.mean(np.square(errors))))
 
 
+def own_reading_sd_mm(trial, window_mm):
+    """The RMS of a trial's readings' own SDs within the fit window (both sides), or
+    None where it states none: what the fits take as its ``reading_sd_mm``."""
+    if not trial.reading_sds_mm:
+        return None
+    sds = np.concatenate(
+        [
+            trial.reading_sds_mm[side][trial.readings[side][0] <= window_mm]
+            for side in ("left", "right")
+        ]
+    )
+    return float(np.sqrt(np.mean(sds**2))) if sds.size else None
+
+
 def quality_record(depth_mm, trial, truth=None, window_mm=3.0):
     """What a reviewer needs to judge one digitised trial, JSON-ready (mm and um); with
     a truth (side -> distances and deflections), the readings' RMS error against it over
-    the fit window (``error_rms_um``, else None)."""
+    the fit window (``error_rms_um``, else None).  ``registration_sd_um`` and
+    ``own_reading_sd_um`` (:func:`own_reading_sd_mm`) are what the fits take for the
+    trial's shared offset and reading error (:func:`lineload.noise.registration_rows`)."""
     error = truth_error_um(trial, truth, window_mm) if truth else None
+    own = own_reading_sd_mm(trial, window_mm)
     return {
         "error_rms_um": None if error is None else round(error, 3),
         "depth_mm": float(depth_mm),
@@ -922,6 +1118,8 @@ def quality_record(depth_mm, trial, truth=None, window_mm=3.0):
         "edge_noise_um": round(1000 * trial.edge_noise_mm, 3),
         "reading_sd_um": round(1000 * trial.reading_sd_mm, 3),
         "registration_sd_um": round(1000 * trial.registration_sd_mm, 3),
+        # the readings' own SD over the fit window: the trial's reading_sd_mm in the fits
+        "own_reading_sd_um": None if own is None else round(1000 * own, 3),
         "readings": {side: len(trial.readings[side][0]) for side in ("left", "right")},
         "first_read_mm": {
             side: round(float(trial.readings[side][0][0]), 4)
