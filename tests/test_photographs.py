@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import REPO, refused_run, run_snakemake
+from conftest import REPO, batch_of, refused_run, run_snakemake
 from lineload.fitting.batch import fit_waterbed
 from lineload.rawdata.photographs import (
     Camera,
@@ -276,7 +276,9 @@ def test_the_photograph_example_builds_from_images_to_article(photograph_build):
     # the digitised readings are the true profiles, to a few micrometres
     subjects = {s.subject: s for s in shipped_subjects()}
     for name in PHOTOGRAPH_SUBJECTS:
-        readings = pd.read_csv(results / "digitised" / f"{name}.csv")
+        batch = batch_of(name, PHOTOGRAPH_SUBJECTS)  # the digitising job's files
+        readings = pd.read_csv(results / "digitised" / f"{batch}.csv")
+        readings = readings[readings["subject"] == name]
         for depth in PHOTOGRAPH_DEPTHS_MM:
             trial = trial_parameters(subjects[name], depth)
             errors = []
@@ -294,9 +296,10 @@ def test_the_photograph_example_builds_from_images_to_article(photograph_build):
                 errors.extend((rows["deflection_image_mm"] - truth)[near])
             # over the fit window, both sides: better than half a hand reading's noise
             assert np.sqrt(np.mean(np.square(errors))) < HAND_READING_SD_MM / 2, (name, depth)
-        record = json.loads((results / "digitised" / f"{name}.json").read_text())
-        assert [r["subject"] for r in record["subjects"]] == [name]  # a batch of one
-        quality = record["subjects"][0]
+        record = json.loads((results / "digitised" / f"{batch}.json").read_text())
+        members = [r["subject"] for r in record["subjects"]]
+        assert name in members and record["batch"] == batch
+        quality = record["subjects"][members.index(name)]
         assert [t["depth_mm"] for t in quality["trials"]] == list(PHOTOGRAPH_DEPTHS_MM)
         # the photographs are named as in the raw folder, never by an absolute path
         for trial in quality["trials"]:
@@ -304,7 +307,7 @@ def test_the_photograph_example_builds_from_images_to_article(photograph_build):
             assert trial["rest"] == f"images/{name}_{trial['depth_mm']:g}mm_rest.png"
         # the job's own comparison with images/truth.csv agrees: within half a reading
         assert all(t["error_rms_um"] < 1000 * HAND_READING_SD_MM / 2 for t in quality["trials"])
-        assert (results / "digitised" / f"{name}.png").is_file()
+        assert (results / "digitised" / f"{batch}.png").is_file()
         # each trial's registration error is its shared offset in the noise table
         noise = pd.read_csv(results / "tables" / "noise.csv")
         for trial in quality["trials"]:

@@ -812,6 +812,10 @@ def elastic_facts(elastic, fits):
         "rmse_homogeneous": span_text(homogeneous, 3),
         "rmse_waterbed": span_text(waterbed, 3),
         "layered_wins": f"{layered_wins} of {counted(len(fitted), 'trial')}",
-        "beats_waterbed": f"{int((layered < waterbed).sum())} of {counted(len(fitted), 'trial')}",
-        "none_beats_waterbed": not bool((layered < waterbed).any()),
+        "waterbed_sentence": (
+            "the layered finger fits no trial better than the waterbed"
+            if not (layered < waterbed).any()
+            else f"the layered finger fits {int((layered < waterbed).sum())} of "
+            f"{counted(len(fitted), 'trial')} better than the waterbed"
+        ),
     }
