@@ -748,7 +748,7 @@ def photograph_mistake(raw, mistake):
 @pytest.mark.parametrize(
     ("mistake", "line", "words"),
     [
-        ("rest copied over", 3, "M1_1mm_loaded.png: no deflection"),
+        ("rest copied over", 3, "M1_1mm_loaded.png: the wedge was not found"),
         ("loaded copied over", 3, "is the loaded photograph the resting one (copied over it)?"),
         ("loaded copied over, tip given", 3, "copied over the other?"),
         ("swapped", 2, "the resting photograph shows it: are rest and loaded swapped?"),

@@ -96,7 +96,9 @@ def one_pair(k, seed, folder):
         return {**row, "read": False, "refusal": str(error).replace(folder, "")}
     seconds = time.perf_counter() - start
     distance, mean = averaged(trial)
-    truth = (true_deflection_mm(case, "left", distance) + true_deflection_mm(case, "right", distance)) / 2
+    truth = (
+        true_deflection_mm(case, "left", distance) + true_deflection_mm(case, "right", distance)
+    ) / 2
     rms_um = 1000 * float(np.sqrt(np.mean((mean - truth) ** 2)))
     shared = trial.registration_sd_mm**2
     own = max(trial.reading_sd_mm**2 - shared, 0.0) / 2
@@ -112,6 +114,9 @@ def one_pair(k, seed, folder):
         "refusal": "",
         "rms_um": round(rms_um, 2),
         "tip_error_px": round(float(tip_error_px), 2),
+        "tip_sd_px": None
+        if trial.tip_sd_mm is None
+        else round(trial.tip_sd_mm * case.pixels_per_mm, 3),
         "readings_in_window": f"{readable}/{in_window}",
         "L_truth_mm": round(target, 3),
         "L_mm": round(fitted["L_mm"], 3),

@@ -6,8 +6,9 @@ only on pictures made the way it was built.  What differs from that renderer:
 
 * the profile: each side of the wedge has its own membrane length ``L``; the shape is the
   exact zero-area circular arc (:func:`lineload.models.arc_deflection_mm`) or a blend of
-  the small-slope parabola (eq. 19) with a logarithmic fall ``ln(1 + k (1 - x / L))``,
-  steeper at the wedge than either; at 2 mm depth the notch's sides are steep;
+  the small-slope parabola (eq. 19) with a logarithmic fall
+  ``1 - ln(1 + k x / L) / ln(1 + k)`` (a Boussinesq-like ``ln(1 / x)`` kept finite at
+  the wedge), steeper at the wedge than the parabola; at 2 mm depth the notch's sides are steep;
 * the optics: anti-aliasing by the distance to the edge across it (not by sub-columns);
   a disc (defocus) or a Gaussian blur of several pixels; photon noise (Poisson, from a
   full-well count) and read noise; strong vignetting (radial) and a lighting gradient;
@@ -67,7 +68,8 @@ class HardCase:
     blend : float
         Share of the logarithmic fall in a ``blend`` (0-1).
     log_k : float
-        Steepness of the logarithmic fall (``k`` in ``ln(1 + k (1 - x / L))``).
+        Steepness of the logarithmic fall (``k`` in ``1 - ln(1 + k x / L) / ln(1 + k)``;
+        its slope at the wedge is ``W0 k / (L ln(1 + k))``).
     radius_mm : float
         The resting finger's radius of curvature (mm).
     pixels_per_mm : float
@@ -170,7 +172,7 @@ def true_deflection_mm(case, side, distance_mm):
         return arc_deflection_mm(d, case.depth_mm, L_mm)
     parabola = waterbed_deflection_mm(d, case.depth_mm, L_mm)
     s = np.clip(d / L_mm, 0.0, 1.0)
-    fall = case.depth_mm * np.log1p(case.log_k * (1.0 - s)) / np.log1p(case.log_k)
+    fall = case.depth_mm * (1.0 - np.log1p(case.log_k * s) / np.log1p(case.log_k))
     return np.where(d <= L_mm, (1.0 - case.blend) * parabola + case.blend * fall, 0.0)
 
 
@@ -281,7 +283,7 @@ def _lit(image, case):
 def _bar_box(case, tip_column, skin_row):
     """Top-left pixel of the scale bar's drawing and its length (pixels)."""
     ppmm = case.pixels_per_mm
-    length = int(round(ppmm * (1.0 if case.width_px / ppmm < 20 else 2.0)))
+    length = round(ppmm * (1.0 if case.width_px / ppmm < 20 else 2.0))
     margin = 25
     places = {
         "top-left": (margin, margin + 10),
@@ -291,7 +293,10 @@ def _bar_box(case, tip_column, skin_row):
         # in the background above the skin, between the wedge and the view's edge
         "above-skin": (tip_column + int(1.5 * ppmm), max(skin_row - int(0.9 * ppmm), 20)),
         # just beside the wedge's face, level with its lower part
-        "beside-wedge": (tip_column - int(0.9 * ppmm) - length, max(skin_row - int(0.5 * ppmm), 20)),
+        "beside-wedge": (
+            tip_column - int(0.9 * ppmm) - length,
+            max(skin_row - int(0.5 * ppmm), 20),
+        ),
     }
     return places[case.bar], length
 
@@ -305,7 +310,7 @@ def _draw_bar(image, case, tip_column, skin_row):
     top = 2**case.bits - 1
     over_skin = case.bar.startswith("bottom")
     ink = top if over_skin else 0
-    thick = max(2, int(round(case.pixels_per_mm * 0.04)))
+    thick = max(2, round(case.pixels_per_mm * 0.04))
     tick = 4 * thick
     canvas = np.zeros(image.shape[:2], dtype=np.uint8)
     mask = Image.fromarray(canvas)
@@ -314,7 +319,9 @@ def _draw_bar(image, case, tip_column, skin_row):
     ends = (0, length) if case.bar_kind == "bar" else range(0, length + 1, max(length // 4, 1))
     for k, at in enumerate(ends):
         height = tick if (case.bar_kind == "bar" or k % 2 == 0) else tick // 2
-        draw.rectangle([left + at - thick // 2, row - height, left + at + thick // 2, row], fill=255)
+        draw.rectangle(
+            [left + at - thick // 2, row - height, left + at + thick // 2, row], fill=255
+        )
     if case.label:
         text = "1 mm" if length < 1.5 * case.pixels_per_mm else "2 mm"
         draw.text((left + length // 2 - 12, row + thick + 3), text, fill=255)
@@ -364,7 +371,7 @@ def render_pair(case, rng):
         linear = _lit(_blurred(_scene_linear(case, loaded, rng), case), case)
         image = _encoded(linear, case, rng)
         if case.bar is not None:
-            image = _draw_bar(image, case, int(round(tip_column)), skin_row)
+            image = _draw_bar(image, case, round(tip_column), skin_row)
         images.append(image if case.colour else image[..., 0])
     return images[0], images[1], float(tip_column)
 
@@ -378,13 +385,16 @@ def draw_case(rng, **fixed):
     camera turned by up to 0.5 deg; gamma 1 or 2.2; 8 or 16 bits; grey or colour; a
     scale bar in any of :data:`BAR_PLACES` (or none), as a bar or a ruler, labelled or
     not; the wedge in the resting view half the time; glare up to saturation; the finger
-    moved by up to 50 um between the shots.
+    moved by up to 50 um between the shots; a resting radius of 25-80 mm.
     """
     depth = float(rng.choice([0.5, 1.0, 1.5, 2.0]))
     L_left, L_right = rng.uniform(6.0, 12.0, size=2)
     ppmm = float(rng.uniform(60.0, 100.0))
     reach = max(L_left, L_right)
     width_mm = 2 * (reach + 2.5)
+    radius = float(rng.uniform(25.0, 80.0))
+    # tall enough that the finger's sides stay in view with 1 mm below them
+    drop_mm = radius - np.sqrt(radius**2 - (width_mm / 2 + 0.5) ** 2)
     case = HardCase(
         depth_mm=depth,
         L_left_mm=float(L_left),
@@ -392,10 +402,10 @@ def draw_case(rng, **fixed):
         shape=str(rng.choice(["arc", "blend"])),
         blend=float(rng.uniform(0.2, 0.7)),
         log_k=float(rng.uniform(3.0, 15.0)),
-        radius_mm=float(rng.uniform(12.0, 40.0)),
+        radius_mm=radius,
         pixels_per_mm=ppmm,
         width_px=int(width_mm * ppmm),
-        height_px=int((depth + 4.0) * ppmm),
+        height_px=int((1.8 + max(depth, drop_mm) + 1.0) * ppmm),
         tip_u_mm=width_mm / 2 + float(rng.uniform(-0.3, 0.3)),
         skin_v_mm=1.8,
         blur=str(rng.choice(["disc", "gaussian"])),
