@@ -802,7 +802,7 @@ def test_a_tip_given_where_the_image_shows_it_is_read():
 @pytest.mark.parametrize(
     ("mistake", "words"),
     [
-        ("rest copied over", "M1_1mm_loaded.png: no deflection"),
+        ("rest copied over", "M1_1mm_loaded.png: the wedge was not found"),
         ("micrometres", "line 6, column 'depth_mm'"),
         ("truncated", "is the file truncated or damaged?"),
     ],

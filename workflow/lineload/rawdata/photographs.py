@@ -435,9 +435,17 @@ def _skin_top_rows(smooth):
     every = np.arange(0, width, 4)
     coarse = ndimage.median_filter(_column_otsu(smooth[:, every]), size=13, mode="nearest")
     thresholds = np.interp(np.arange(width), every, coarse)
-    labels, _ = ndimage.label(smooth < thresholds[None, :])
-    touching = np.unique(labels[-1][labels[-1] > 0])
-    skin = ndimage.binary_fill_holes(np.isin(labels, touching))
+    labels, count = ndimage.label(smooth < thresholds[None, :])
+    touching = np.zeros(count + 1, dtype=bool)
+    touching[labels[-1]] = True
+    touching[0] = False
+    skin = touching[labels]
+    # what the skin encloses (not reaching the image's border) is skin too: labelled
+    # rather than filled by scipy's binary_fill_holes, which is several times slower
+    rest, count = ndimage.label(~skin)
+    open_ = np.zeros(count + 1, dtype=bool)
+    open_[np.concatenate([rest[0], rest[-1], rest[:, 0], rest[:, -1]])] = True
+    skin |= (rest > 0) & ~open_[rest]
     return np.where(skin.any(axis=0), np.argmax(skin, axis=0), -1)
 
 
@@ -981,8 +989,12 @@ def _traced(x_mm, z_mm, tip_x_mm, pixel_mm, reach_mm=GLARE_REACH_MM):
             if not np.isfinite(z_mm[c]):
                 continue
             if len(xs) >= 8:
-                a, b = np.polyfit(xs[-8:], zs[-8:], 1)
-                if abs(z_mm[c] - (a * x_mm[c] + b)) > TRACE_JUMP_PX * pixel_mm:
+                # the line through the last 8 traced edges, by hand (8 points, often)
+                x8, z8 = np.asarray(xs[-8:]), np.asarray(zs[-8:])
+                dx8 = x8 - x8.mean()
+                a = float(dx8 @ (z8 - z8.mean()) / (dx8 @ dx8))
+                predicted = z8.mean() + a * (x_mm[c] - x8.mean())
+                if abs(z_mm[c] - predicted) > TRACE_JUMP_PX * pixel_mm:
                     broken = True
                     ok[c] = False
                     continue
@@ -1050,8 +1062,8 @@ def _wedge_apex_mm(
 
     The wedge is sought only around the notch (``notch_x_mm``, :func:`_notch_mm`): above
     the skin there, it is the darkest column within ``search_mm`` of the notch.  In each
-    row, its left face is the strongest fall in brightness going right within
-    ``half_window_mm`` left of that column, its right face the strongest rise right of it
+    row, its left face is the first strong fall in brightness met going left from that
+    column (within ``half_window_mm``), its right face the first strong rise going right
     (each refined by a parabola); a straight line through each face's points (robustly:
     a scale bar's tick or a label in a row is dropped as an outlier), extended down to
     where they cross, gives the apex.  Its standard error comes from the scatter of the
@@ -1077,18 +1089,31 @@ def _wedge_apex_mm(
     rise = smooth[:, 1:] - smooth[:, :-1]  # between columns c and c + 1
     reach = int(half_window_mm * ppmm)
     points = {-1.0: ([], []), 1.0: ([], [])}
+    bounds, noise = {}, {}
+    for sign in (-1.0, 1.0):
+        lo, hi = (centre, centre + reach) if sign > 0 else (centre - reach, centre)
+        bounds[sign] = lo, hi = max(lo, 1), min(hi, rise.shape[1] - 1)
+        if hi - lo >= 4:  # the rise's noise over the rows and columns searched
+            block = rise[rows, lo:hi]
+            noise[sign] = 1.4826 * float(np.median(np.abs(block - np.median(block))))
     for row in rows:
         for sign in (-1.0, 1.0):
-            lo, hi = (centre, centre + reach) if sign > 0 else (centre - reach, centre)
-            lo, hi = max(lo, 1), min(hi, rise.shape[1] - 1)
+            lo, hi = bounds[sign]
             if hi - lo < 4:
                 continue
             # the left face darkens going right, the right face brightens: both peak here
             segment = sign * rise[row, lo:hi]
-            c = int(np.argmax(segment))
-            noise = 1.4826 * np.median(np.abs(segment - np.median(segment)))
-            if segment[c] < max(5.0 * noise, 1e-3) or not 0 < c < segment.size - 1:
+            strong = max(5.0 * noise[sign], 0.3 * float(segment.max()), 1e-3)
+            peaks = np.flatnonzero(
+                (segment[1:-1] >= segment[:-2])
+                & (segment[1:-1] > segment[2:])
+                & (segment[1:-1] >= strong)
+            )
+            if peaks.size == 0:
                 continue
+            # the face is the first strong edge met going out from inside the wedge (a
+            # scale bar's tick or a label further out may be stronger)
+            c = int(peaks[0] if sign > 0 else peaks[-1]) + 1
             offset = float(_peak_offset(segment[c - 1], segment[c], segment[c + 1]))
             column = lo + c + 0.5 + offset  # between c and c + 1
             points[sign][0].append(scene.z0_mm - (row + 0.5) / ppmm)
