@@ -155,3 +155,35 @@ def test_the_sheets_tip_is_checked_against_the_apex_and_the_apex_error_is_measur
     off, _, _ = read(case, tip_x_px=tip_column + 6)
     problem = photographs.trial_problem(off, case.depth_mm, 3.0)
     assert problem is not None and "left of its apex" not in problem and "right of" in problem
+
+
+def test_a_declared_region_over_the_skins_edge_is_left_unread_and_says_so():
+    """A black label burned in across the skin's edge 0.5-0.8 mm right of the tip, over
+    both outlines: undeclared, its edge leaves the traced outline and everything from it
+    in to the tip is left unread; declared (digitise: exclude_px), only its columns are,
+    with that reason, and the readings between it and the tip are read right."""
+    case = small_case()
+    rest, loaded, tip_column = render_pair(case, np.random.default_rng(1))
+    rest_row = case.skin_v_mm * PPMM
+    box = [
+        int(tip_column + 0.5 * PPMM),
+        int(rest_row - 10),
+        int(tip_column + 0.8 * PPMM),
+        int(rest_row + 1.0 * PPMM),
+    ]
+    left, top, right, bottom = box
+    for image in (rest, loaded):
+        image[top : bottom + 1, left : right + 1] = 0
+    inside, between = [0.5, 0.75], [0.2, 0.25, 0.3]  # the box grows by 7 pixels
+
+    def read_with(boxes):
+        settings = {**SETTINGS, "exclude_px": boxes}
+        return digitise_photographs(rest, loaded, PPMM, GRID, settings)
+
+    plain = dict(read_with([]).unread["right"])
+    assert all("overlay" in plain.get(d, "") for d in between + inside), plain
+    declared = read_with([box])
+    reasons = dict(declared.unread["right"])
+    assert all(reasons.get(d) == "an excluded region" for d in inside), reasons
+    assert not set(between) & set(reasons), reasons
+    assert np.max(np.abs(errors_um(case, declared))) < 1.5 * 25

@@ -59,6 +59,7 @@ __all__ = [
     "Scene",
     "digitise_pair",
     "digitise_photographs",
+    "excluded_mask",
     "photograph_problem",
     "profile_rows",
     "quality_record",
@@ -402,12 +403,44 @@ def _peak_offset(before, at, after):
 #: columns (its robust SD, the columns being mostly plain background or skin).  Relative
 #: to the image's own noise, so a soft (defocused), dim (vignetted) or gamma-encoded edge
 #: that stands clear of its noise is an edge; a fixed fall per pixel is not, as it
-#: depends on the blur.  The largest fall of pure noise down a column of a few hundred
-#: rows stays below about 4.5 times its SD.
+#: depends on the blur.  Of a few hundred rows of Gaussian noise, the largest is about 3
+#: SDs and one column in about 700 has one beyond 4.5 (400 rows times the normal tail
+#: 3.4e-6); beyond 8, none in practice (6e-16 a row), and an image needs an edge in a
+#: tenth of its columns.
 EDGE_NOISE_FACTOR = 8.0
 
 #: Rows either side of the dark region's top within which the edge is sought.
 EDGE_BAND_PX = 12
+
+
+def excluded_mask(boxes, shape, smoothing_px=1.5):
+    """The pixels of the declared regions (config ``digitise: exclude_px``), grown by the
+    smoothing's reach (3 SDs and a pixel), or None without any.
+
+    Parameters
+    ----------
+    boxes : sequence of sequence of int
+        ``[left, top, right, bottom]`` pixel columns and rows of each region, inclusive
+        (a scale bar, a ruler or a label the lab's software burns in at the same place).
+    shape : tuple of int
+        The image's ``(height, width)``.
+    smoothing_px : float, optional
+        The smoothing before edges are sought.
+
+    Returns
+    -------
+    numpy.ndarray of bool or None
+    """
+    if not boxes:
+        return None
+    grow = int(np.ceil(3 * smoothing_px)) + 1
+    mask = np.zeros(shape[:2], dtype=bool)
+    for left, top, right, bottom in boxes:
+        mask[
+            max(int(top) - grow, 0) : max(int(bottom) + grow + 1, 0),
+            max(int(left) - grow, 0) : max(int(right) + grow + 1, 0),
+        ] = True
+    return mask
 
 
 def _column_otsu(smooth):
@@ -424,18 +457,22 @@ def _column_otsu(smooth):
     return 0.5 * (ordered[best, columns] + ordered[best + 1, columns])
 
 
-def _skin_top_rows(smooth):
+def _skin_top_rows(smooth, excluded=None):
     """The first row of the skin in each column: the dark region that reaches the image's
     bottom edge (each column split at its own Otsu threshold, which follows vignetting
     and light gradients), with whatever it encloses (a scale bar or a label burned into
     the finger).  -1 where a column has no skin; 0 where the dark region reaches the top
-    (a dark wedge joined to the skin at the notch)."""
+    (a dark wedge joined to the skin at the notch).  ``excluded`` pixels (a declared
+    region, :func:`excluded_mask`) count as dark: a box over the finger joins it."""
     width = smooth.shape[1]
     # every 4th column's threshold, a median over 13 of them, interpolated between
     every = np.arange(0, width, 4)
     coarse = ndimage.median_filter(_column_otsu(smooth[:, every]), size=13, mode="nearest")
     thresholds = np.interp(np.arange(width), every, coarse)
-    labels, count = ndimage.label(smooth < thresholds[None, :])
+    dark = smooth < thresholds[None, :]
+    if excluded is not None:
+        dark |= excluded
+    labels, count = ndimage.label(dark)
     touching = np.zeros(count + 1, dtype=bool)
     touching[labels[-1]] = True
     touching[0] = False
@@ -470,13 +507,13 @@ def _shown(value, limit, fmt="{:.3g}"):
     return text
 
 
-def _outline_mm(smooth, scene, name):
+def _outline_mm(smooth, scene, name, excluded=None):
     """:func:`skin_outline_mm` of an image already smoothed (:func:`_smoothed`)."""
-    z_mm, peak, _ = _edges(smooth, scene, name)
+    z_mm, peak, _ = _edges(smooth, scene, name, excluded)
     return z_mm, peak
 
 
-def _edges(smooth, scene, name):
+def _edges(smooth, scene, name, excluded=None):
     """The skin's edge in each column, its fall (contrast per pixel) and its noise.
 
     In each column the edge is sought within :data:`EDGE_BAND_PX` rows of the top of the
@@ -484,19 +521,22 @@ def _edges(smooth, scene, name):
     the whole column where that region reaches the top (the wedge in the notch): the
     deepest local maximum of the fall there that stands :data:`EDGE_NOISE_FACTOR` times
     above the column's noise and at least half the strongest such fall of the column.
+    No edge is sought in ``excluded`` pixels (:func:`excluded_mask`).
     """
     fall = smooth[:-1, :] - smooth[1:, :]  # > 0 where it darkens going down
     noise = _fall_noise(fall)
     strongest = fall.max(axis=0)
     ratio = strongest / noise
     height = fall.shape[0]
-    top = _skin_top_rows(smooth)
+    top = _skin_top_rows(smooth, excluded)
     rows = np.arange(height)[:, None]
     whole = top <= 0
     allowed = whole[None, :] | (np.abs(rows - (top[None, :] - 1)) <= EDGE_BAND_PX)
     local = np.zeros_like(fall, dtype=bool)
     local[1:-1] = (fall[1:-1] >= fall[:-2]) & (fall[1:-1] > fall[2:])
     candidate = local & allowed & (fall > EDGE_NOISE_FACTOR * noise[None, :])
+    if excluded is not None:  # a fall between rows r and r + 1 touching the region
+        candidate &= ~(excluded[:-1] | excluded[1:])
     best = np.where(candidate, fall, -np.inf).max(axis=0)
     chosen = candidate & (fall >= 0.5 * best[None, :])
     deepest = np.where(chosen, rows, -1).max(axis=0)
@@ -632,6 +672,7 @@ def digitise_pair(
     smoothing_px=1.5,
     window_mm=0.02,
     names=("rest", "loaded"),
+    exclude_px=(),
 ):
     """Readings of both sides of the wedge from a resting and a loaded photograph.
 
@@ -654,6 +695,9 @@ def digitise_pair(
         Half-width of the columns averaged into one reading.
     names : tuple of str, optional
         How messages name the two images (their files).
+    exclude_px : sequence of sequence of int, optional
+        Regions no edge or wedge is sought in, ``[left, top, right, bottom]`` pixels
+        (:func:`excluded_mask`); a column whose edge would lie there is left unread.
 
     Returns
     -------
@@ -666,15 +710,19 @@ def digitise_pair(
         beyond ``reach_mm`` is in view to register the outlines.
     """
     x = scene.column_x_mm
-    z_rest, _ = skin_outline_mm(rest_image, scene, smoothing_px, names[0])
+    excluded = excluded_mask(exclude_px, (scene.height_px, scene.width_px), smoothing_px)
+    smooth_rest = _smoothed(rest_image, scene, smoothing_px, names[0])
+    z_rest, _ = _outline_mm(smooth_rest, scene, names[0], excluded)
     smooth_load = _smoothed(loaded_image, scene, smoothing_px, names[1])
-    z_load, contrast_load, _ = _edges(smooth_load, scene, names[1])
+    z_load, contrast_load, _ = _edges(smooth_load, scene, names[1], excluded)
     why = np.where(np.isfinite(z_load), "", "no edge in the column")
+    if excluded is not None:
+        why = np.where(np.isfinite(z_load) | ~excluded.any(axis=0), why, "an excluded region")
     # the wedge is sought only where the load pressed the skin in: around the notch,
     # where the loaded outline lies furthest below the resting one (a scale bar, a ruler
     # or a label elsewhere is never taken for it)
     notch_x_mm = _notch_mm(x, z_rest, z_load)
-    apex = _wedge_apex_mm(smooth_load, scene, z_load, smoothing_px, notch_x_mm)
+    apex = _wedge_apex_mm(smooth_load, scene, z_load, smoothing_px, notch_x_mm, excluded)
     apex_x_mm, apex_sd_mm = apex if apex is not None else (None, None)
     if tip_x_mm is None:
         tip_x_mm = apex_x_mm
@@ -701,7 +749,7 @@ def digitise_pair(
     )
     why = np.where(
         np.isfinite(z_load) & jumped,
-        "glare: the edge leaves the outline traced in towards the tip",
+        "glare or an overlay: the edge leaves the outline traced in towards the tip",
         why,
     )
     why = np.where(
@@ -810,7 +858,7 @@ def digitise_photographs(
         Where to read each side.
     settings : dict
         The config's ``digitise`` settings (``reach_mm``, ``smoothing_px``,
-        ``window_mm``).
+        ``window_mm``, ``exclude_px``).
     tip_x_px : float, optional
         The sheet's ``tip_x_px``; found in the image when None.
     names : tuple of str, optional
@@ -831,6 +879,7 @@ def digitise_photographs(
         tip_x_mm=None if tip_x_px is None else (float(tip_x_px) + 0.5) / pixels_per_mm,
         smoothing_px=settings["smoothing_px"],
         window_mm=settings["window_mm"],
+        exclude_px=settings.get("exclude_px", ()),
         names=tuple(names) or ("rest", "loaded"),
     )
 
@@ -1055,7 +1104,7 @@ def _robust_line(heights, columns, pixel_mm):
 
 
 def _wedge_apex_mm(
-    smooth, scene, z_mm, smoothing_px, notch_x_mm, half_window_mm=1.5, search_mm=1.0
+    smooth, scene, z_mm, smoothing_px, notch_x_mm, excluded=None, half_window_mm=1.5, search_mm=1.0
 ):
     """x of the wedge's apex, where its two faces meet, and its standard error; None if no
     wedge is seen.
@@ -1068,7 +1117,8 @@ def _wedge_apex_mm(
     a scale bar's tick or a label in a row is dropped as an outlier), extended down to
     where they cross, gives the apex.  Its standard error comes from the scatter of the
     faces' points about their lines.  ``smooth`` is the loaded image as its outline was
-    sought in (:func:`_smoothed`).
+    sought in (:func:`_smoothed`); ``excluded`` pixels (:func:`excluded_mask`) hold no
+    face.
     """
     ppmm = scene.pixels_per_mm
     pixel_mm = 1.0 / ppmm
@@ -1087,6 +1137,8 @@ def _wedge_apex_mm(
         return None
     centre = lo_search + int(np.argmin(smooth[rows, lo_search:hi_search].mean(axis=0)))
     rise = smooth[:, 1:] - smooth[:, :-1]  # between columns c and c + 1
+    if excluded is not None:  # no face in a declared region
+        rise = np.where(excluded[:, 1:] | excluded[:, :-1], 0.0, rise)
     reach = int(half_window_mm * ppmm)
     points = {-1.0: ([], []), 1.0: ([], [])}
     bounds, noise = {}, {}
