@@ -107,6 +107,7 @@ def one_pair(k, seed, folder):
     target = fit_waterbed(distance, truth, case.depth_mm).params["L_mm"]
     tip_error_px = (trial.tip_x_mm * case.pixels_per_mm - 0.5) - tip_column
     readable = sum(int(np.sum(d <= FIT_WINDOW_MM)) for d, _ in trial.readings.values())
+    unread = [(d, r) for side in trial.unread.values() for d, r in side if d <= FIT_WINDOW_MM]
     in_window = 2 * int(np.sum(grid <= FIT_WINDOW_MM))
     return {
         **row,
@@ -118,6 +119,10 @@ def one_pair(k, seed, folder):
         if trial.tip_sd_mm is None
         else round(trial.tip_sd_mm * case.pixels_per_mm, 3),
         "readings_in_window": f"{readable}/{in_window}",
+        "furthest_unread_mm": max((d for d, _ in unread), default=0.0),
+        "unread_glare": sum(r.startswith("glare") for _, r in unread),
+        "unread_no_edge": sum(r.startswith("no edge") for _, r in unread),
+        "unread_other": sum(not r.startswith(("glare", "no edge")) for _, r in unread),
         "L_truth_mm": round(target, 3),
         "L_mm": round(fitted["L_mm"], 3),
         "L_ci_low_mm": round(fitted["L_ci_low_mm"], 3),
@@ -156,6 +161,10 @@ def main(n_pairs=18, seed=38):
             f"{read['tip_error_px'].abs().max():.2f} px",
             f"- L's 95 % interval holds the truth's L in {covered} of {len(read)} pairs "
             f"(Clopper-Pearson 95 %: {ci.low:.2f}-{ci.high:.2f})",
+            f"- readings in the fit window left unread: {int(read['unread_glare'].sum())} for "
+            f"glare (or the wedge above the edge), {int(read['unread_no_edge'].sum())} with "
+            f"no edge, {int(read['unread_other'].sum())} for another reason; the furthest "
+            f"{read['furthest_unread_mm'].max():g} mm from the tip",
             f"- seconds to digitise a pair: median {read['seconds'].median():.2f}, "
             f"worst {read['seconds'].max():.2f}",
         ]

@@ -762,6 +762,11 @@ def digitise_pair(
             why,
         ),
     )
+    why = np.where(
+        (why == "no edge in the column") & (away < GLARE_REACH_MM),
+        "no edge in the column, near the tip (glare as bright as the background?)",
+        why,
+    )
     z_load = np.where(why == "", z_load, np.nan)
     far = np.isfinite(z_load) & (away > reach_mm)
     if far.sum() < 20 or not ((x[far] < tip_x_mm).any() and (x[far] > tip_x_mm).any()):
