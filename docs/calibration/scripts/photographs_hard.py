@@ -153,12 +153,17 @@ def main(n_pairs=18, seed=38):
         f"- pairs read: {len(read)} of {len(table)}",
     ]
     if len(read):
+        z_tip = (read["tip_error_px"] / read["tip_sd_px"]).dropna()
         lines += [
             f"- averaged profile's RMS error over the fit window: median "
             f"{read['rms_um'].median():.2f} um, worst {read['rms_um'].max():.2f} um",
             f"- the wedge's tip against the truth: median |error| "
             f"{read['tip_error_px'].abs().median():.2f} px, worst "
             f"{read['tip_error_px'].abs().max():.2f} px",
+            f"- the tip's error against its stated standard error (where the apex was seen, "
+            f"{int(read['tip_sd_px'].notna().sum())} pairs): RMS "
+            f"{float(np.sqrt(np.mean(z_tip**2))):.2f}, largest {float(z_tip.abs().max()):.2f}, "
+            f"{int((z_tip.abs() <= 1.96).sum())} within 1.96",
             f"- L's 95 % interval holds the truth's L in {covered} of {len(read)} pairs "
             f"(Clopper-Pearson 95 %: {ci.low:.2f}-{ci.high:.2f})",
             f"- readings in the fit window left unread: {int(read['unread_glare'].sum())} for "
