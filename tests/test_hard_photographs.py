@@ -187,3 +187,16 @@ def test_a_declared_region_over_the_skins_edge_is_left_unread_and_says_so():
     assert all(reasons.get(d) == "an excluded region" for d in inside), reasons
     assert not set(between) & set(reasons), reasons
     assert np.max(np.abs(errors_um(case, declared))) < 1.5 * 25
+
+
+def test_a_ruler_crossing_the_wedges_face_is_not_taken_for_its_middle():
+    """At 2 mm the ruler beside the wedge crosses its face: that column, wedge above and
+    ruler below, is darker than the wedge's middle. Sought within 1 mm of the notch, the
+    middle lands on it and the apex 34 pixels off; within 0.3 mm, the apex is right."""
+    case = small_case(depth_mm=2.0, bar="beside-wedge", bar_kind="ruler", height_px=240)
+    trial, tip_column, loaded = read(case)
+    assert trial.tip_x_mm * PPMM - 0.5 == pytest.approx(tip_column, abs=0.5)
+    smooth, scene = smoothed(loaded)
+    z_mm, _, _ = photographs._edges(smooth, scene, "loaded")
+    wide = photographs._wedge_apex_mm(smooth, scene, z_mm, 1.5, trial.tip_x_mm, centre_mm=1.0)
+    assert abs(wide[0] * PPMM - 0.5 - tip_column) > 10

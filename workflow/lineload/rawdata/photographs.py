@@ -1109,13 +1109,25 @@ def _robust_line(heights, columns, pixel_mm):
 
 
 def _wedge_apex_mm(
-    smooth, scene, z_mm, smoothing_px, notch_x_mm, excluded=None, half_window_mm=1.5, search_mm=1.0
+    smooth,
+    scene,
+    z_mm,
+    smoothing_px,
+    notch_x_mm,
+    excluded=None,
+    half_window_mm=1.5,
+    search_mm=1.0,
+    centre_mm=0.3,
 ):
     """x of the wedge's apex, where its two faces meet, and its standard error; None if no
     wedge is seen.
 
     The wedge is sought only around the notch (``notch_x_mm``, :func:`_notch_mm`): above
-    the skin there, it is the darkest column within ``search_mm`` of the notch.  In each
+    the skin within ``search_mm`` of the notch, its middle is the darkest column within
+    ``centre_mm`` of it (where the wedge fills every row: a bar crossing its face
+    further out may darken a column more), and an apex more than ``search_mm`` from the
+    notch is no apex (None: the notch's own tip is taken instead; glare near the tip can
+    put the notch 0.3 mm off).  In each
     row, its left face is the first strong fall in brightness met going left from that
     column (within ``half_window_mm``), its right face the first strong rise going right
     (each refined by a parabola); a straight line through each face's points (robustly:
@@ -1136,8 +1148,8 @@ def _wedge_apex_mm(
     rows = np.arange(2, last_row)
     if rows.size < 10:
         return None
-    lo_search = max(int((notch_x_mm - search_mm - scene.x0_mm) * ppmm), 0)
-    hi_search = min(int((notch_x_mm + search_mm - scene.x0_mm) * ppmm) + 1, smooth.shape[1])
+    lo_search = max(int((notch_x_mm - centre_mm - scene.x0_mm) * ppmm), 0)
+    hi_search = min(int((notch_x_mm + centre_mm - scene.x0_mm) * ppmm) + 1, smooth.shape[1])
     if hi_search - lo_search < 3:
         return None
     centre = lo_search + int(np.argmin(smooth[rows, lo_search:hi_search].mean(axis=0)))
@@ -1204,7 +1216,10 @@ def _wedge_apex_mm(
             for k in range(4)
         ]
     )
-    return float(apex(params)), float(np.sqrt(max(gradient @ covariance @ gradient, 0.0)))
+    apex_x_mm = float(apex(params))
+    if not abs(apex_x_mm - notch_x_mm) <= search_mm:
+        return None  # the faces met away from the notch: not the wedge's
+    return apex_x_mm, float(np.sqrt(max(gradient @ covariance @ gradient, 0.0)))
 
 
 def _wedge_tip_mm(x_mm, z_mm, name, near_mm=(0.1, 0.8), around_mm=None, search_mm=1.0):
