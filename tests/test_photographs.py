@@ -759,7 +759,7 @@ def photograph_mistake(raw, mistake):
 @pytest.mark.parametrize(
     ("mistake", "line", "words"),
     [
-        ("rest copied over", 3, "M1_1mm_loaded.png: no deflection"),
+        ("rest copied over", 3, "M1_1mm_loaded.png: the wedge was not found"),
         ("loaded copied over", 3, "is the loaded photograph the resting one (copied over it)?"),
         ("loaded copied over, tip given", 3, "copied over the other?"),
         ("swapped", 2, "the resting photograph shows it: are rest and loaded swapped?"),
@@ -813,7 +813,7 @@ def test_a_tip_given_where_the_image_shows_it_is_read():
 @pytest.mark.parametrize(
     ("mistake", "words"),
     [
-        ("rest copied over", "M1_1mm_loaded.png: no deflection"),
+        ("rest copied over", "M1_1mm_loaded.png: the wedge was not found"),
         ("micrometres", "line 6, column 'depth_mm'"),
         ("truncated", "is the file truncated or damaged?"),
     ],
