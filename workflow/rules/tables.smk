@@ -42,6 +42,8 @@ rule claims_table:
         fits=rules.fits_table.output[0],
         # C13: the bending skin against the waterbed
         bending=rules.bending_table.output[0],
+        # C12: the layered elastic finger against the homogeneous one
+        elastic=rules.elastic_fits.output[0],
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
         noise=rules.noise.output[0],
         # C11 checks the measured forces too when there are any
