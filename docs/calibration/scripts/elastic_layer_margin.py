@@ -20,8 +20,8 @@ rule (:mod:`lineload.claims.elastic`) on simulated fingers.
    (library-made at ratios between the library's nodes; the off-library sections at ratio
    2 and 5, the species' default layer thickness).
 
-Run: ``python docs/calibration/scripts/elastic_layer_margin.py`` (about a minute; writes the
-two tables beside this folder and prints the margin).
+Run: ``python docs/calibration/scripts/elastic_layer_margin.py`` (under a minute; writes the two
+tables into docs/calibration/ and prints the margin).
 """
 
 from __future__ import annotations
