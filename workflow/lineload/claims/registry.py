@@ -411,10 +411,10 @@ CLAIMS = (
         kind=LATER_WORK,
         statement="(Later work) A layered elastic fingertip, a stiffer outer layer over soft "
         "pulp, describes the surface profiles better than a homogeneous one, beyond the noise.",
-        location="not in the paper: Dandekar, Raju and Srinivasan 2003, J. Biomech. Eng. "
-        "125:682-691 (three-dimensional finite-element fingertips under line loads)",
-        paper_value="not in the paper; the later work found a multi-layered model needed to "
-        "match line-load surface deflections (no number compared here)",
+        location="later work, not the 1989 paper: Dandekar, Raju and Srinivasan 2003, J. "
+        "Biomech. Eng. 125:682-691 (three-dimensional finite-element fingertips)",
+        paper_value="a multi-layered model was needed to match the line-load surface "
+        "deflections, a homogeneous one was not (no number compared here)",
         rule="Per species, more than half the trials have a layered fit whose improvement over "
         "the homogeneous one is beyond the noise (a likelihood ratio, two degrees of freedom) "
         "and beyond a geometry margin measured on homogeneous fingers whose sections the "
