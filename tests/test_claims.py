@@ -1093,3 +1093,28 @@ def test_c12_error_rates_on_a_small_simulated_set():
         for s in range(20)
     ]
     assert right.count(HOLDS) >= 19, right
+
+
+def test_c12_trial_call_against_hand_computed_values():
+    from scipy.stats import chi2
+
+    from lineload.claims.elastic import (
+        HOMOGENEOUS_ENOUGH,
+        LAYERED,
+        UNRESOLVED,
+        layer_call,
+        species_verdict,
+    )
+
+    # D = 0.01 mm², s² = 1e-4 mm², n = 25, W0 = 1 mm: D/s² = 100, g = √((0.01 − 2e-4)/25) ≈ 0.0198
+    found = layer_call(0.02, 0.01, 25, 1e-4, 1.0, 0.019, 0.05)
+    assert found["statistic"] == pytest.approx(100.0, rel=1e-12)
+    assert found["threshold"] == pytest.approx(chi2.isf(0.05, 2), rel=1e-12)
+    assert found["gain"] == pytest.approx(math.sqrt(0.0098 / 25), rel=1e-12)
+    assert found["call"] == LAYERED
+    assert layer_call(0.02, 0.01, 25, 1e-4, 1.0, 0.020, 0.05)["call"] == HOMOGENEOUS_ENOUGH
+    # D/s² = 5 < 5.99 but g = √(3e-4/25) = 0.0035 above a margin of 0.003: unresolved
+    assert layer_call(0.0105, 0.01, 25, 1e-4, 1.0, 0.003, 0.05)["call"] == UNRESOLVED
+    assert species_verdict([LAYERED, LAYERED, UNRESOLVED]) == HOLDS
+    assert species_verdict([HOMOGENEOUS_ENOUGH, HOMOGENEOUS_ENOUGH, LAYERED]) == FAILS
+    assert species_verdict([LAYERED, HOMOGENEOUS_ENOUGH]) == UNTESTABLE
