@@ -123,13 +123,15 @@ def claim_c12(fits, averaged, settings):
         f"{LAYER_PARAMETERS} degrees of freedom (significance = {alpha:g}), s² the mean noise "
         "variance of the points under the trial's noise model; it is beyond the geometry if "
         f"g = √(max(D − {LAYER_PARAMETERS}s², 0)/n)/W₀ exceeds elastic_margin = "
-        f"{format_fixed(100 * margin, 1)} % of the depth, the largest g measured on noise-free "
-        "homogeneous fingers whose sections the library does not hold "
-        "(docs/calibration/elastic_layer_margin.md). A trial is layered if both, homogeneous "
-        "enough if g is within the margin, unresolved otherwise. Per species: holds if more "
+        f"{format_fixed(100 * margin, 1)} % of the depth (config claims: elastic_margin; its "
+        "default comes from g measured on noise-free homogeneous fingers whose sections the "
+        "library does not hold, docs/calibration/elastic_layer_margin.md). A trial is "
+        "layered if both, homogeneous enough if g is within the margin, unresolved "
+        "otherwise. Per species: holds if more "
         "than half its fitted trials are layered, does not hold if more than half are "
         "homogeneous enough. Holds if it holds in every species with elastic fits; does not "
-        "hold if it does not hold in any; cannot be checked otherwise or without elastic fits."
+        "hold if it does not hold in at least one; cannot be checked otherwise or without "
+        "elastic fits."
     )
     needed = ("elastic_homogeneous_sse_mm2", "elastic_layered_sse_mm2")
     if any(column not in fits for column in needed):
