@@ -18,7 +18,8 @@ rule (:mod:`lineload.claims.elastic`) on simulated fingers.
    (:func:`lineload.claims.elastic.species_verdict`) on homogeneous fingers (library
    sections; other sections drawn with :data:`SCORE_SEED`, solved as above) and layered ones
    (library-made at ratios between the library's nodes; the off-library sections at ratio
-   2 and 5, the species' default layer thickness).
+   2 and 5, the species' default layer thickness); the same fits judged again with the
+   rule's noise stated at half and twice the noise added, and at half the margin.
 
 Run: ``python docs/calibration/scripts/elastic_layer_margin.py`` (under a minute; writes the two
 tables into docs/calibration/ and prints the margin).
@@ -58,6 +59,9 @@ GRADE = 0.5
 SAFETY = 1.25
 #: Noise of one averaged point (mm), independent, and noise draws per finger.
 NOISE_SD_MM, REPLICATES = 0.005, 25
+#: The rule's noise taken as these multiples of the noise added (how the verdicts move
+#: when the noise model is wrong).
+STATED_SD_MULTIPLES = (0.5, 2.0)
 #: Layered library-made fingers: nodes of the fine ratio grid halfway between library nodes.
 LIBRARY_NODES = (1, 3, 5)
 #: The off-library layered fingers' ratios.
@@ -152,42 +156,50 @@ def fingers(blocks, x_mm):
 
 
 def error_study(blocks, x_mm, margin, significance):
+    """The calls and verdicts with the noise stated right and stated wrong (the rule's ``s``
+    taken as :data:`STATED_SD_MULTIPLES` times the noise actually added), and at half the
+    margin: the same fits judged each way."""
     rng = np.random.default_rng(NOISE_SEED)
+    ways = {"": (1.0, margin)}
+    ways.update({f"_sd_x{m:g}": (m, margin) for m in STATED_SD_MULTIPLES})
+    ways["_half_margin"] = (1.0, margin / 2)
     rows = []
     for species, kind, label, layered, profiles in fingers(blocks, x_mm):
-        calls, verdicts = [], []
+        calls = {way: [] for way in ways}
+        verdicts = {way: [] for way in ways}
         for _ in range(REPLICATES):
-            found = []
+            found = {way: [] for way in ways}
             for depth_mm, truth in profiles.items():
                 y = truth + rng.normal(0, NOISE_SD_MM, truth.size)
                 fit = fit_elastic(x_mm, y, find_block(blocks, species, depth_mm))
-                found.append(
-                    layer_call(
+                for way, (multiple, way_margin) in ways.items():
+                    call = layer_call(
                         fit["homogeneous_sse_mm2"],
                         fit["layered_sse_mm2"],
                         x_mm.size,
-                        NOISE_SD_MM**2,
+                        (multiple * NOISE_SD_MM) ** 2,
                         depth_mm,
-                        margin,
+                        way_margin,
                         significance,
                     )["call"]
-                )
-            calls += found
-            verdicts.append(species_verdict(found))
-        rows.append(
-            {
-                "species": species,
-                "finger": kind,
-                "label": label,
-                "truly_layered": layered,
-                "trials": len(calls),
-                "trials_called_layered": sum(c == LAYERED for c in calls),
-                "datasets": len(verdicts),
-                "holds": sum(v == HOLDS for v in verdicts),
-                "does_not_hold": sum(v == FAILS for v in verdicts),
-                "cannot_be_checked": sum(v not in (HOLDS, FAILS) for v in verdicts),
-            }
-        )
+                    found[way].append(call)
+            for way in ways:
+                calls[way] += found[way]
+                verdicts[way].append(species_verdict(found[way]))
+        row = {
+            "species": species,
+            "finger": kind,
+            "label": label,
+            "truly_layered": layered,
+            "trials": len(calls[""]),
+            "datasets": len(verdicts[""]),
+        }
+        for way in ways:
+            row[f"trials_called_layered{way}"] = sum(c == LAYERED for c in calls[way])
+            row[f"holds{way}"] = sum(v == HOLDS for v in verdicts[way])
+            row[f"does_not_hold{way}"] = sum(v == FAILS for v in verdicts[way])
+            row[f"cannot_be_checked{way}"] = sum(v not in (HOLDS, FAILS) for v in verdicts[way])
+        rows.append(row)
     return pd.DataFrame(rows)
 
 
