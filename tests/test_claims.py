@@ -1118,3 +1118,12 @@ def test_c12_trial_call_against_hand_computed_values():
     assert species_verdict([LAYERED, LAYERED, UNRESOLVED]) == HOLDS
     assert species_verdict([HOMOGENEOUS_ENOUGH, HOMOGENEOUS_ENOUGH, LAYERED]) == FAILS
     assert species_verdict([LAYERED, HOMOGENEOUS_ENOUGH]) == UNTESTABLE
+
+
+def test_c12_default_margin_is_the_committed_studys():
+    # the schema's default comes from the committed margin study (largest gain times 1.25,
+    # rounded up to half a percent); a changed table or default without the other fails
+    study = pd.read_csv(REPO / "docs" / "calibration" / "elastic_layer_margin.csv")
+    assert len(study) == 48 and (study["gain"] >= 0).all()
+    expected = math.ceil(1.25 * study["gain"].max() * 200) / 200
+    assert ClaimSettings().elastic_margin == pytest.approx(expected, abs=1e-12)
