@@ -52,6 +52,7 @@ __all__ = [
     "fit_elastic_trials",
     "fitted_curve_mm",
     "library_blocks",
+    "with_elastic",
 ]
 
 #: The fine grid in ``ln ratio`` has this many steps per step of the library's.
@@ -426,3 +427,29 @@ def fit_elastic_trials(
             }
         )
     return rows
+
+
+def with_elastic(fits, elastic):
+    """The fit table with the elastic fits' columns beside it, row for row.
+
+    Parameters
+    ----------
+    fits : pandas.DataFrame
+        The fit table (``subject``, ``depth_mm``, ...).
+    elastic : pandas.DataFrame
+        A table with the ``elastic_*`` columns (:data:`ELASTIC_COLUMNS`) by subject and
+        depth: the elastic fits' table, or a fit table that already carries them.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``fits`` in its order with the ``elastic_*`` columns of the same trial (NaN for a
+        trial the elastic table lacks), replacing any it had.
+    """
+    columns = [c for c in elastic.columns if c.startswith("elastic_")]
+    keep = fits.drop(columns=[c for c in columns if c in fits.columns])
+    right = elastic[["subject", "depth_mm", *columns]].copy()
+    right["_depth"] = np.round(right.pop("depth_mm").to_numpy(dtype=float) / DEPTH_TOLERANCE_MM)
+    left = keep.assign(_depth=np.round(keep["depth_mm"].to_numpy(dtype=float) / DEPTH_TOLERANCE_MM))
+    merged = left.merge(right, on=["subject", "_depth"], how="left")
+    return merged.drop(columns="_depth").set_axis(fits.index)
