@@ -5,9 +5,37 @@
 # kept in the repository (docs/calibration/).
 
 
-rule coverage:
-    """Coverage of the fits' 95 % intervals on simulated datasets, per model and error kind."""
+rule coverage_block:
+    """Coverage of the fits' 95 % intervals in one scenario of errors (its index in
+    lineload.simulation.coverage.SCENARIOS), every model, on simulated datasets."""
     input:
+        code=code("run_coverage_block.py"),
+    output:
+        temp(result("calibration", "coverage_blocks", "{scenario}.csv")),
+    log:
+        result("logs", "coverage_block", "{scenario}.log"),
+    benchmark:
+        result("benchmarks", "coverage_block", "{scenario}.tsv")
+    wildcard_constraints:
+        scenario=r"[0-9]+",
+    conda:
+        ENVIRONMENT
+    params:
+        scenario=lambda w: int(w.scenario),
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["datasets"],
+    script:
+        "../scripts/run_coverage_block.py"
+
+
+rule coverage:
+    """Coverage of the fits' 95 % intervals on simulated datasets, per model and scenario
+    of errors (those the fit assumes, and worlds where its priors are wrong). Gathers
+    the scenarios' blocks."""
+    input:
+        blocks=lambda w: expand(
+            rules.coverage_block.output[0], scenario=coverage_blocks()
+        ),
         code=code("run_coverage.py"),
     output:
         trials=result("calibration", "coverage_trials.csv"),

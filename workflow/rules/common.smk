@@ -181,6 +181,14 @@ def crate_files(wildcards):
     return files
 
 
+def coverage_blocks():
+    """Jobs of the coverage study: one per scenario of errors, by its index (the index
+    seeds it); the scenarios are imported only when the calibration is asked for."""
+    from lineload.simulation.coverage import SCENARIOS
+
+    return [str(i) for i in range(len(SCENARIOS))]
+
+
 def boundary_blocks():
     """Jobs of the boundary calibration: '{world}.{first}' per world and block of
     datasets (config calibration: verdict_datasets, block_datasets); the worlds are

@@ -61,7 +61,10 @@ def coverage_markdown(summary, command, notice=""):
         "Simulated datasets of the shipped design, each trial made by the model named, read "
         "with every digitising error of the reconstruction; the noise measured from each "
         "dataset's left-right differences and the model fitted as the workflow fits it. "
-        "Aim: 93-97 %.\n\n"
+        "Aim: 93-97 %. In the worlds after the first three the errors the differences "
+        "cannot measure are made at other sizes than the fit states (the fit keeps its "
+        "stated priors), or an error the fit has no room for is made: there the table "
+        "shows how far the intervals can be trusted when the priors are wrong.\n\n"
         + markdown_table(header, cells, "lllrrr")
         + f"\n\nMade by `{command}`.\n"
     )
