@@ -533,6 +533,7 @@ def every_figure(notice):
         "noise_mm": None,
         "noise": noise_table(),
         "bending": bending_table(fits),
+        "coverage": coverage_table(),
     }
     assert set(values) == set(registry.ARGUMENTS)
     figures = {}
@@ -646,7 +647,37 @@ def layout_values(n_per_species, n_depths, notice=NOTICE):
         "mechanics": mechanics,
         "mechanics_trials": mechanics_trials,
         "bending": bending_table(fits),
+        "coverage": coverage_table(),
     }, with_intervals
+
+
+def coverage_table(n_trials=1040):
+    """A coverage summary as the calibration writes it: every scenario, model and
+    parameter, pooled, coverage falling as the priors' true sizes grow."""
+    from lineload.simulation.coverage import CHECKED, SCENARIOS, described
+    from lineload.simulation.rates import binomial_interval
+
+    rows = []
+    for scenario in SCENARIOS:
+        for model, parameters in CHECKED.items():
+            for parameter in parameters:
+                covered = round(n_trials * min(0.96, 0.96 / scenario.prior_ratio**0.5))
+                low, high = binomial_interval(covered, n_trials)
+                rows.append(
+                    {
+                        "scenario": scenario.name,
+                        "model": model,
+                        "parameter": parameter,
+                        "species": "all",
+                        "depth_mm": "all",
+                        "n_trials": n_trials,
+                        "n_covered": covered,
+                        "coverage": covered / n_trials,
+                        "ci_low": low,
+                        "ci_high": high,
+                    }
+                )
+    return pd.DataFrame(described(rows))
 
 
 def bending_table(fits):
@@ -876,13 +907,20 @@ def test_registry_lists_each_figure_once_in_its_group():
             "supplement_mechanics",
         ],
         "bending": ["supplement_bending", "supplement_bending_lengths"],  # Figures 13-14
+        "calibration": ["supplement_coverage"],  # Figure 15
     }
     # the paper's figures in its order, then the supplements
     assert names[:7] == [f"figure{i}" for i in range(1, 8)]
     categories = [figure.category for figure in registry.FIGURES]
-    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 7
+    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 8
     for figure in registry.FIGURES:
-        assert figure.module in ("data", "schematics", "supplements", "bending"), figure.name
+        assert figure.module in (
+            "data",
+            "schematics",
+            "supplements",
+            "bending",
+            "calibration",
+        ), figure.name
         assert figure.title and "\n" not in figure.title, figure.name
     used = {name for figure in registry.FIGURES for name in figure.arguments}
     assert used == set(registry.ARGUMENTS)  # no argument is described but never taken

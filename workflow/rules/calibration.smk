@@ -76,8 +76,62 @@ rule verdict_calibration:
         priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
         max_trials=config["noise"]["max_trials"],
         claims=config["claims"],
+        # C13 needs the bending skin's fits
+        wall=config["bending"]["wall"],
     script:
         "../scripts/run_verdict_calibration.py"
+
+
+rule verdict_scenario_block:
+    """The verdict calibration's datasets read in one world whose errors are not as
+    stated (its index in lineload.simulation.coverage.SCENARIOS), priors as stated."""
+    input:
+        code=code("run_verdict_scenario_block.py"),
+    output:
+        temp(result("calibration", "verdict_scenario_blocks", "{scenario}.csv")),
+    log:
+        result("logs", "verdict_scenario_block", "{scenario}.log"),
+    benchmark:
+        result("benchmarks", "verdict_scenario_block", "{scenario}.tsv")
+    wildcard_constraints:
+        scenario=r"[0-9]+",
+    conda:
+        ENVIRONMENT
+    params:
+        scenario=lambda w: int(w.scenario),
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["scenario_datasets"],
+        window_mm=config["fit_window_mm"],
+        priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+        max_trials=config["noise"]["max_trials"],
+        claims=config["claims"],
+    script:
+        "../scripts/run_verdict_scenario_block.py"
+
+
+rule verdict_scenarios:
+    """How often each claim's rule is wrong when the stated priors are wrong (and in the
+    coverage study's other misspecified worlds). Gathers the worlds' blocks."""
+    input:
+        blocks=lambda w: expand(
+            rules.verdict_scenario_block.output[0], scenario=coverage_blocks()[1:]
+        ),
+        code=code("run_verdict_scenarios.py"),
+    output:
+        datasets=result("calibration", "verdict_scenarios_datasets.csv"),
+        summary=result("calibration", "verdict_scenarios.csv"),
+        markdown=result("calibration", "verdict_scenarios.md"),
+    log:
+        result("logs", "verdict_scenarios.log"),
+    benchmark:
+        result("benchmarks", "verdict_scenarios.tsv")
+    conda:
+        ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["scenario_datasets"],
+    script:
+        "../scripts/run_verdict_scenarios.py"
 
 
 rule boundary_block:
@@ -185,8 +239,11 @@ rule bootstrap:
 rule calibration:
     """Every calibration: snakemake --cores 2 calibration."""
     input:
+        # drawn from the committed tables (docs/calibration): copy the results there first
+        GROUP_FILES["calibration"],
         rules.coverage.output,
         rules.verdict_calibration.output,
+        rules.verdict_scenarios.output,
         rules.boundary_calibration.output,
         rules.mechanics_coverage.output,
         rules.bootstrap.output,

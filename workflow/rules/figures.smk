@@ -27,6 +27,8 @@ FIGURE_TABLES = {
     "mechanics_trials": [rules.mechanics.output.trials],
     "noise": [rules.noise.output[0]],
     "bending": [rules.bending_table.output[0]],
+    # the committed calibration, so the default build draws it without running it
+    "coverage": [COMMITTED_CALIBRATION["coverage"]],
 }
 # Per group: the settings its figures take; the subject sheet ([subject, species,
 # label] in sheet order) if they take it; its named inputs (the raw-data check, the
@@ -77,6 +79,7 @@ FIGURE_FILES = [f for group in registry.GROUPS for f in GROUP_FILES[group]]
 #   figure_fits        Figures 2, 6 and 7: averaged profiles against the fitted models
 #   figure_supplements residuals, parabola against arc, sensitivity, coordinates
 #   figure_bending     the bending skin beside the other families; its bending lengths
+#   figure_calibration coverage when the priors are wrong (the committed calibration)
 for group in registry.GROUPS:
 
     rule:

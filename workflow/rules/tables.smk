@@ -1,11 +1,5 @@
 # Stage 4, tables: fit tables in CSV/Markdown/LaTeX, species summary, claims.
 
-# The calibration tables kept in the repository (snakemake calibration remakes them).
-COMMITTED_CALIBRATION = {
-    name: os.path.relpath(REPOSITORY / "docs" / "calibration" / f"{name}.csv")
-    for name in ("verdicts", "coverage", "boundary", "mechanics_coverage", "bootstrap")
-}
-
 
 rule fit_tables:
     """Fit table as Markdown and LaTeX; summary per species and depth (CSV, Markdown, LaTeX)."""

@@ -35,7 +35,7 @@ __all__ = [
 KINDS = ("file", "dataset", "setting")
 
 #: The jobs that draw figures, each a group of figures drawn in one process.
-GROUPS = ("outlines", "schematics", "fits", "supplements", "bending")
+GROUPS = ("outlines", "schematics", "fits", "supplements", "bending", "calibration")
 
 #: Report categories of the figures.
 CATEGORIES = ("Paper figures", "Supplement")
@@ -115,6 +115,12 @@ ARGUMENTS = {
     "bending": Argument(
         "file", "the bending skin's fits, one row per subject and depth (tables/bending.csv)"
     ),
+    "coverage": Argument(
+        "file",
+        "the coverage study's summary as committed (docs/calibration/coverage.csv; "
+        "snakemake calibration remakes it): coverage per scenario of errors, model and "
+        "parameter, with the true/stated size of the priors",
+    ),
 }
 
 
@@ -129,7 +135,7 @@ class Figure:
     group : str
         The job that draws it, one of :data:`GROUPS`.
     module : str
-        ``data``, ``schematics``, ``supplements`` or ``bending``: the module
+        ``data``, ``schematics``, ``supplements``, ``bending`` or ``calibration``: the module
         ``lineload.figures.<module>`` that holds the function.
     function : str
         Name of the figure function in that module.
@@ -305,6 +311,15 @@ FIGURES = (
         ("bending", "averaged", "subjects", "notice"),
         category="Supplement",
         title="The skin's fitted bending length by species and depth, with its interval",
+    ),
+    Figure(
+        "supplement_coverage",
+        "calibration",
+        "calibration",
+        "figure_coverage_misspecified",
+        ("coverage", "notice"),
+        category="Supplement",
+        title="Coverage of the intervals when the errors' true sizes are not the stated ones",
     ),
 )
 

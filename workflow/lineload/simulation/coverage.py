@@ -32,7 +32,6 @@ priors are wrong would: the scenario changes only what the forward error model
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -46,11 +45,13 @@ from lineload.noise import (
 )
 from lineload.rawdata.readings import reading_distances_mm
 from lineload.simulation.errors import (
+    AS_ASSUMED,
     IMAGE_RESOLUTION_MM,
     MISREAD_FRACTION,
     MISREAD_SDS,
     RESTING_CURVATURE_SD_PER_MM,
     TRUE_NOISE,
+    Scenario,
     TrialErrors,
     draw_misreads_mm,
     read_side_mm,
@@ -131,51 +132,8 @@ COVERAGE_STUDY_COLUMNS = [COVERAGE_COLUMNS[0], *SCENARIO_COLUMNS, *COVERAGE_COLU
 PRIOR_RATIOS = (0.5, 2.0, 3.0)
 
 
-@dataclass(frozen=True)
-class Scenario:
-    """The errors of a simulation: which correlation, which tails, which true sizes.
-
-    The fit always states the priors at the sizes it is given (the stated noise);
-    a scenario changes only what the data are made with.
-
-    Attributes
-    ----------
-    name : str
-    kernel : {"exponential", "squared_exponential"}
-        Correlation of the tracing error (the estimator assumes exponential).
-    df : float or None
-        Student t reading errors with these degrees of freedom; None: Gaussian.
-    misspecified : str
-        What the scenario makes differently from what the fit states ("none").
-    prior_ratio : float
-        Every prior's true size over its stated size (:data:`lineload.noise.PRIORS`).
-    true_sizes : tuple of (str, float)
-        Priors whose true size is set outright (mm or rad), after the ratio.
-    curvature_sd_per_mm : float
-        SD of a resting curvature error the same on both sides (1/mm; the fit has
-        no room for it).
-    misread_fraction : float
-        Share of readings misread by ``misread_sds`` reading SDs, up or down.
-    misread_sds : float
-    """
-
-    name: str
-    kernel: str = "exponential"
-    df: float | None = None
-    misspecified: str = "none"
-    prior_ratio: float = 1.0
-    true_sizes: tuple = ()
-    curvature_sd_per_mm: float = 0.0
-    misread_fraction: float = 0.0
-    misread_sds: float = MISREAD_SDS
-
-    def true_noise(self, stated):
-        """The sizes the data are made with, from the ``stated`` NoiseModel."""
-        return stated.scaled_priors(self.prior_ratio).with_priors(**dict(self.true_sizes))
-
-
 SCENARIOS = (
-    Scenario("as assumed"),
+    AS_ASSUMED,
     Scenario(
         "squared-exponential tracing",
         kernel="squared_exponential",
@@ -193,11 +151,11 @@ SCENARIOS = (
     ),
     Scenario(
         "depth error 30 um (stated 10 um)",
-        misspecified="depth error",
+        misspecified="depth error 3x",
         true_sizes=(("depth_sd_mm", 0.03),),
     ),
     Scenario(
-        "resting curvature error, both sides alike",
+        "resting curvature (both sides alike)",
         misspecified="resting curvature",
         curvature_sd_per_mm=RESTING_CURVATURE_SD_PER_MM,
     ),
@@ -370,8 +328,12 @@ def bootstrap_study(fitted, seed, n_replicates, noise, window_mm=3.0, models=tup
     reads it with every error of the measured noise model, measures the noise
     again from the replicate's left-right differences and fits it as the
     workflow does.  An interval covers when it holds the fitted value the
-    replicate was made from.  This checks the intervals in the world the data
-    point to, where a coverage study of invented parameters cannot reach.
+    replicate was made from.  This checks the intervals at the data's own design
+    and fitted parameters.  It is not the data's world: every replicate is made by
+    the model it is fitted with, so the model is exactly right there, while on the
+    data every model leaves a misfit larger than the noise; and the priors' errors
+    are made at their stated sizes (the misspecified worlds of :data:`SCENARIOS` show
+    what wrong sizes do).
 
     Parameters
     ----------

@@ -31,6 +31,7 @@ import numpy as np
 from lineload.noise import NoiseModel
 
 __all__ = [
+    "AS_ASSUMED",
     "DEPTH_SD_MM",
     "FORCE_NOISE_SD_N",
     "FORCE_RESOLUTION_N",
@@ -260,3 +261,51 @@ def image_mm(value_mm, magnification):
 def read_force_N(true_N, noise_N):
     """A force as read: the true force plus its noise, rounded to :data:`FORCE_RESOLUTION_N`."""
     return round(round((true_N + noise_N) / FORCE_RESOLUTION_N) * FORCE_RESOLUTION_N, 9)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """The errors of a simulation: which correlation, which tails, which true sizes.
+
+    The fit always states the priors at the sizes it is given (the stated noise);
+    a scenario changes only what the data are made with.
+
+    Attributes
+    ----------
+    name : str
+    kernel : {"exponential", "squared_exponential"}
+        Correlation of the tracing error (the estimator assumes exponential).
+    df : float or None
+        Student t reading errors with these degrees of freedom; None: Gaussian.
+    misspecified : str
+        What the scenario makes differently from what the fit states ("none").
+    prior_ratio : float
+        Every prior's true size over its stated size (:data:`lineload.noise.PRIORS`).
+    true_sizes : tuple of (str, float)
+        Priors whose true size is set outright (mm or rad), after the ratio.
+    curvature_sd_per_mm : float
+        SD of a resting curvature error the same on both sides (1/mm; the fit has
+        no room for it).
+    misread_fraction : float
+        Share of readings misread by ``misread_sds`` reading SDs, up or down.
+    misread_sds : float
+    """
+
+    name: str
+    kernel: str = "exponential"
+    df: float | None = None
+    misspecified: str = "none"
+    prior_ratio: float = 1.0
+    true_sizes: tuple = ()
+    curvature_sd_per_mm: float = 0.0
+    misread_fraction: float = 0.0
+    misread_sds: float = MISREAD_SDS
+
+    def true_noise(self, stated):
+        """The sizes the data are made with, from the ``stated`` NoiseModel."""
+        return stated.scaled_priors(self.prior_ratio).with_priors(**dict(self.true_sizes))
+
+
+#: The world the fit assumes: every error at its stated size and shape (the shipped
+#: data's).
+AS_ASSUMED = Scenario("as assumed")
