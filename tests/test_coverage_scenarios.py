@@ -127,3 +127,25 @@ def test_misreads_are_seen_by_the_differences():
     # of 26 trials misses
     total = lambda m: m.reading_sd_mm**2 + m.tracing_sd_mm**2  # noqa: E731
     assert total(misread) - total(plain) > 0.9 * errors.NOISE_SD_MM**2
+
+
+def test_a_wedge_misplaced_more_than_stated_widens_the_measured_noise():
+    """Why the priors at 3x cost the membranes' L less coverage than the depth error
+    alone at 3x: a misplaced wedge shows in the left-right differences, so the noise
+    measured from them grows and the intervals widen with it; a depth error does not."""
+
+    def variance(scenario):
+        trials = coverage.simulate_dataset("waterbed", (SEED, 0), scenario=scenario)
+        differences = [
+            trial_differences(t["distance_mm"], t["left_mm"], t["right_mm"], 3.0) for t in trials
+        ]
+        m = estimate_noise(differences).model
+        return m.reading_sd_mm**2 + m.tracing_sd_mm**2 + m.side_offset_sd_mm**2
+
+    stated = variance(coverage.SCENARIOS[0])
+    wedge = variance(coverage.Scenario("wedge 3x", true_sizes=(("wedge_position_sd_mm", 0.03),)))
+    depth = variance(coverage.Scenario("depth 3x", true_sizes=(("depth_sd_mm", 0.03),)))
+    # measured 2.6 times the stated world's over four seeds; half of that is a margin
+    assert wedge > 1.5 * stated
+    # the depth error scales both sides alike: the differences barely see it
+    assert depth < 1.25 * stated
