@@ -210,6 +210,32 @@ rule mechanics_coverage:
         "../scripts/run_mechanics_coverage.py"
 
 
+rule mechanics_recovery:
+    """N0, E and pre-strain recovered from forces of the law the fit inverts and of a
+    strain-stiffening membrane, on the same reconstructions."""
+    input:
+        code=code("run_mechanics_recovery.py"),
+    output:
+        subjects=result("calibration", "mechanics_recovery_subjects.csv"),
+        summary=result("calibration", "mechanics_recovery.csv"),
+        markdown=result("calibration", "mechanics_recovery.md"),
+    log:
+        result("logs", "mechanics_recovery.log"),
+    benchmark:
+        result("benchmarks", "mechanics_recovery.tsv")
+    conda:
+        ENVIRONMENT
+    params:
+        seed=config["calibration"]["seed"],
+        datasets=config["calibration"]["scenario_datasets"],
+        window_mm=config["fit_window_mm"],
+        priors={k: v for k, v in config["noise"].items() if k != "max_trials"},
+        max_trials=config["noise"]["max_trials"],
+        force_sd_N=config["mechanics"]["force_sd_N"],
+    script:
+        "../scripts/run_mechanics_recovery.py"
+
+
 rule bootstrap:
     """A parametric bootstrap of the data's own fits: do their intervals cover there?"""
     input:
@@ -246,4 +272,5 @@ rule calibration:
         rules.verdict_scenarios.output,
         rules.boundary_calibration.output,
         rules.mechanics_coverage.output,
+        rules.mechanics_recovery.output,
         rules.bootstrap.output,

@@ -100,7 +100,7 @@ def noise_free_mean_profile(subject, depth_mm, window_mm=FORCE_FIT_WINDOW_MM):
     return distance_mm, (sides[0] + sides[1]) / 2.0
 
 
-def trial_forces(subject, seed=DEFAULT_SEED):
+def trial_forces(subject, seed=DEFAULT_SEED, stiffening=0.0):
     """The membrane behind each trial's force, its true force and the force as read.
 
     At each depth the membrane takes the ``L`` of the exact arc fitted
@@ -116,6 +116,11 @@ def trial_forces(subject, seed=DEFAULT_SEED):
         Must have a contact length, stiffness and pre-strain.
     seed : int, optional
         Dataset seed.
+    stiffening : float, optional
+        0 (the shipped data): the linear law above, the one rule ``mechanics`` inverts.
+        Otherwise a strain-stiffening membrane, ``N = N0 + E (exp(b eps) - 1) / b`` with
+        ``b`` this value: tension ``N0`` and tangent stiffness ``E`` at rest, stiffer as
+        it stretches (a law other than the one the fit inverts).
 
     Returns
     -------
@@ -136,7 +141,11 @@ def trial_forces(subject, seed=DEFAULT_SEED):
         L_mm = fit_arc(distance_mm, deflection_mm, depth_mm).params["L_mm"]
         angle = float(arc_load_angle_rad(depth_mm, L_mm))
         strain = float(arc_strain(depth_mm, L_mm))
-        tension = subject.pretension_N_per_mm + subject.stiffness_N_per_mm * strain
+        if stiffening:
+            stretch = math.expm1(stiffening * strain) / stiffening
+        else:
+            stretch = strain
+        tension = subject.pretension_N_per_mm + subject.stiffness_N_per_mm * stretch
         true_N = 2.0 * subject.contact_length_mm * tension * math.sin(angle)
         read_N = read_force_N(true_N, noise)
         rows.append(
@@ -152,7 +161,7 @@ def trial_forces(subject, seed=DEFAULT_SEED):
     return rows
 
 
-def force_table(subjects, seed=DEFAULT_SEED, errors=True):
+def force_table(subjects, seed=DEFAULT_SEED, errors=True, stiffening=0.0):
     """The force readings of every finger with a membrane: ``subject``, ``depth_mm``, ``force_N``.
 
     Parameters
@@ -161,6 +170,8 @@ def force_table(subjects, seed=DEFAULT_SEED, errors=True):
     seed : int, optional
     errors : bool, optional
         False: the true forces, without reading noise or rounding.
+    stiffening : float, optional
+        As for :func:`trial_forces` (0: the linear law the fit inverts).
 
     Returns
     -------
@@ -175,7 +186,7 @@ def force_table(subjects, seed=DEFAULT_SEED, errors=True):
         }
         for s in subjects
         if s.contact_length_mm is not None
-        for r in trial_forces(s, seed)
+        for r in trial_forces(s, seed, stiffening)
     ]
     return pd.DataFrame(rows, columns=["subject", "depth_mm", "force_N"])
 
