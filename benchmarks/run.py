@@ -13,8 +13,15 @@ Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
 - the `fits` target on scale datasets of 1,000 and 10,000 subjects x 4 depths made by the
   generator in a temporary folder, with the peak memory of the whole process tree, and a
   rerun of it with nothing changed;
+- the elastic finger's fits by interpolation in the kept library (both fingers), milliseconds
+  per trial on profiles made from the library with noise (issue 36: at most 5 ms);
+- with `--elastic-library`: the `elastic_library` target (the finite-element solves of the
+  library's grid), with its factorisations per second from the jobs' logs;
 - with `--calibration 1 2 ...`: the boundary calibration (one job per world and block of
   datasets) at each core count, and its speed-up over the first;
+- with `--photographs PAIRS`, instead of all the above: rule digitise on that many
+  photograph pairs (the example's, hard-linked over and over) at each of
+  `--photograph-cores` (default 1 and 2), wall-clock and the jobs' CPU seconds;
 - what no workflow can go below: Snakemake's own start-up (`snakemake --version`), a rerun of
   a one-rule workflow with one param (which makes Snakemake import pandas to compare it),
   and the time the jobs of the last clean build took (from their benchmark files).
@@ -55,6 +62,10 @@ CLEAN_BUILD_TARGET = 12
 RERUN_OVER_FLOOR_S = 0.2
 #: The `fits` target on the scale datasets, seconds by number of subjects.
 FITS_TARGET_S = {1000: 7, 10000: 35}
+#: The elastic finger's fit of one trial by interpolation in its library (issue 36), ms.
+ELASTIC_FIT_TARGET_MS = 5.0
+#: Trials timed for it.
+ELASTIC_FIT_TRIALS = 200
 
 REPO = Path(__file__).resolve().parents[1]
 PAGE_KB = os.sysconf("SC_PAGE_SIZE") / 1024
@@ -150,6 +161,82 @@ def make_scale_data(folder, n):
         check=True,
         capture_output=True,
     )
+
+
+def make_photograph_scale_data(folder, pairs):
+    """A raw folder of ``pairs`` photograph pairs (``pairs / 2`` subjects at two depths):
+    the example's four pairs (data/photographs) over and over, each file a hard link to
+    the example's (the digitiser reads every one; nothing is cached)."""
+    example = REPO / "data" / "photographs"
+    (folder / "images").mkdir(parents=True)
+    shutil.copy(example / "NOTICE.txt", folder / "NOTICE.txt")
+    subjects, images = (
+        ["subject,species,magnification,label"],
+        ["subject,depth_mm,state,file,pixels_per_mm"],
+    )
+    for i in range(pairs // 2):
+        name, source = f"P{i:05d}", ("M1", "M2")[i % 2]
+        subjects.append(f"{name},monkey,1,Photographed {i}")
+        for depth in (1, 2):
+            for state in ("rest", "loaded"):
+                file = f"{name}_{depth}mm_{state}.png"
+                os.link(
+                    example / "images" / f"{source}_{depth}mm_{state}.png", folder / "images" / file
+                )
+                images.append(f"{name},{depth},{state},{file},60")
+    (folder / "subjects.csv").write_text("\n".join(subjects) + "\n")
+    (folder / "images" / "images.csv").write_text("\n".join(images) + "\n")
+
+
+def job_seconds(results, rule):
+    """Wall seconds, CPU seconds and peak memory (MB) of every job of ``rule``, from its
+    benchmark files."""
+    rows = []
+    for path in sorted((results / "benchmarks" / rule).glob("*.tsv")):
+        header, values = path.read_text().splitlines()[:2]
+        row = dict(zip(header.split("\t"), values.split("\t"), strict=True))
+        rows.append((float(row["s"]), float(row["cpu_time"]), float(row["max_rss"])))
+    return rows
+
+
+def photograph_scale(pairs, cores, python, work):
+    """Digitising ``pairs`` pairs (rule digitise, batches as configured) at each core
+    count: lines of a Markdown table.  The raw-data check, which reads every pair too,
+    runs first, once, and is not counted; then for each core count the digitised files
+    are removed and made again."""
+    raw, results = work / "photographs-raw", work / "photographs-results"
+    make_photograph_scale_data(raw, pairs)
+    config = ("digitise__reach_mm=6.5",)
+    run(
+        snakemake("check", raw=raw, results=results, cores=max(cores), config=config, python=python)
+    )
+    lines = [
+        f"Digitising {pairs} photograph pairs ({pairs // 2} subjects, batches of "
+        "`subjects_per_job: auto`), after the raw-data check:",
+        "",
+        "| cores | wall s | CPU s (all) | jobs' wall s, summed | CPU s (jobs) "
+        "| CPU ms a pair (jobs) | jobs | largest job MB | load average |",
+        "|--:|--:|--:|--:|--:|--:|--:|--:|---|",
+    ]
+    for n in cores:
+        shutil.rmtree(results / "digitised", ignore_errors=True)
+        shutil.rmtree(results / "benchmarks" / "digitise", ignore_errors=True)
+        command = snakemake(
+            "--forcerun", "digitise", "--until", "digitise",
+            raw=raw, results=results, cores=n, config=config, python=python,
+        )  # fmt: skip
+        seconds, _, _, everything = run(command)
+        jobs = job_seconds(results, "digitise")
+        cpu = sum(c for _, c, _ in jobs)
+        memory = max(m for _, _, m in jobs)
+        load = os.getloadavg()
+        lines.append(
+            f"| {n} | {seconds:.1f} | {everything:.1f} | {sum(w for w, _, _ in jobs):.1f} "
+            f"| {cpu:.1f} | {1000 * cpu / pairs:.1f} "
+            f"| {len(jobs)} | "
+            f"{memory:.0f} | {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} |"
+        )
+    return lines
 
 
 def make_one_rule_workflow(folder, python=sys.executable):
@@ -257,6 +344,35 @@ def side_by_side(against, repeats, scales, python, work):
     return rows
 
 
+def elastic_fit_ms():
+    """Milliseconds per trial of the elastic fits, on noisy profiles made from the library.
+
+    Each trial is a profile of the kept library (a species, depth, section, thickness and
+    ratio taken in turn) on the shipped reading grid inside 3 mm, with 0.005 mm of noise;
+    the library's blocks are read once beforehand, as the fit job reads them.
+    """
+    import numpy as np
+    import pandas as pd
+
+    sys.path.insert(0, str(REPO / "workflow"))
+    from lineload.fitting.elastic import fit_elastic, library_blocks
+    from lineload.rawdata.readings import reading_distances_mm
+
+    blocks = list(library_blocks(pd.read_csv(REPO / "data" / "elastic" / "library.csv")).values())
+    x = reading_distances_mm(3.0)
+    x = x[(x > 0) & (x <= 3.0)]
+    rng = np.random.default_rng(0)
+    trials = []
+    for k in range(ELASTIC_FIT_TRIALS):
+        block = blocks[k % len(blocks)]
+        g, t, r = (k % n for n in block.deflection_mm.shape[:3])
+        trials.append((x, block.curves_at(x)[g, t, r] + rng.normal(0, 0.005, x.size), block))
+    start = time.perf_counter()
+    for distance_mm, deflection_mm, block in trials:
+        fit_elastic(distance_mm, deflection_mm, block)
+    return 1000 * (time.perf_counter() - start) / len(trials)
+
+
 def jobs_run(output):
     """Rules that ran, with counts, from the jobs Snakemake announced.
 
@@ -299,10 +415,32 @@ def main():
         default=4,
         help="verdict_datasets of the timed calibration (blocks of half as many)",
     )
+    parser.add_argument(
+        "--elastic-library",
+        action="store_true",
+        help="also time the elastic_library target (the finite-element library, minutes)",
+    )
+    parser.add_argument(
+        "--photographs",
+        type=int,
+        metavar="PAIRS",
+        help="only time digitising this many photograph pairs at each of --photograph-cores",
+    )
+    parser.add_argument("--photograph-cores", type=int, nargs="*", default=[1, 2])
     parser.add_argument("--against", type=Path, help="another checkout, measured alternately")
     parser.add_argument("--python", default=sys.executable, help="the Python that runs Snakemake")
     args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="lineload-bench-"))
+    if args.photographs:
+        try:
+            lines = photograph_scale(args.photographs, args.photograph_cores, args.python, work)
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
+        table = "\n".join(lines) + "\n"
+        print(table)
+        if args.output:
+            args.output.write_text(table)
+        return
     if args.against:
         try:
             rows = side_by_side(args.against, args.repeats, args.scale, args.python, work)
@@ -337,6 +475,16 @@ def main():
         )
         rows.append(
             ("import numpy, pandas, scipy.optimize, matplotlib.pyplot", baseline, "", "baseline")
+        )
+
+        per_trial_ms = statistics.median(elastic_fit_ms() for _ in range(args.repeats))
+        rows.append(
+            (
+                f"elastic fits by interpolation, {ELASTIC_FIT_TRIALS} trials",
+                per_trial_ms * ELASTIC_FIT_TRIALS / 1000,
+                "",
+                f"{per_trial_ms:.2f} ms per trial; target <= {ELASTIC_FIT_TARGET_MS:g} ms",
+            )
         )
 
         raw = work / "raw"
@@ -480,6 +628,27 @@ def main():
                 )
             )
             previous = (n, seconds)
+
+        if args.elastic_library:
+            library_results = work / "elastic"
+            seconds, runs = median_of(
+                1,
+                lambda: run(snakemake("elastic_library", raw=raw, results=library_results)),
+            )
+            rates = [
+                line.split("(")[-1].split(" factorisations per second")[0]
+                for log in sorted((library_results / "logs" / "elastic_library").glob("*.log"))
+                for line in log.read_text().splitlines()
+                if "factorisations per second" in line
+            ]
+            rows.append(
+                (
+                    "`elastic_library` target (finite-element solves), --cores 2",
+                    seconds,
+                    f"{max(r[1] for r in runs):.0f} MB",
+                    "factorisations per second per job: " + ", ".join(rates),
+                )
+            )
 
         first = None
         for cores in args.calibration or ():

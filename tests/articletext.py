@@ -24,6 +24,34 @@ def pdf_text(path):
     return " ".join(" ".join(page.extract_text() for page in PdfReader(path).pages).split())
 
 
+#: A name from the code or the tables (``large_depth_mm``, ``left_source``,
+#: ``lineload.claims.chord_curvature``): words joined by underscores, two of them
+#: lower-case words of two letters or more, so that a symbol with a subscript written
+#: out (``f_w``, ``SSE_waterbed``) is not one.
+CODE_NAME = re.compile(r"[A-Za-z0-9]+(?:[._][A-Za-z0-9]+)+")
+
+
+def is_code_name(word):
+    """Whether a word matched by :data:`CODE_NAME` names something in the code."""
+    parts = re.split(r"[._]", word)
+    return "_" in word and sum(len(p) >= 2 and p.islower() for p in parts) >= 2
+
+
+def names_in_prose(path):
+    """Code names (:func:`is_code_name`) that a PDF sets in its body's serif font rather
+    than as code, each once, in order."""
+    runs = []
+
+    def visit(text, cm, tm, font, size):
+        serif = font is not None and "Libertinus" in str(font.get("/BaseFont", ""))
+        runs.append(text if serif else " ")
+
+    for page in PdfReader(path).pages:
+        page.extract_text(visitor_text=visit)
+    found = [w for w in CODE_NAME.findall("".join(runs)) if is_code_name(w)]
+    return list(dict.fromkeys(found))
+
+
 def dataset_contents(raw):
     """What a raw folder holds: its species, subjects, forces and photographs."""
     raw = Path(raw)
@@ -138,6 +166,7 @@ ALLOWED_NUMBERS = [
     r'"[^"\n]*"',  # strings in code: labels, file names, keys
     r"\bD1\b",  # the numbering pattern of the digitised figures
     r"continued\(\d+\)",  # the column count of a table's "continued" row
+    r"counter\(heading\)\.update\(0\)",  # the appendices' letters start again
     r"\b\d+(?:\.\d+)?(?:pt|em|cm|mm)\b(?=[,)\s])",  # lengths in code
 ]
 

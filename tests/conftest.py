@@ -61,6 +61,20 @@ def write_small_dataset(raw_dir, subjects=None, magnification=20.0, seed=7):
     return raw_dir
 
 
+def batch_of(subject, subject_ids):
+    """The name of the batch (the files of the per-batch rules) a subject falls in
+    under the default ``subjects_per_job``."""
+    from lineload.runtime import batches
+
+    return next(
+        name for name, members in batches.batches(subject_ids).items() if subject in members
+    )
+
+
+#: The small dataset's batch (write_small_dataset's subjects, default split).
+SMALL_BATCH = batch_of("MK", ["MK", "HU"])
+
+
 #: Modules whose tests run longest (a real cluster, builds killed and resumed, a copied
 #: checkout built whole): collected first, so that pytest-xdist starts them first and
 #: the short tests fill the other workers meanwhile.  That needs ``--maxschedchunk=1``

@@ -1,6 +1,7 @@
 """The reproduction article: its facts come from the tables, its verdicts from the claims
 table, its data statement from the data; read back from the PDF itself."""
 
+import json
 import re
 
 import numpy as np
@@ -14,11 +15,25 @@ from lineload.claims import CLAIM_COLUMNS, CLAIM_KINDS
 from lineload.figures.registry import FIGURES
 from lineload.figures.style import MIN_FONT_PT, SCHEMATIC_MM
 from lineload.fitting.batch import FIT_COLUMNS
-from lineload.publishing.article import article_facts, join_words, number_words, shown, span_text
+from lineload.publishing.article import (
+    article_facts,
+    counted_words,
+    join_words,
+    number_words,
+    shown,
+    span_text,
+)
 
 
 def test_words_for_the_text():
     assert [number_words(n) for n in (0, 1, 4, 10, 11)] == ["no", "one", "four", "ten", "11"]
+    # counts and their nouns agree through one function, in words or in digits
+    assert [counted_words(n, "subject") for n in (1, 3, 12)] == [
+        "one subject",
+        "three subjects",
+        "12 subjects",
+    ]
+    assert counted_words(1, "degree of freedom", "degrees of freedom") == "one degree of freedom"
     assert join_words(["a"]) == "a" and join_words(["a", "b", "c"]) == "a, b and c"
     assert span_text([2.0, np.nan, 1.25]) == "1.25 to 2.00 mm"
     assert span_text([3.0, 3.0], 1) == "3.0 mm" and span_text([]) == "none"
@@ -342,3 +357,32 @@ def test_the_byline_is_the_citation_files_authors_or_a_placeholder_shown_as_one(
         ]
     }
     assert author_names(named) == ("Ada Lovelace, Alan Turing and A Lab", False)
+
+
+def whole_on_one_page(pages, caption, rows):
+    """Whether the table captioned ``caption`` shows its first and last rows (each the
+    start of a row as the text reads it) on the page of its caption, and is not continued."""
+    with_caption = [p for p in pages if caption in p]
+    return (
+        len(with_caption) == 1
+        and all(row in with_caption[0] for row in (rows[0], rows[-1]))
+        and not any(re.search(r"Table \d+, continued", p) and rows[-1] in p for p in pages)
+    )
+
+
+@pytest.mark.e2e
+def test_the_verdict_calibrations_table_is_kept_whole_on_one_page(shipped_build):
+    """A table shorter than a page is never cut: the verdict calibration (Table 5 of the
+    shipped article) ran from page 10 to 13 in three pieces around four figures."""
+    results = shipped_build[1]
+    facts = json.loads((results / "article" / "facts.json").read_text())
+    rows = [
+        f"{r['claim']} {r['truth']} {r['n']} {r['holds']}" for r in facts["calibration"]["rows"]
+    ]
+    reader = PdfReader(results / "article" / "reproduction.pdf")
+    pages = [" ".join(page.extract_text().split()) for page in reader.pages]
+    caption = "Verdicts of each rule on simulated datasets"
+    assert whole_on_one_page(pages, caption, rows)
+    # the check sees a cut: the last rows on the next page, under a 'continued' header
+    split = [f"{caption} {rows[0]}", f"Table 5, continued {rows[-1]}"]
+    assert not whole_on_one_page(split, caption, rows)

@@ -3,6 +3,8 @@
 half-space form, without forces), each PDF is read back against its own tables and data;
 and the template holds no number or comparison of its own."""
 
+import re
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -67,6 +69,45 @@ def read_back(raw, results, pdf=None):
 def test_no_sentence_contradicts_its_own_tables_or_data(build, request):
     raw, results = request.getfixturevalue(build)
     assert read_back(raw, results) == []
+
+
+#: A symbol whose subscript is written as a plain letter or digit.
+SYMBOL_AS_LETTERS = re.compile(r"\b(?:W0|l_b|theta0|x0)\b")
+
+
+@pytest.mark.e2e
+@pytest.mark.parametrize("build", ["shipped_article", "photograph_build"])
+def test_names_are_set_as_code_symbols_as_symbols_and_appendices_cited_by_letter(build, request):
+    """Read back from the PDF: no config key, column or function in the serif of the prose
+    (the rules quote many), no W0 or l_b in plain letters, and the appendices, the
+    digitised figures among them, numbered and cited by one letter."""
+    raw, results = request.getfixturevalue(build)
+    pdf = results / "article" / "reproduction.pdf"
+    assert articletext.names_in_prose(pdf) == []
+    text = articletext.pdf_text(pdf)
+    assert SYMBOL_AS_LETTERS.findall(text) == []
+    for letter, title in (("A", "Every trial"), ("B", "The rules")):
+        assert f"Appendix {letter}. {title}" in text
+    assert "Rule: Appendix B, C8." in text and "Appendix Appendix" not in text
+    if articletext.dataset_contents(raw)["photographs"]:
+        assert "Appendix C. Digitising the photographs" in text
+        # a figure per digitising batch, cited where the data are described and in their
+        # appendix, captioned by its letter
+        n = len(list((results / "digitised").glob("*.pdf")))
+        names = [f"Figure C{i}" for i in range(1, n + 1)]
+        cited = names[0] if n == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+        assert n >= 1 and text.count(cited) >= 2
+        assert all(f"{name}: How" in text for name in names)
+        assert not re.search(r"Figure D\d", text)
+
+
+def test_names_in_the_prose_are_found():
+    """The check above can fail: a key in the serif is found, a symbol written out is not."""
+    assert articletext.is_code_name("large_depth_mm") and articletext.is_code_name("arc_L_mm")
+    assert articletext.is_code_name("lineload.claims.chord_curvature")
+    for symbol in ("f_w", "SSE_waterbed", "SSE_Boussinesq", "0.05", "claims.csv"):
+        assert not articletext.is_code_name(symbol), symbol
+    assert SYMBOL_AS_LETTERS.findall("at the data's W0/L; W₀/L") == ["W0"]
 
 
 @pytest.mark.e2e

@@ -7,6 +7,7 @@ import json
 import re
 import textwrap
 from dataclasses import fields, replace
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -18,6 +19,7 @@ from lineload.averaging import AVERAGED_COLUMNS
 from lineload.claims import CLAIM_FUNCTIONS, ClaimSettings, compute_claims, registry
 from lineload.claims.registry import (
     CLAIMS,
+    FAMILIES,
     SETTINGS,
     check_claims,
     claim_named,
@@ -233,7 +235,7 @@ def test_a_registry_with_a_claim_twice_or_a_world_twice_is_refused():
 
 def test_an_unknown_claim_id_names_the_known_ones():
     with pytest.raises(KeyError, match="C1, C2"):
-        claim_named("C12")
+        claim_named("C99")
 
 
 def test_the_worked_example_of_adding_a_claim_runs(monkeypatch):
@@ -260,3 +262,16 @@ def test_the_worked_example_of_adding_a_claim_runs(monkeypatch):
     exec(test_code, vars(test_claims), tests)
     (test,) = tests.values()
     test()
+
+
+def test_every_family_module_is_a_code_dependency_of_the_jobs_that_judge_claims():
+    # the registry imports the families by name at run time; the workflow reads a job's
+    # modules from import statements, so a rule changed in a family must still be seen
+    from lineload.runtime import codedeps
+
+    scripts = REPO / "workflow" / "scripts"
+    for script in ("make_claims.py", "run_verdict_calibration.py"):
+        found = codedeps.script_dependencies(scripts / script, ())
+        modules = {p.relative_to(REPO / "workflow").as_posix() for p in map(Path, found)}
+        missing = {f"lineload/claims/{family}.py" for family in FAMILIES} - modules
+        assert not missing, (script, missing)

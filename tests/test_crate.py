@@ -10,6 +10,7 @@ import shutil
 import subprocess
 import zipfile
 from pathlib import Path
+from urllib.parse import unquote
 
 import pytest
 import requests
@@ -17,7 +18,7 @@ from requests_cache import CachedSession
 from rocrate.rocrate import ROCrate
 from urllib3 import HTTPResponse
 
-from conftest import REPO, copy_build, run_snakemake
+from conftest import REPO, SMALL_BATCH, copy_build, run_snakemake
 from lineload.publishing.bundle import CHECKSUMS, bundle_name, checksums_text, write_bundle
 from lineload.publishing.citation import read_citation
 from lineload.publishing.crate import (
@@ -338,14 +339,15 @@ def test_the_builds_crate_validates_offline_and_holds_every_file(small_build, of
         e["@id"]: e for e in json.loads((results / "ro-crate-metadata.json").read_text())["@graph"]
     }
     files = [e for e in graph.values() if "File" in e["@type"]]
+    # an @id is a URI reference: a batch's "+" (M1+124) is written %2B
     for entity in files:
-        assert entity["sha256"] == sha256(results / entity["@id"]), entity["@id"]
-    names = {e["@id"] for e in files}
+        assert entity["sha256"] == sha256(results / unquote(entity["@id"])), entity["@id"]
+    names = {unquote(e["@id"]) for e in files}
     # outputs, logs, the raw inputs' copies and the source; no job timings
     assert {"article/reproduction.pdf", "tables/claims.csv", "provenance.json"} <= names
     assert {"logs/article.log", "inputs/subjects.csv", MAIN_WORKFLOW} <= names
     # the logs of the rules that run per batch or subject too
-    assert {"logs/fit_models/MK.log", "logs/prepare_outline/MK.log"} <= names
+    assert {f"logs/fit_models/{SMALL_BATCH}.log", "logs/prepare_outline/MK.log"} <= names
     assert "source/workflow/rules/report.smk" in names and "source/CITATION.cff" in names
     assert not any(n.startswith("benchmarks/") for n in names)
     # the article was written by the article rule, the claims by claims_table

@@ -3,8 +3,10 @@ reproducible.  Figure functions are called directly on data built here; one work
 on a small dataset checks the rules, the file formats and byte-for-byte rebuilds."""
 
 import contextlib
+import functools
 import importlib
 import inspect
+import re
 import struct
 import subprocess
 import sys
@@ -534,6 +536,8 @@ def every_figure(notice):
         "noise": noise_table(),
         "bending": bending_table(fits),
         "coverage": coverage_table(),
+        "elastic": elastic_table(averaged, subjects),
+        "elastic_library": elastic_library(),
     }
     assert set(values) == set(registry.ARGUMENTS)
     figures = {}
@@ -648,6 +652,8 @@ def layout_values(n_per_species, n_depths, notice=NOTICE):
         "mechanics_trials": mechanics_trials,
         "bending": bending_table(fits),
         "coverage": coverage_table(),
+        "elastic": elastic_table(averaged, subjects),
+        "elastic_library": elastic_library(),
     }, with_intervals
 
 
@@ -678,6 +684,32 @@ def coverage_table(n_trials=1040):
                     }
                 )
     return pd.DataFrame(described(rows))
+
+
+@functools.cache
+def elastic_library():
+    """The committed library of elastic solutions (read once)."""
+    return pd.read_csv(REPO / "data" / "elastic" / "library.csv")
+
+
+def elastic_table(averaged, subjects):
+    """The elastic fits of a test dataset, from the committed library: trials at depths the
+    library lacks keep their note and no values, as a lab's would."""
+    from lineload.fitting.elastic import ELASTIC_COLUMNS, fit_elastic_trials, library_blocks
+
+    species = dict(zip(subjects["subject"], subjects["species"], strict=True))
+    keys, x, y = [], [], []
+    for (subject, depth_mm), trial in averaged.groupby(["subject", "depth_mm"], sort=False):
+        keys.append((subject, species[subject], float(depth_mm)))
+        x.append(trial["distance_mm"].to_numpy(float))
+        y.append(trial["deflection_mm"].to_numpy(float))
+    rows = fit_elastic_trials(
+        x, y, [k[1] for k in keys], [k[2] for k in keys], WINDOW_MM,
+        library_blocks(elastic_library()),
+    )  # fmt: skip
+    return pd.DataFrame(
+        [{"subject": k[0], "species": k[1], **row} for k, row in zip(keys, rows, strict=True)]
+    )[ELASTIC_COLUMNS]
 
 
 def bending_table(fits):
@@ -789,6 +821,18 @@ def test_every_figure_keeps_its_text_on_the_page_and_apart(n_subjects, n_depths)
         assert min(abs(width_mm - w) for w in FIGURE_WIDTHS_MM) < 1e-6, name
         assert height_mm <= 240.0, (name, height_mm)  # a journal page, captions aside
         assert text_problems(fig) == [], name
+        assert [t for t, _ in drawn_texts(fig) if SYMBOL_AS_LETTERS.search(t)] == [], name
+
+
+#: A symbol with its subscript written as a plain letter or digit (W0, l_b, theta0):
+#: the figures write W₀ and θ₀, and leave l_b to the caption.
+SYMBOL_AS_LETTERS = re.compile(r"\b(?:W0|l_b|theta0|x0)\b")
+
+
+def test_a_symbol_written_in_plain_letters_is_found():
+    assert SYMBOL_AS_LETTERS.search("parabola, W0 = depth")
+    assert SYMBOL_AS_LETTERS.search("bending length l_b (mm)")
+    assert not SYMBOL_AS_LETTERS.search("parabola, W₀ = depth; W₀/L = 0.1; M10 at 1 mm")
 
 
 SENSITIVITY_TRIALS = [
@@ -907,18 +951,20 @@ def test_registry_lists_each_figure_once_in_its_group():
             "supplement_mechanics",
         ],
         "bending": ["supplement_bending", "supplement_bending_lengths"],  # Figures 13-14
+        "elastic": ["supplement_elastic", "supplement_elastic_ratios"],  # Figures 15-16
         "calibration": ["supplement_coverage"],  # Figure 15
     }
     # the paper's figures in its order, then the supplements
     assert names[:7] == [f"figure{i}" for i in range(1, 8)]
     categories = [figure.category for figure in registry.FIGURES]
-    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 8
+    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 10
     for figure in registry.FIGURES:
         assert figure.module in (
             "data",
             "schematics",
             "supplements",
             "bending",
+            "elastic",
             "calibration",
         ), figure.name
         assert figure.title and "\n" not in figure.title, figure.name
@@ -1035,6 +1081,29 @@ def test_mechanics_figure_without_forces_shows_ratios_against_the_papers_bound()
     # one depth only: nothing to compare, the figure says so
     single = trials[trials["depth_mm"] == 1.0]
     assert len(supplements.figure_mechanics(single, table, subjects).axes) == 1
+
+
+TWO_MONKEYS = {"M1": ("monkey", [1.0, 2.0]), "M2": ("monkey", [1.0, 2.0])}
+
+
+@pytest.mark.parametrize("with_forces", [True, False])
+@pytest.mark.parametrize("spec", [PAPER_LIKE, TWO_MONKEYS], ids=["paper-like", "two-monkeys"])
+def test_mechanics_figures_y_label_stays_beside_its_panels(spec, with_forces):
+    # one row of panels (the photograph example's two monkeys) is lower than the label
+    # is long: centred on the figure, it ran up into the legend
+    _, fits, subjects = make_dataset(spec)
+    table, trials = mechanics_inputs(fits, subjects, with_forces=with_forces)
+    fig = supplements.figure_mechanics(trials, table, subjects, "a notice for the footer")
+    canvas = FigureCanvasAgg(fig)
+    fig.draw_without_rendering()
+    renderer = canvas.get_renderer()
+    label = fig._supylabel.get_window_extent(renderer)
+    panels = [ax.get_window_extent(renderer) for ax in fig.axes]
+    assert min(p.y0 for p in panels) - 0.5 <= label.y0
+    assert label.y1 <= max(p.y1 for p in panels) + 0.5
+    (legend,) = fig.legends
+    assert label.y1 < legend.get_window_extent(renderer).y0
+    assert text_problems(fig) == []
 
 
 def test_noted_legend_sits_above_with_the_note_as_its_title():

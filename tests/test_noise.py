@@ -256,3 +256,30 @@ def test_the_bootstrap_reads_and_fits_each_trial_with_its_own_noise():
         if i % 3 < 2:
             width[i % 3].append(row["high"] - row["low"])
     assert min(width[0]) > 3 * max(width[1])
+
+
+def test_a_digitised_trials_own_reading_error_replaces_the_datasets():
+    """A photographed trial's readings carry the digitiser's own error: it takes the place
+    of the dataset's measured reading error for that trial (not added to it), and its
+    mean's covariance moves by exactly the difference on the diagonal."""
+    estimate = estimate_noise(simulated_differences(TRUTH, 30, seed=5))
+    rows = noise_rows(estimate, PRIORS) + registration_rows(
+        [("P1", 1.0, 0.0015, "P1.json", 0.02), ("P2", 1.0, 0.0015, "P2.json", None)],
+        estimate.n_trials,
+        estimate.n_differences,
+    )
+    assert [r["parameter"] for r in rows if r["scope"] != "dataset"] == [
+        "shared_offset_sd_mm",
+        "reading_sd_mm",
+        "shared_offset_sd_mm",
+    ]
+    dataset = model_from_rows(rows)
+    own, without = trial_models(rows, [("P1", 1.0), ("P2", 1.0)])
+    assert own.reading_sd_mm == 0.02 and without.reading_sd_mm == dataset.reading_sd_mm
+    x = GRID_MM[:10]
+    sides = np.array([2, 2, 2, 2, 2, 1, 1, 2, 2, 2])
+    gap = own.average_covariance_mm2(x, sides, x, 1.0) - without.average_covariance_mm2(
+        x, sides, x, 1.0
+    )
+    expected = np.diag((0.02**2 - dataset.reading_sd_mm**2) / sides)
+    np.testing.assert_allclose(gap, expected, rtol=0, atol=1e-15)

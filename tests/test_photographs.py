@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import REPO, refused_run, run_snakemake
+from conftest import REPO, batch_of, refused_run, run_snakemake
 from lineload.fitting.batch import fit_waterbed
 from lineload.rawdata.photographs import (
     Camera,
@@ -276,7 +276,9 @@ def test_the_photograph_example_builds_from_images_to_article(photograph_build):
     # the digitised readings are the true profiles, to a few micrometres
     subjects = {s.subject: s for s in shipped_subjects()}
     for name in PHOTOGRAPH_SUBJECTS:
-        readings = pd.read_csv(results / "digitised" / f"{name}.csv")
+        batch = batch_of(name, PHOTOGRAPH_SUBJECTS)  # the digitising job's files
+        readings = pd.read_csv(results / "digitised" / f"{batch}.csv")
+        readings = readings[readings["subject"] == name]
         for depth in PHOTOGRAPH_DEPTHS_MM:
             trial = trial_parameters(subjects[name], depth)
             errors = []
@@ -294,17 +296,26 @@ def test_the_photograph_example_builds_from_images_to_article(photograph_build):
                 errors.extend((rows["deflection_image_mm"] - truth)[near])
             # over the fit window, both sides: better than half a hand reading's noise
             assert np.sqrt(np.mean(np.square(errors))) < HAND_READING_SD_MM / 2, (name, depth)
-        quality = json.loads((results / "digitised" / f"{name}.json").read_text())
+        record = json.loads((results / "digitised" / f"{batch}.json").read_text())
+        members = [r["subject"] for r in record["subjects"]]
+        assert name in members and record["batch"] == batch
+        quality = record["subjects"][members.index(name)]
         assert [t["depth_mm"] for t in quality["trials"]] == list(PHOTOGRAPH_DEPTHS_MM)
+        # the photographs are named as in the raw folder, never by an absolute path
+        for trial in quality["trials"]:
+            assert trial["loaded"] == f"images/{name}_{trial['depth_mm']:g}mm_loaded.png"
+            assert trial["rest"] == f"images/{name}_{trial['depth_mm']:g}mm_rest.png"
         # the job's own comparison with images/truth.csv agrees: within half a reading
         assert all(t["error_rms_um"] < 1000 * HAND_READING_SD_MM / 2 for t in quality["trials"])
-        assert (results / "digitised" / f"{name}.png").is_file()
+        assert (results / "digitised" / f"{batch}.png").is_file()
         # each trial's registration error is its shared offset in the noise table
         noise = pd.read_csv(results / "tables" / "noise.csv")
         for trial in quality["trials"]:
             own = noise[noise["scope"] == f"{name} at {trial['depth_mm']:g} mm"]
-            assert list(own["parameter"]) == ["shared_offset_sd_mm"]
-            assert own["value"].iloc[0] == pytest.approx(trial["registration_sd_um"] / 1000)
+            own = dict(zip(own["parameter"], own["value"], strict=True))
+            assert list(own) == ["shared_offset_sd_mm", "reading_sd_mm"]
+            assert own["shared_offset_sd_mm"] == pytest.approx(trial["registration_sd_um"] / 1000)
+            assert own["reading_sd_mm"] == pytest.approx(trial["own_reading_sd_um"] / 1000)
     # the photographs are raw inputs: in the provenance record and in the crate
     record = json.loads((results / "provenance.json").read_text())
     assert "images/images.csv" in record["raw_data"]["sha256"]
@@ -748,7 +759,7 @@ def photograph_mistake(raw, mistake):
 @pytest.mark.parametrize(
     ("mistake", "line", "words"),
     [
-        ("rest copied over", 3, "M1_1mm_loaded.png: no deflection"),
+        ("rest copied over", 3, "M1_1mm_loaded.png: the wedge was not found"),
         ("loaded copied over", 3, "is the loaded photograph the resting one (copied over it)?"),
         ("loaded copied over, tip given", 3, "copied over the other?"),
         ("swapped", 2, "the resting photograph shows it: are rest and loaded swapped?"),
@@ -802,7 +813,7 @@ def test_a_tip_given_where_the_image_shows_it_is_read():
 @pytest.mark.parametrize(
     ("mistake", "words"),
     [
-        ("rest copied over", "M1_1mm_loaded.png: no deflection"),
+        ("rest copied over", "M1_1mm_loaded.png: the wedge was not found"),
         ("micrometres", "line 6, column 'depth_mm'"),
         ("truncated", "is the file truncated or damaged?"),
     ],

@@ -174,13 +174,17 @@ def test_a_file_put_back_with_its_old_time_is_named_with_what_to_do(tmp_path, sn
     assert "Warning: " not in quiet.stderr
 
 
+#: One subject per job, so that what an edit of one subject's file reruns can be seen
+ONE_PER_JOB = ["subjects_per_job=1"]
+
+
 @pytest.mark.e2e
 def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_available):
     """Snakemake's timestamps remember a passed check; an edit reruns it and only the
     jobs of the edited file; a later corruption is still caught, leaving the rest alone."""
     raw = write_small_dataset(tmp_path / "raw")
     results = tmp_path / "out"
-    first = run_snakemake("fits", raw=str(raw), results=str(results))
+    first = run_snakemake("fits", raw=str(raw), results=str(results), config=ONE_PER_JOB)
     assert first.returncode == 0, first.stderr[-3000:]
     summary = json.loads((results / "data" / "raw_check.json").read_text())
     assert summary == {
@@ -190,7 +194,9 @@ def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_avail
         "warnings": [],
     }
 
-    again = run_snakemake("fits", "--dry-run", raw=str(raw), results=str(results))
+    again = run_snakemake(
+        "fits", "--dry-run", raw=str(raw), results=str(results), config=ONE_PER_JOB
+    )
     assert "Nothing to be done" in again.stdout + again.stderr, again.stdout
 
     profile = raw / "profiles" / "MK.csv"
@@ -199,7 +205,7 @@ def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_avail
     cells[3] = f"{float(cells[3]) + 0.001:.3f}"  # a valid edit of one reading
     lines[5] = ",".join(cells)
     profile.write_text("\n".join(lines) + "\n")
-    edited = run_snakemake("fits", raw=str(raw), results=str(results))
+    edited = run_snakemake("fits", raw=str(raw), results=str(results), config=ONE_PER_JOB)
     assert edited.returncode == 0, edited.stderr[-3000:]
     ran = re.findall(r"^local(?:rule|checkpoint) (\w+):", edited.stderr, re.M)
     # the noise is measured from every trial, so every batch's fits take the new noise
@@ -221,14 +227,14 @@ def test_the_check_reruns_only_when_a_raw_file_changes(tmp_path, snakemake_avail
     assert prepared == ["MK"], edited.stderr[-3000:]
 
     (raw / "profiles" / "notes.txt").write_text("a stray file\n")  # the check warns, alone
-    stray = run_snakemake("fits", raw=str(raw), results=str(results))
+    stray = run_snakemake("fits", raw=str(raw), results=str(results), config=ONE_PER_JOB)
     ran = re.findall(r"^local(?:rule|checkpoint) (\w+):", stray.stderr, re.M)
     assert ran == ["check_raw_data"], stray.stderr[-3000:]
     assert "Warning: " in stray.stderr and "notes.txt" in stray.stderr
 
     set_cell(profile, 3, "depth_mm", "deep")
     before = files_under(results)
-    broken = run_snakemake("fits", raw=str(raw), results=str(results))
+    broken = run_snakemake("fits", raw=str(raw), results=str(results), config=ONE_PER_JOB)
     assert broken.returncode != 0
     errors = [line for line in broken.stderr.splitlines() if line.startswith("Error: ")]
     assert len(errors) == 1 and f"{raw}/profiles/MK.csv, line 3" in errors[0], broken.stderr

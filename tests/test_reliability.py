@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from conftest import (
+    SMALL_BATCH,
     copy_build,
     job_params,
     run_snakemake,
@@ -45,11 +46,11 @@ def test_deleted_intermediates_are_rebuilt_by_a_plain_rerun(tmp_path, small_buil
     before = outputs(results)
     # the files the README sends reviewers to, deleted one at a time and together
     intermediates = [
-        "fits/MK.csv",
-        "data/averaged/HU.csv",
-        "data/converted/MK.csv",
-        "fits/sensitivity/HU.csv",
-        "fits/checks/MK.csv",
+        f"fits/{SMALL_BATCH}.csv",
+        f"data/averaged/{SMALL_BATCH}.csv",
+        f"data/converted/{SMALL_BATCH}.csv",
+        f"fits/sensitivity/{SMALL_BATCH}.csv",
+        f"fits/checks/{SMALL_BATCH}.csv",
     ]
     for name in intermediates:
         (results / name).unlink()

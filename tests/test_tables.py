@@ -248,15 +248,15 @@ def test_sensitivity_markdown_orders_species_as_the_paper_and_names_every_refit(
     assert len(tables) == 3
     medians = [[c.strip() for c in ln.strip("|").split(" | ")] for ln in tables[0][2:]]
     assert [row[0] for row in medians] == ["monkey", "human", "axolotl"]
-    assert "parabola, W0 free, whole" in tables[0][0] and "Boussinesq" not in tables[0][0]
+    assert "parabola, W₀ free, whole" in tables[0][0] and "Boussinesq" not in tables[0][0]
     assert medians[0][1:3] == ["2", "12.00"]  # M1, the third trial: L = 10 + 2
     best = [[c.strip() for c in ln.strip("|").split(" | ")] for ln in tables[1]]
     assert best[0] == [
         "window",
-        "parabola, W0 = depth",
-        "parabola, W0 free",
+        "parabola, W₀ = depth",
+        "parabola, W₀ free",
         "parabola in measured coordinates",
-        "exact arc, W0 = depth",
+        "exact arc, W₀ = depth",
         "Boussinesq",
     ]
     assert best[2] == ["2 mm", "1", "1", "1", "0", "0"]

@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import REPO, reading_grid_mm, run_snakemake, write_small_dataset
+from conftest import REPO, SMALL_BATCH, reading_grid_mm, run_snakemake, write_small_dataset
 from lineload import models
 from lineload.fitting.batch import FIT_COLUMNS
 
@@ -30,10 +30,9 @@ def test_fits_target_on_a_small_dataset(small_build):
         ("HU", 1.0),
     ]
     assert list(fits["species"]) == ["monkey", "monkey", "human"]
-    for subject in ("MK", "HU"):
-        for stage in ("converted", "averaged"):
-            assert (out / "data" / stage / f"{subject}.csv").is_file()
-        assert (out / "logs" / "fit_models" / f"{subject}.log").is_file()
+    for stage in ("converted", "averaged"):  # both subjects in one job's files
+        assert (out / "data" / stage / f"{SMALL_BATCH}.csv").is_file()
+    assert (out / "logs" / "fit_models" / f"{SMALL_BATCH}.log").is_file()
     assert (fits["n_points"] == len(reading_grid_mm(5.0)[reading_grid_mm(5.0) <= 3.0])).all()
     # nothing to do on a second run
     again = check_ok(run_snakemake("fits", "--dry-run", raw=small_raw, results=out))
@@ -127,9 +126,9 @@ def test_shipped_data_give_26_trials(shipped_fits):
 
 
 def test_batches_of_subjects_give_the_same_results(tmp_path, small_build):
-    raw, single = small_build  # one subject per job (shared); here two per job
-    batched = tmp_path / "batched"
-    check_ok(run_snakemake("fits", raw=raw, results=batched, config=["subjects_per_job=2"]))
+    raw, batched = small_build  # both subjects in one job (shared); here one per job
+    single = tmp_path / "single"
+    check_ok(run_snakemake("fits", raw=raw, results=single, config=["subjects_per_job=1"]))
     # one file per subject, or per batch of two (named after its first subject)
     assert sorted(p.name for p in (single / "fits").glob("*.csv")) == ["HU.csv", "MK.csv"]
     assert sorted(p.name for p in (batched / "fits").glob("*.csv")) == ["MK+1.csv"]

@@ -69,12 +69,12 @@ class ModelNames(NamedTuple):
 #: the same families; the names stay here so that the tables and the article read them
 #: without importing the fitting wing.
 MODEL_NAMES = {
-    "waterbed": ModelNames("waterbed", "parabola, W0 = depth", "waterbed parabola (eq. 19)"),
-    "waterbed_free_depth": ModelNames(None, "parabola, W0 free", None),
+    "waterbed": ModelNames("waterbed", "parabola, W₀ = depth", "waterbed parabola (eq. 19)"),
+    "waterbed_free_depth": ModelNames(None, "parabola, W₀ free", None),
     "shifted": ModelNames(
         None, "parabola in measured coordinates", "parabola in measured coordinates"
     ),
-    "arc": ModelNames("exact arc", "exact arc, W0 = depth", "waterbed exact arc"),
+    "arc": ModelNames("exact arc", "exact arc, W₀ = depth", "waterbed exact arc"),
     "boussinesq": ModelNames("Boussinesq", "Boussinesq", "modified Boussinesq"),
 }
 

@@ -99,9 +99,11 @@ PRIOR_BASIS = {
     "wedge_position_sd_mm": "assumed default: the apex marked to about 0.2 mm on the 20x "
     "print (the wedge's edge is under 50 um wide)",
 }
-#: Priors a trial may replace with its own measurement (a photographed trial's
-#: registration error); the others hold for the whole dataset.
-TRIAL_PRIORS = ("shared_offset_sd_mm",)
+#: Parameters a trial may replace with its own measurement: a photographed trial's
+#: registration error (in place of the shared offset's prior) and its readings' own
+#: error as the digitiser states it (in place of the dataset's reading error, which
+#: pools the trials of every kind); the others hold for the whole dataset.
+TRIAL_PRIORS = ("shared_offset_sd_mm", "reading_sd_mm")
 #: Scope of the noise table's rows that hold for a whole dataset; a trial's own rows
 #: name the trial (:func:`_trial_scope`).
 DATASET_SCOPE = "dataset"
@@ -630,18 +632,26 @@ def noise_rows(estimate, priors, overrides=None):
 
 
 def registration_rows(records, n_trials, n_differences):
-    """Rows of the noise table for digitised trials: each registration's own error.
+    """Rows of the noise table for digitised trials: each one's registration error and,
+    where the record gives it, its readings' own error.
 
     A photographed trial's readings are the loaded outline minus the resting one,
     registered on the skin far from the wedge; the registration's error is an
     offset shared by every reading of the trial, which the left-right differences
     cannot see and the config's prior ``shared_offset_sd_mm`` stands for.  Where
-    the digitiser measured it, it replaces the prior for that trial.
+    the digitiser measured it, it replaces the prior for that trial.  Each reading's
+    own error (the two outlines' edge errors over its columns) is what
+    ``reading_sd_mm`` stands for; the digitiser states it per reading
+    (docs/calibration/digitiser.md measures it against rendered pairs) and its RMS
+    over the fit window replaces, for that trial, the dataset's measured value, which
+    pools every trial's (hand-read ones too) and would count the digitiser's error
+    twice if added to it.
 
     Parameters
     ----------
     records : iterable of tuple
-        ``(subject, depth_mm, registration_sd_mm, source)`` per digitised trial.
+        ``(subject, depth_mm, registration_sd_mm, source)`` per digitised trial, or
+        ``(subject, depth_mm, registration_sd_mm, source, reading_sd_mm)``.
     n_trials, n_differences : int
         As in the dataset's rows.
 
@@ -650,18 +660,24 @@ def registration_rows(records, n_trials, n_differences):
     list of dict
         Columns :data:`NOISE_COLUMNS`, scope ``"<subject> at <depth> mm"``.
     """
-    return [
-        {
-            "scope": trial_label(subject, depth_mm),
-            "parameter": "shared_offset_sd_mm",
-            "value": float(sd_mm),
-            "se": math.nan,
-            "source": f"measured: registration of the photographs ({source})",
-            "n_trials": n_trials,
-            "n_differences": n_differences,
-        }
-        for subject, depth_mm, sd_mm, source in records
-    ]
+    rows = []
+    for subject, depth_mm, sd_mm, source, *reading in records:
+        measured = [("shared_offset_sd_mm", sd_mm, "registration of the photographs")]
+        if reading and reading[0] is not None:
+            measured.append(("reading_sd_mm", reading[0], "the digitiser's own, per reading"))
+        rows += [
+            {
+                "scope": trial_label(subject, depth_mm),
+                "parameter": parameter,
+                "value": float(value),
+                "se": math.nan,
+                "source": f"measured: {what} ({source})",
+                "n_trials": n_trials,
+                "n_differences": n_differences,
+            }
+            for parameter, value, what in measured
+        ]
+    return rows
 
 
 def trial_models(rows, keys):
@@ -773,7 +789,7 @@ def measure_noise_table(profiles, priors, window_mm=np.inf, max_trials=400, regi
     (:mod:`lineload.simulation.verdicts`) measures on each simulated dataset: the
     trials chosen (:func:`noise_trials`), the noise fitted to their differences
     (:func:`estimate_noise`), the rows with the priors (:func:`noise_rows`) and a
-    digitised trial's own registration error (:func:`registration_rows`).
+    digitised trial's own registration and reading errors (:func:`registration_rows`).
 
     Parameters
     ----------
@@ -786,7 +802,8 @@ def measure_noise_table(profiles, priors, window_mm=np.inf, max_trials=400, regi
     max_trials : int, optional
         As in :func:`estimate_noise`.
     registrations : iterable of tuple, optional
-        ``(subject, depth_mm, registration_sd_mm, source)`` of each digitised trial.
+        ``(subject, depth_mm, registration_sd_mm, source[, reading_sd_mm])`` of each
+        digitised trial (:func:`registration_rows`).
 
     Returns
     -------

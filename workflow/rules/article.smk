@@ -11,6 +11,7 @@ rule article:
         checked=checked_raw_data,
         fits=rules.fits_table.output[0],
         bending=rules.bending_table.output[0],
+        elastic=rules.elastic_fits.output[0],
         claims=rules.claims_table.output.csv,
         checks=rules.sensitivity_tables.output.checks,
         noise=rules.noise.output[0],
@@ -28,8 +29,10 @@ rule article:
         built_in=os.path.relpath(REPOSITORY / "data" / "built_in_verdicts.json"),
         figures=[f for f in FIGURE_FILES if f.endswith(".pdf")],
         # the photographed subjects' quality records and figures (none without photographs)
-        digitised=expand(rules.digitise.output.quality, subject=list(PHOTOGRAPHS)),
-        digitised_figures=expand(rules.digitise.output.pdf, subject=list(PHOTOGRAPHS)),
+        digitised=expand(rules.digitise.output.quality, batch=list(DIGITISE_BATCHES)),
+        digitised_figures=expand(
+            rules.digitise.output.pdf, batch=list(DIGITISE_BATCHES)
+        ),
         code=code("write_article.py"),
     output:
         pdf=report_item(

@@ -8,7 +8,7 @@ from snakemake.exceptions import IncompleteCheckpointException, WorkflowError
 from snakemake.io import strip_wildcard_constraints
 from snakemake.utils import min_version, validate
 
-from lineload.runtime import buildlock, codedeps, settings, startup
+from lineload.runtime import batches, buildlock, codedeps, settings, startup
 from lineload.rawdata import validation
 from lineload.runtime.interrupt import stop_on_sigterm
 from lineload.io import load_schema
@@ -57,6 +57,11 @@ except InputError as error:
     startup.abort_inputs(error)
 CONTACT_LENGTH_MM = {s: about.pop("contact_length_mm") for s, about in SUBJECTS.items()}
 SUBJECT_IDS = list(SUBJECTS)
+# Per-subject work runs in batches (Python's start-up paid once per job): see
+# lineload.runtime.batches for the split; a batch of one is named after its subject,
+# a larger one "M1+124".
+BATCHES = batches.batches(SUBJECT_IDS, config["subjects_per_job"])
+BATCH_IDS = list(BATCHES)
 # Subject -> its photographs, for subjects read from images/images.csv (the check
 # reports anything wrong with that sheet), and their readings, digitised into results/.
 # (a photograph that is not there is left for the check to report, in its words)
@@ -71,9 +76,18 @@ RAW_PROFILES = {
     for s in SUBJECT_IDS
     if f"{s}.csv" in RAW_FILES["profiles"] and s not in PHOTOGRAPHS
 }
+# Photographed subjects are digitised batch by batch (the batches above, each with its
+# photographed subjects): batch -> its photographed subjects; each one's readings are
+# in its batch's file.
+DIGITISE_BATCHES = {
+    b: [s for s in members if s in PHOTOGRAPHS]
+    for b, members in BATCHES.items()
+    if any(s in PHOTOGRAPHS for s in members)
+}
 PROFILES = {
-    s: RAW_PROFILES[s] if s in RAW_PROFILES else str(Path(RES, "digitised", f"{s}.csv"))
-    for s in SUBJECT_IDS
+    s: RAW_PROFILES[s] if s in RAW_PROFILES else str(Path(RES, "digitised", f"{b}.csv"))
+    for b, members in BATCHES.items()
+    for s in members
     if s in RAW_PROFILES or s in PHOTOGRAPHS
 }
 OUTLINED = [s for s in SUBJECT_IDS if f"{s}.csv" in RAW_FILES["outlines"]]
@@ -81,19 +95,6 @@ FORCES = [RAW_FILES["forces"]] if RAW_FILES["forces"] else []  # optional
 NOTICE = config["data_notice"] = startup.notice_text(
     config["data_notice"], RAW_FILES["notice"]
 )
-
-# Per-subject work runs in batches (Python's start-up paid once per job): up to 8 jobs
-# per rule; a batch of one is named after its subject, a larger one "M1+124".
-PER_JOB = config["subjects_per_job"]
-if PER_JOB == "auto":
-    PER_JOB = max(1, -(-len(SUBJECT_IDS) // 8))
-BATCHES = {}
-for start in range(0, len(SUBJECT_IDS), PER_JOB):
-    members = SUBJECT_IDS[start : start + PER_JOB]
-    BATCHES[members[0] if len(members) == 1 else f"{members[0]}+{len(members) - 1}"] = (
-        members
-    )
-BATCH_IDS = list(BATCHES)
 
 
 def result(*parts):

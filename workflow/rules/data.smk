@@ -93,11 +93,14 @@ if workflow.is_main_process:
 
 
 rule digitise:
-    """Read a photographed subject's profiles from its rest and loaded photographs."""
+    """Read a batch of photographed subjects' profiles from their rest and loaded
+    photographs, one pair at a time."""
     input:
         checked=checked_raw_data,
         sheet=f"{RAW}/images/images.csv",
-        photographs=lambda wildcards: PHOTOGRAPHS[wildcards.subject],
+        photographs=lambda wildcards: [
+            f for s in DIGITISE_BATCHES[wildcards.batch] for f in PHOTOGRAPHS[s]
+        ],
         # the truth, where the folder gives it (images/truth.csv): for the quality record
         truth=(
             [RAW_FILES["images"]["truth.csv"]]
@@ -106,26 +109,27 @@ rule digitise:
         ),
         code=code("digitise.py"),
     output:
-        profile=result("digitised", "{subject}.csv"),
-        quality=result("digitised", "{subject}.json"),
-        pdf=result("digitised", "{subject}.pdf"),
+        profile=result("digitised", "{batch}.csv"),
+        quality=result("digitised", "{batch}.json"),
+        pdf=result("digitised", "{batch}.pdf"),
         png=report_item(
-            result("digitised", "{subject}.png"),
+            result("digitised", "{batch}.png"),
             caption="../report/digitised.rst",
             category="Data",
             subcategory="Photographs digitised",
-            labels={"subject": "{subject}"},
+            labels={"subjects": "{batch}"},
         ),
     log:
-        result("logs", "digitise", "{subject}.log"),
+        result("logs", "digitise", "{batch}.log"),
     benchmark:
-        result("benchmarks", "digitise", "{subject}.tsv")
+        result("benchmarks", "digitise", "{batch}.tsv")
     conda:
         ENVIRONMENT
     params:
-        subject=lambda wildcards: wildcards.subject,
-        label=lambda wildcards: SUBJECTS[wildcards.subject]["label"],
-        magnification=lambda wildcards: SUBJECTS[wildcards.subject]["magnification"],
+        batch=lambda wildcards: wildcards.batch,
+        subjects=lambda wildcards: {
+            s: SUBJECTS[s] for s in DIGITISE_BATCHES[wildcards.batch]
+        },
         settings=config["digitise"],
         window_mm=config["fit_window_mm"],
         notice=lambda wildcards: NOTICE,

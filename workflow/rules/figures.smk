@@ -27,6 +27,8 @@ FIGURE_TABLES = {
     "mechanics_trials": [rules.mechanics.output.trials],
     "noise": [rules.noise.output[0]],
     "bending": [rules.bending_table.output[0]],
+    "elastic": [rules.elastic_fits.output[0]],
+    "elastic_library": [rules.elastic_fits.input.library],
     # the committed calibration, so the default build draws it without running it
     "coverage": [COMMITTED_CALIBRATION["coverage"]],
 }
@@ -79,6 +81,7 @@ FIGURE_FILES = [f for group in registry.GROUPS for f in GROUP_FILES[group]]
 #   figure_fits        Figures 2, 6 and 7: averaged profiles against the fitted models
 #   figure_supplements residuals, parabola against arc, sensitivity, coordinates
 #   figure_bending     the bending skin beside the other families; its bending lengths
+#   figure_elastic     the elastic finger's fits on a monkey and a human; its modulus ratios
 #   figure_calibration coverage when the priors are wrong (the committed calibration)
 for group in registry.GROUPS:
 

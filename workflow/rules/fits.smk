@@ -6,8 +6,8 @@ rule noise:
     """Measure the digitising noise from every trial's left-right differences."""
     input:
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
-        # each photographed subject's digitising record: its trials' registration errors
-        quality=expand(rules.digitise.output.quality, subject=list(PHOTOGRAPHS)),
+        # each digitise batch's records: its trials' registration and own reading errors
+        quality=expand(rules.digitise.output.quality, batch=list(DIGITISE_BATCHES)),
         code=code("estimate_noise.py"),
     output:
         report_item(
@@ -121,6 +121,37 @@ rule bending_table:
         ENVIRONMENT
     script:
         "../scripts/concat_tables.py"
+
+
+# The elastic fingertip of the later literature (docs/elastic-finger.md), fitted by
+# interpolation in the kept solution library (the default build never runs the solver):
+# a table of its own, so that the `fits` target stays the paper's models.
+rule elastic_fits:
+    """Fit the homogeneous and the layered elastic finger to each trial, from the library."""
+    input:
+        averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
+        library=os.path.relpath(REPOSITORY / config["elastic"]["library_file"]),
+        noise=rules.noise.output[0],
+        code=code("fit_elastic.py"),
+    output:
+        report_item(
+            result("tables", "elastic_fits.csv"),
+            caption="../report/elastic_fits.rst",
+            category="Fits",
+            subcategory="CSV files",
+            labels={"table": "elastic finger per subject and depth"},
+        ),
+    log:
+        result("logs", "elastic_fits.log"),
+    benchmark:
+        result("benchmarks", "elastic_fits.tsv")
+    conda:
+        ENVIRONMENT
+    params:
+        batches=[{s: SUBJECTS[s] for s in BATCHES[b]} for b in BATCH_IDS],
+        window_mm=config["fit_window_mm"],
+    script:
+        "../scripts/fit_elastic.py"
 
 
 rule fit_sensitivity:

@@ -170,7 +170,7 @@ rule report_pages:
 #: (their outputs and their logs are expanded with these).
 JOB_WILDCARDS = {
     "check_profiles": {"batch": BATCH_IDS},
-    "digitise": {"subject": list(PHOTOGRAPHS)},
+    "digitise": {"batch": list(DIGITISE_BATCHES)},
     "prepare_profiles": {"batch": BATCH_IDS},
     "prepare_outline": {"subject": OUTLINED},
     "fit_models": {"batch": BATCH_IDS},

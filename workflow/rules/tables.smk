@@ -1,5 +1,13 @@
 # Stage 4, tables: fit tables in CSV/Markdown/LaTeX, species summary, claims.
 
+# The claims' registry imports each claim's function by name (importlib), which no
+# import statement shows: every module of the claims package is the claims job's code.
+CLAIM_MODULES = sorted(
+    f"lineload.claims.{path.stem}"
+    for path in (WORKFLOW_DIR / "lineload" / "claims").glob("*.py")
+    if path.stem != "__init__"
+)
+
 
 rule fit_tables:
     """Fit table as Markdown and LaTeX; summary per species and depth (CSV, Markdown, LaTeX)."""
@@ -36,13 +44,15 @@ rule claims_table:
         fits=rules.fits_table.output[0],
         # C13: the bending skin against the waterbed
         bending=rules.bending_table.output[0],
+        # C12: the layered elastic finger against the homogeneous one
+        elastic=rules.elastic_fits.output[0],
         averaged=expand(rules.prepare_profiles.output.averaged, batch=BATCH_IDS),
         noise=rules.noise.output[0],
         # C11 checks the measured forces too when there are any
         forces=FORCES,
         verdict_calibration=COMMITTED_CALIBRATION["verdicts"],
         boundary_calibration=COMMITTED_CALIBRATION["boundary"],
-        code=code("make_claims.py"),
+        code=code("make_claims.py", CLAIM_MODULES),
     output:
         csv=report_item(
             result("tables", "claims.csv"),

@@ -8,15 +8,23 @@ from lineload.runtime.jobparams import given
 
 
 def registrations(quality):
-    """``(subject, depth_mm, registration_sd_mm, file)`` of every digitised trial."""
+    """``(subject, depth_mm, registration_sd_mm, file, reading_sd_mm)`` of every
+    digitised trial (its registration's error and its readings' own, from the digitise
+    records)."""
     records = []
     for path in quality:
-        record = read_json(path)
-        for trial in record["trials"]:
-            sd_um = trial["registration_sd_um"]
-            records.append(
-                (record["subject"], trial["depth_mm"], sd_um / 1000.0, os.path.basename(path))
-            )
+        for record in read_json(path)["subjects"]:  # a digitise batch's subjects
+            for trial in record["trials"]:
+                own_um = trial.get("own_reading_sd_um")
+                records.append(
+                    (
+                        record["subject"],
+                        trial["depth_mm"],
+                        trial["registration_sd_um"] / 1000.0,
+                        os.path.basename(path),
+                        None if own_um is None else own_um / 1000.0,
+                    )
+                )
     return records
 
 

@@ -14,6 +14,7 @@ from lineload.claims import (
     trial_key,
 )
 from lineload.fitting.bending import with_bending
+from lineload.fitting.elastic import with_elastic
 from lineload.io import output_to, read_results_csv, read_rows, write_csv, write_text
 from lineload.noise import model_from_rows, trial_models
 from lineload.priors import CHANGED_COLUMN, prior_column, refit_at_priors, with_prior_verdicts
@@ -28,6 +29,7 @@ def make_claims(inputs, outputs, settings, notice):
     fits_path, averaged_paths, noise_path = inputs.fits, inputs.averaged, inputs.noise
     forces_paths = list(inputs.forces)
     fits = with_bending(read_results_csv(fits_path), read_results_csv(inputs.bending))
+    fits = with_elastic(fits, read_results_csv(inputs.elastic))
     averaged = pd.concat([read_results_csv(path) for path in averaged_paths], ignore_index=True)
     forces = read_forces(forces_paths[0]) if forces_paths else None
     rows = read_rows(noise_path)
@@ -39,8 +41,8 @@ def make_claims(inputs, outputs, settings, notice):
         # every trial fitted and every claim judged again with the priors scaled
         scaled = {key: model.scaled_priors(multiple) for key, model in settings.trial_noise.items()}
         refitted = refit_at_priors(fits, averaged, [scaled[trial_key(*k)] for k in keys])
-        # least squares: the bending fits (C13) do not move with the priors
-        refitted = with_bending(refitted, fits)
+        # least squares: the bending and elastic fits (C13, C12) do not move with the priors
+        refitted = with_elastic(with_bending(refitted, fits), fits)
         at_multiple = replace(
             settings,
             noise_model=settings.noise_model.scaled_priors(multiple),

@@ -14,6 +14,7 @@ from lineload.averaging import (
     tissue_columns,
 )
 from lineload.io import load_schema, output_to, write_columns
+from lineload.rawdata.digitising import subject_profile
 from lineload.rawdata.validation import check_no_duplicate_readings, read_columns
 from lineload.runtime.jobparams import given
 
@@ -22,8 +23,11 @@ def prepare_profiles(profiles, subjects, converted_path, averaged_path):
     """Convert and average each subject's readings; write both tables."""
     schema = load_schema("profiles")
     converted = []
+    read = {}  # a batch's digitised readings are one file for all its subjects: read once
     for path, (subject, about) in zip(profiles, subjects.items(), strict=True):
-        profile = read_columns(path, schema)
+        if path not in read:
+            read = {path: read_columns(path, schema)}
+        profile = subject_profile(read[path], subject)
         check_no_duplicate_readings(profile, path)
         converted.append(tissue_columns(profile[0], subject, about["magnification"]))
     averaged = average_subjects(converted)

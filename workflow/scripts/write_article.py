@@ -27,6 +27,7 @@ from lineload.publishing.article import (
     article_facts,
     bending_facts,
     calibration_design,
+    elastic_facts,
     photograph_facts,
 )
 from lineload.publishing.citation import author_names, citation_or_default, software_name
@@ -106,6 +107,10 @@ def write_article(inputs, outputs, settings, subjects, notice, repository):
         read_results_csv(inputs.bending),
         read_results_csv(inputs.fits),
         read_results_csv(inputs.claims),
+    )
+    # the layered elastic finger of the later literature
+    facts["elastic"] = elastic_facts(
+        read_results_csv(inputs.elastic), read_results_csv(inputs.fits)
     )
     write_text(json_text(facts), outputs.facts)
     with replaced_atomically(outputs.source) as temporary:

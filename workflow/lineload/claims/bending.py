@@ -38,6 +38,7 @@ def claim_c13(fits, averaged, settings):
     (:func:`lineload.claims.statistics._slopes_across_subjects`).
     """
     alpha = settings.significance
+    min_df = settings.slope_min_df
     rule = (
         "Per trial: the bending skin's advantage b = (RMSE²(waterbed) − RMSE²(bending) − "
         "s²/(2n)) / W₀² over the same fit window, s² the mean noise variance of the averaged "
@@ -51,7 +52,7 @@ def claim_c13(fits, averaged, settings):
         "accounts for more of the misfit the deeper the wedge); does not hold if its upper "
         f"one-sided {format_fixed(100 * (1 - alpha), 0)} % bound is below zero; cannot be "
         "checked otherwise, without bending fits, or with fewer subjects measured at two "
-        "depths than species + 1."
+        f"depths than species + {min_df} (config claims: slope_min_df)."
     )
     if "bending_rmse_mm" not in fits:
         return _row(
@@ -81,8 +82,8 @@ def claim_c13(fits, averaged, settings):
         variances.setdefault(subject, []).append(1.25 * (noise / (x.size * depth_mm**2)) ** 2)
     test = _slopes_across_subjects(relative, species_of, alpha, variances)
     slopes, species, df = test["slopes"], test["species"], test["df"]
-    if df < 1:
-        return _too_few_subjects("C13", slopes, species, rule)
+    if df < min_df:
+        return _too_few_subjects("C13", slopes, species, rule, min_df)
     estimate, se, p_value, upper = test["estimate"], test["se"], test["p"], test["upper"]
     per_subject = ", ".join(f"{s} {format_fixed(100 * v, 3)}" for s, v in slopes.items())
     our = (

@@ -202,7 +202,7 @@ def claim_c4(fits, averaged, settings):
     if not rows:
         return _row(
             "C4",
-            f"none of {n_trials} trials has readings where the fitted curve is negative "
+            f"none of {_n(n_trials, 'trial')} has readings where the fitted curve is negative "
             "(a bulge above the resting surface)",
             UNTESTABLE,
             "No reading lies where the fitted curve predicts a bulge.",
@@ -220,7 +220,8 @@ def claim_c4(fits, averaged, settings):
         refuted = np.where(se_gap > 0, (m - f) / se_gap > z_one, m > f)
     labels = [r["label"] for r in rows]
     our = (
-        f"{len(rows)} of {n_trials} trials have readings in the predicted bulge; mean of the "
+        f"{len(rows)} of {_n(n_trials, 'trial')} {'has' if len(rows) == 1 else 'have'} "
+        "readings in the predicted bulge; mean of the "
         f"fitted curve there {_span(f, 3)}, mean of the data {_span(m, 3)} (standard error "
         f"{_span(se_m, 3)}, of the difference {_span(se_gap, 3)}; lowest single point "
         f"{_mm(min(r['lowest'] for r in rows), 3)}); resolvable in {int(resolvable.sum())}, "
@@ -295,11 +296,13 @@ def claim_c8(fits, averaged, settings):
 
     Each subject with two or more depths gives the least-squares slope of ``q``
     against depth; the slopes are tested across subjects, species a fixed effect, by
-    Student's t.  The t-test needs one degree of freedom for the spread between
-    subjects, so at least one more subject with two depths than there are species;
-    with fewer the claim cannot be checked.
+    Student's t.  The t-test needs a degree of freedom for the spread between
+    subjects, and with one or two that spread rests on one or two differences: the
+    claim cannot be checked with fewer than ``settings.slope_min_df`` (subjects with
+    two depths less the species; the config schema gives the reasons).
     """
     alpha = settings.significance
+    min_df = settings.slope_min_df
     rule = (
         "Per trial: the waterbed's relative excess misfit q = (RMSE² − s²) / W₀², with "
         "RMSE over the fit window and s² the mean noise variance of the averaged points "
@@ -314,8 +317,8 @@ def claim_c8(fits, averaged, settings):
         "significantly above zero (the relative misfit grows with depth); does not hold if "
         f"its upper one-sided {format_fixed(100 * (1 - alpha), 0)} % bound is below zero; "
         "cannot be checked otherwise, or with fewer subjects measured at two depths than "
-        "species + 1 (the t-test needs one degree of freedom for the spread between "
-        "subjects)."
+        f"species + {min_df} (config claims: slope_min_df: the spread between subjects "
+        f"must rest on at least {_n(min_df, 'degree of freedom', 'degrees of freedom')})."
     )
     relative = {}
     species_of = {}
@@ -338,8 +341,8 @@ def claim_c8(fits, averaged, settings):
     means = ", ".join(
         f"{d:g} mm {format_fixed(100 * np.mean(v), 3)}" for d, v in sorted(per_depth.items())
     )
-    if df < 1:
-        return _too_few_subjects("C8", slopes, species, rule)
+    if df < min_df:
+        return _too_few_subjects("C8", slopes, species, rule, min_df)
     estimate, se, t_value = test["estimate"], test["se"], test["t"]
     p_value, upper = test["p"], test["upper"]
     per_subject = ", ".join(f"{s} {format_fixed(100 * v, 3)}" for s, v in slopes.items())
@@ -449,7 +452,7 @@ def claim_c9(fits, averaged, settings):
         f"{_span([1e3 * r[1] for r in results[m]], 1, ' µm')}), "
         f"{_pct(min(r[2] for r in results[m]), 0)} to {_pct(max(r[2] for r in results[m]), 0)} "
         f"of points deflected less; short of the curve in {int(short[m].sum())} of "
-        f"{len(labels)} trials, beyond it in {int(over[m].sum())}"
+        f"{_n(len(labels), 'trial')}, beyond it in {int(over[m].sum())}"
         for m in models
     )
     everywhere = np.logical_and.reduce([short[m] for m in models])

@@ -171,9 +171,9 @@ def claim_c6(fits, averaged, settings):
     alpha = settings.significance
     z_equivalence = norm.ppf(1.0 - alpha)
     rule = (
-        "A property of the paper's method at the data's W0/L, not counted as evidence about "
+        "A property of the paper's method at the data's W₀/L, not counted as evidence about "
         "fingers: both fits are one-parameter curves of the same membrane, so the gap "
-        "between their L is fixed by W0/L up to a standard error of hundredths of a percent. "
+        "between their L is fixed by W₀/L up to a standard error of hundredths of a percent. "
         "An equivalence test with the workflow's margin (config claims: shift_margin = "
         f"{_pct(margin, 0)}, reasons in the config schema; not the paper's 8 %, a bound on "
         "|U|/X). Neglecting U (eq. 19 read at the deformed position) is negligible if it "
@@ -343,7 +343,7 @@ def claim_c7(fits, averaged, settings, deflection=None):
         )
     our = (
         f"numerical zero / (L/3) - 1: largest |deviation| {deviations.max():.1e} over "
-        f"{deviations.size} trials"
+        f"{_n(deviations.size, 'trial')}"
     )
     reason = (
         "Every fitted curve crosses zero at L/3, as eq. 19 requires of any L; this says "

@@ -68,15 +68,21 @@ def _smallest_margin(decide):
     return NO_MARGIN
 
 
-def _too_few_subjects(claim, slopes, species, rule):
-    """The row of a slope test across subjects with no degree of freedom left."""
+def _too_few_subjects(claim, slopes, species, rule, min_df=1):
+    """The row of a slope test across subjects with fewer than ``min_df`` degrees of
+    freedom left for the spread between subjects (config ``claims: slope_min_df``)."""
+    df = max(len(slopes) - len(species), 0)
+    needed = max(len(species), 1) + min_df
     return _row(
         claim,
         f"{_n(len(slopes), 'subject')} measured at two or more depths, "
-        f"{_n(len(species), 'species', 'species')}: no degree of freedom for the t-test",
+        f"{_n(len(species), 'species', 'species')}: "
+        f"{_n(df, 'degree of freedom', 'degrees of freedom')} for the spread between "
+        f"subjects, fewer than the {min_df} the rule requires (config claims: slope_min_df)",
         UNTESTABLE,
         "Too few subjects were measured at two or more depths to test the slope across "
-        f"subjects (at least {len(species) + 1 if species else 2} are needed).",
+        f"subjects: at least {needed} are needed (one per species and {min_df} more), "
+        "so that the spread between subjects rests on more than one or two differences.",
         rule,
     )
 

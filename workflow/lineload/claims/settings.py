@@ -41,6 +41,13 @@ class ClaimSettings:
     symmetry_margin, shift_margin, circularity_margin : float
         The equivalence margins of the symmetry, shift and circularity claims, the
         workflow's own (config keys of the same names; the schema gives the reasons).
+    slope_min_df : int
+        The fewest degrees of freedom for the spread between subjects with which a
+        slope against depth is tested across subjects; with fewer, the claim cannot
+        be checked.
+    elastic_margin : float
+        C12: the part of the misfit a layer must remove, a fraction of the depth, before
+        it is read as a layer rather than a wrong geometry (config key of the same name).
     force_sd_N : float
         C11: precision of one force reading (N, standard deviation); config key
         ``mechanics: force_sd_N``.
@@ -68,6 +75,8 @@ class ClaimSettings:
     symmetry_margin: float = _DEFAULTS["symmetry_margin"]
     shift_margin: float = _DEFAULTS["shift_margin"]
     circularity_margin: float = _DEFAULTS["circularity_margin"]
+    slope_min_df: int = _DEFAULTS["slope_min_df"]
+    elastic_margin: float = _DEFAULTS["elastic_margin"]
     zero_crossing_rtol: float = 1e-6
     noise_model: NoiseModel | None = None
     trial_noise: dict | None = None

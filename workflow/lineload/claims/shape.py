@@ -59,25 +59,22 @@ def claim_c1(fits, averaged, settings):
     by_species = {
         sp: [e for depth in extents.values() for e, _ in depth.get(sp, [])] for sp in paper.SPECIES
     }
-    ranges = (
-        f"monkeys {_span(by_species['monkey'])} ({len(by_species['monkey'])} trials), "
-        f"humans {_span(by_species['human'])} ({len(by_species['human'])} trials)"
+    ranges = ", ".join(
+        f"{sp}s {_span(by_species[sp])} ({_n(len(by_species[sp]), 'trial')})"
+        if by_species[sp]
+        else f"{sp}s: no trials"
+        for sp in paper.SPECIES
     )
     shared = sorted(d for d, sp in extents.items() if "monkey" in sp and "human" in sp)
     if not shared:
+        # the value lists what there is; the reason says once what is missing
         missing = [sp for sp in paper.SPECIES if not by_species[sp]]
         reason = (
-            f"no {' and no '.join(missing)} trials"
+            f"these data hold no {' and no '.join(missing)} trials"
             if missing
-            else "no depth measured in both species"
+            else "no depth was measured in both species"
         )
-        return _row(
-            "C1",
-            f"{ranges}; {reason}",
-            UNTESTABLE,
-            f"The species cannot be compared: {reason}.",
-            rule,
-        )
+        return _row("C1", ranges, UNTESTABLE, f"The species cannot be compared: {reason}.", rule)
     z_by_depth = {}
     for d in shared:
         z_by_depth[d] = np.array(
@@ -196,14 +193,25 @@ def claim_c2(fits, averaged, settings):
 
     smallest = _smallest_margin(decide)
     equivalent, different = tests(margin)
-    bound = (margin * depths) ** 2
-    fraction = np.sqrt(np.clip(excess, 0.0, None)) / np.sqrt(bound) * margin
-    worst = values[int(np.argmax(fraction))][0]
+    fraction = np.sqrt(np.clip(excess, 0.0, None)) / depths
+    # the bound the equivalence test compares with the margin, in the same units
+    upper = np.sqrt(np.clip(excess + z_one * se, 0.0, None)) / depths
+    worst, widest = values[int(np.argmax(fraction))][0], values[int(np.argmax(upper))][0]
+    if fraction.max() > 0:
+        estimate = (
+            f"median {_pct(np.median(fraction), 2)}, largest {_pct(fraction.max(), 2)} ({worst})"
+        )
+    else:
+        # an estimate clipped at zero in every trial: the sides differ by no more than
+        # the noise alone makes them; '0 %' alone would read as a rounding
+        estimate = f"0 in {_every(len(values), 'trial')} (no more than the noise alone gives)"
+    level = f"{format_fixed(100 * (1 - alpha), 0)} %"
+    bounded = f"at most {_pct(upper.max(), 2)} ({widest})" if upper.max() > 0 else "0 in each too"
     our = (
-        f"true RMS left-right difference (noise removed) / depth: median "
-        f"{_pct(np.median(fraction))}, largest {_pct(fraction.max())} ({worst}); "
-        f"equivalent within {_pct(margin, 0)} in {int(equivalent.sum())} of {len(values)} "
-        f"trials, different in {int(different.sum())}"
+        f"true RMS left-right difference (noise removed) / depth: {estimate}; its upper "
+        f"{level} bound {bounded}; equivalent within {_pct(margin, 0)} in "
+        f"{int(equivalent.sum())} of {_n(len(values), 'trial')}, different in "
+        f"{int(different.sum())}"
     )
     if different.any():
         labels = [v[0] for v, d in zip(values, different, strict=True) if d]
@@ -295,7 +303,7 @@ def claim_c10(fits, averaged, settings):
     inside, outside, beyond = tests(margin)
     our = (
         f"relative change of curvature, inner minus outer half over the whole window: pooled "
-        f"{_pct(pooled)} ± {_pct(pooled_se)} (SE) over {len(tested)} trials; per trial "
+        f"{_pct(pooled)} ± {_pct(pooled_se)} (SE) over {_n(len(tested), 'trial')}; per trial "
         f"{_span(100 * r, 1, ' %')}; significantly beyond ±{_pct(margin, 0)} in "
         f"{int(beyond.sum())}"
     )

@@ -24,6 +24,7 @@ __all__ = [
     "HOLDS",
     "IDENTITY",
     "KINDS",
+    "LATER_WORK",
     "MARGIN_GRID",
     "METHOD_IDENTITY",
     "METHOD_PROPERTY",
@@ -55,10 +56,19 @@ METHOD_PROPERTY = "property of the method"
 METHOD_IDENTITY = "identity of the method"
 MODEL_CHECK = "model-consistency check"
 PAPER_SUGGESTION = "the paper's closing suggestion"
+#: A finding of later work by others, tested on these data (not the paper's).
+LATER_WORK = "later work"
 #: What a row of the claims table can be.  Only the paper's claims about fingers are
 #: counted as evidence (:func:`lineload.claims.table.verdict_counts`); the others are
 #: checked and reported apart.  Each claim's kind, and why, is in its registry entry.
-KINDS = (PAPER_CLAIM, METHOD_PROPERTY, METHOD_IDENTITY, MODEL_CHECK, PAPER_SUGGESTION)
+KINDS = (
+    PAPER_CLAIM,
+    METHOD_PROPERTY,
+    METHOD_IDENTITY,
+    MODEL_CHECK,
+    PAPER_SUGGESTION,
+    LATER_WORK,
+)
 
 #: The margins searched for the smallest at which an equivalence test holds.
 MARGIN_GRID = tuple(k / 100 for k in range(1, 21))

@@ -19,4 +19,8 @@ solver
     Mixed (Taylor-Hood) plane-strain elasticity with the wedge in frictionless one-sided contact.
 flamant
     The half-space's line-load solution the solver is checked against.
+library
+    The solution library: profiles over sections, layers, ratios and depths.
+table
+    The library table's columns, read by the fits without the solver.
 """

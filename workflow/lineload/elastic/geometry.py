@@ -1,17 +1,20 @@
 """Plane-strain geometry: a fingertip's section (a pad around a rigid bone), a half-space box.
 
-The section lies in the plane of the measured profile: the wedge's edge is perpendicular to it
-and long (25 mm against the fingertip's few millimetres of deformation), so plane strain along
-the edge is the paper's own assumption. Coordinates: ``x`` along the resting surface away from
-the wedge (mm), ``z`` upward (mm); the wedge comes down on the section's highest point, which
-sits at the origin. The section is symmetric about ``x = 0`` (the wedge's axis), so the solver
-meshes only ``x >= 0``.
+The section lies in the plane of the measured profile. The 1989 wedge lies across the finger,
+so its edge is perpendicular to that plane and the profile runs along the finger's length: the
+section is the finger's longitudinal section, cut through the wedge's middle. Plane strain
+along the edge is the paper's own assumption. Coordinates: ``x`` along the resting surface
+away from the wedge (mm), ``z`` upward (mm); the wedge comes down on the section's highest
+point, which sits at the origin. The section is symmetric about ``x = 0`` (the wedge's axis),
+so the solver meshes only ``x >= 0``.
 
-The outer outline is an ellipse of the given width and height; the bone is a smaller ellipse on
-the same axis, its top ``pad_thickness_mm`` below the skin under the wedge. Where each value
-comes from is written beside it (:data:`SPECIES`): the widths are the 2003 paper's fingertip
-widths; the height, the bone and the pad's thickness are stated assumptions with ranges, to be
-treated as nuisances when fitting, never as facts.
+The outer outline is an ellipse of the given length (along the finger) and height; the bone is
+a smaller ellipse on the same axis, its top ``pad_thickness_mm`` below the skin under the
+wedge. Where each value comes from is written beside it (:data:`SPECIES`): the fingertip's
+width across the finger is the 2003 paper's (it is the wedge's loaded length, out of the
+section's plane); the section's length, height, bone and pad are stated assumptions with
+ranges, to be treated as nuisances when fitting, never as facts. :func:`sample_sections`
+draws sections from the ranges jointly, keeping only those that can be meshed.
 """
 
 from __future__ import annotations
@@ -51,11 +54,12 @@ class FingerSection:
 
     Parameters
     ----------
-    width_mm
-        The outline's extent along the surface (the ellipse's full horizontal axis).
+    length_mm
+        The outline's extent along the finger, in the profile's plane (the ellipse's full
+        horizontal axis).
     height_mm
         The outline's volar-dorsal extent (the full vertical axis).
-    bone_width_mm, bone_height_mm
+    bone_length_mm, bone_height_mm
         The bone's full axes.
     pad_thickness_mm
         From the skin under the wedge down to the bone's top.
@@ -65,16 +69,16 @@ class FingerSection:
         not, the flanks beside the bone hang free and follow the pad down.
     """
 
-    width_mm: float
+    length_mm: float
     height_mm: float
-    bone_width_mm: float
+    bone_length_mm: float
     bone_height_mm: float
     pad_thickness_mm: float
     dorsal_clamped: bool = True
 
     def __post_init__(self):
-        a, b = self.width_mm / 2, self.height_mm / 2
-        if min(self.width_mm, self.height_mm, self.bone_width_mm, self.bone_height_mm) <= 0:
+        a, b = self.length_mm / 2, self.height_mm / 2
+        if min(self.length_mm, self.height_mm, self.bone_length_mm, self.bone_height_mm) <= 0:
             raise ValueError(f"every size of the section must be positive: {self}")
         if self.pad_thickness_mm <= 0:
             raise ValueError(f"the pad must have a positive thickness: {self}")
@@ -92,12 +96,12 @@ class FingerSection:
 
     def outer_outline_mm(self, theta):
         """Points of the skin's outline at parametric angle ``theta`` (0 under the wedge)."""
-        a, b = self.width_mm / 2, self.height_mm / 2
+        a, b = self.length_mm / 2, self.height_mm / 2
         return a * np.sin(theta), b * np.cos(theta) - b
 
     def outer_normal(self, theta):
         """The outline's outward unit normal at parametric angle ``theta``."""
-        a, b = self.width_mm / 2, self.height_mm / 2
+        a, b = self.length_mm / 2, self.height_mm / 2
         nx, nz = np.sin(theta) / a, np.cos(theta) / b
         norm = np.hypot(nx, nz)
         return nx / norm, nz / norm
@@ -105,18 +109,18 @@ class FingerSection:
     def bone_outline_mm(self, theta):
         """Points of the bone's outline at parametric angle ``theta`` (0 at its top)."""
         return (
-            self.bone_width_mm / 2 * np.sin(theta),
+            self.bone_length_mm / 2 * np.sin(theta),
             self.bone_centre_z_mm + self.bone_height_mm / 2 * np.cos(theta),
         )
 
     def outer_level(self, x_mm, z_mm):
         """The outline's implicit function: 1 on the skin, below 1 inside."""
-        a, b = self.width_mm / 2, self.height_mm / 2
+        a, b = self.length_mm / 2, self.height_mm / 2
         return (np.asarray(x_mm) / a) ** 2 + ((np.asarray(z_mm) + b) / b) ** 2
 
     def bone_level(self, x_mm, z_mm):
         """The bone's implicit function: 1 on the bone, below 1 inside it."""
-        return (np.asarray(x_mm) / (self.bone_width_mm / 2)) ** 2 + (
+        return (np.asarray(x_mm) / (self.bone_length_mm / 2)) ** 2 + (
             (np.asarray(z_mm) - self.bone_centre_z_mm) / (self.bone_height_mm / 2)
         ) ** 2
 
@@ -134,7 +138,7 @@ class FingerSection:
 
     def _nearest_on_skin(self, x_mm, z_mm):
         """Each point's distance to the skin (mm) and the parametric angle of the nearest point."""
-        a, b = self.width_mm / 2, self.height_mm / 2
+        a, b = self.length_mm / 2, self.height_mm / 2
         perimeter_mm = np.pi * (3 * (a + b) - np.sqrt((3 * a + b) * (a + 3 * b)))
         theta = np.linspace(0, 2 * np.pi, int(perimeter_mm * _OUTLINE_SAMPLES_PER_MM))
         outline = np.column_stack(self.outer_outline_mm(theta))
@@ -179,11 +183,16 @@ class HalfSpaceBox:
 
 @dataclass(frozen=True)
 class SpeciesGeometry:
-    """One species' section, each value with its range and source."""
+    """One species' section, each value with its range and source.
+
+    ``width`` is across the finger: the wedge's loaded length, which turns a force per unit
+    length into a force; it is not a size of the section. The others are the section's.
+    """
 
     width: Range
+    length: Range
     height: Range
-    bone_width: Range
+    bone_length: Range
     bone_height: Range
     pad_thickness: Range
     outer_layer_thickness: Range
@@ -191,29 +200,50 @@ class SpeciesGeometry:
     def section(self) -> FingerSection:
         """The section at the default values."""
         return FingerSection(
-            width_mm=self.width.value_mm,
+            length_mm=self.length.value_mm,
             height_mm=self.height.value_mm,
-            bone_width_mm=self.bone_width.value_mm,
+            bone_length_mm=self.bone_length.value_mm,
             bone_height_mm=self.bone_height.value_mm,
             pad_thickness_mm=self.pad_thickness.value_mm,
         )
 
 
+#: The section's values that :func:`sample_sections` draws, in the order of its columns.
+SECTION_VALUES = ("length", "height", "bone_length", "bone_height", "pad_thickness")
+#: The bone's length as a share of the section's (the bone's stated range, drawn jointly).
+BONE_LENGTH_SHARE = (0.4, 0.6)
+
+
 _DANDEKAR_2003 = (
     "Dandekar, Raju and Srinivasan (2003), J. Biomech. Eng. 125:682-691: fingertip width "
-    "about 8-10 mm in monkeys and 16-20 mm in humans"
+    "about 8-10 mm in monkeys and 16-20 mm in humans (across the finger: the wedge's loaded "
+    "length, not a size of the section)"
+)
+_ASSUMED_LENGTH = (
+    "assumption: no source in this project measures the pad's extent along the finger, and "
+    "the skin continues past the distal pad, so the phalanx's length does not bound it. The "
+    "paper reports deformed skin out to 3-7 mm from the wedge in monkeys and 6-12 mm in "
+    "humans; the range runs from a section whose half-length is the middle of those extents "
+    "(its own end would confine the profile) to one whose half-length is well past their far "
+    "end, wide enough to be fitted as a nuisance"
 )
 _ASSUMED_HEIGHT = (
     "assumption: a fingertip somewhat flatter than it is wide (height 0.7-0.9 of the width); "
     "no source in this project measures it"
 )
+_ASSUMED_BONE_LENGTH = (
+    "assumption: the distal phalanx runs along the finger under the pad, 0.4-0.6 of the "
+    "section's length; the 1996 and 2003 models treat the bone as rigid, their sizes are not "
+    "used here"
+)
 _ASSUMED_BONE = (
-    "assumption: the distal phalanx's tuft about half the fingertip's width and a third of its "
-    "height; the 1996 and 2003 models treat the bone as rigid, their exact sizes are not used here"
+    "assumption: the distal phalanx's tuft about a third of the fingertip's height; the 1996 "
+    "and 2003 models treat the bone as rigid, their exact sizes are not used here"
 )
 _ASSUMED_PAD = (
     "assumption: the volar pulp between skin and bone a quarter to a half of the fingertip's "
-    "height; the profile's far field depends on it, so it is a nuisance when fitting"
+    "height, and (in monkeys) thicker than the paper's deepest indentation, 2 mm, which met no "
+    "bone; the profile's far field depends on it, so it is a nuisance when fitting"
 )
 _ASSUMED_LAYER = (
     "assumption: the stiffer outer layer (epidermis and dermis) about a tenth of the pad's "
@@ -224,18 +254,77 @@ _ASSUMED_LAYER = (
 SPECIES: dict[str, SpeciesGeometry] = {
     "monkey": SpeciesGeometry(
         width=Range(9.0, 8.0, 10.0, _DANDEKAR_2003),
+        length=Range(16.0, 10.0, 24.0, _ASSUMED_LENGTH),
         height=Range(7.2, 5.6, 9.0, _ASSUMED_HEIGHT),
-        bone_width=Range(4.5, 3.5, 5.5, _ASSUMED_BONE),
+        bone_length=Range(8.0, 4.0, 14.4, _ASSUMED_BONE_LENGTH),
         bone_height=Range(2.4, 1.8, 3.0, _ASSUMED_BONE),
-        pad_thickness=Range(2.5, 1.8, 3.6, _ASSUMED_PAD),
+        pad_thickness=Range(2.8, 2.4, 3.6, _ASSUMED_PAD),
         outer_layer_thickness=Range(0.4, 0.2, 0.8, _ASSUMED_LAYER),
     ),
     "human": SpeciesGeometry(
         width=Range(18.0, 16.0, 20.0, _DANDEKAR_2003),
+        length=Range(28.0, 18.0, 40.0, _ASSUMED_LENGTH),
         height=Range(14.4, 11.2, 18.0, _ASSUMED_HEIGHT),
-        bone_width=Range(9.0, 7.0, 11.0, _ASSUMED_BONE),
+        bone_length=Range(14.0, 7.2, 24.0, _ASSUMED_BONE_LENGTH),
         bone_height=Range(4.8, 3.6, 6.0, _ASSUMED_BONE),
         pad_thickness=Range(5.0, 3.6, 7.2, _ASSUMED_PAD),
         outer_layer_thickness=Range(0.8, 0.4, 1.6, _ASSUMED_LAYER),
     ),
 }
+
+
+def sample_sections(species, count, seed, fits=None):
+    """Sections drawn jointly from a species' stated ranges: the default first, then a
+    Latin hypercube over the ranges, keeping only sections ``fits`` accepts.
+
+    The ranges are not independent (a thick pad in a flat finger leaves no room for the
+    bone), so the draws are filtered, not a product of the ranges: the section's length,
+    height, bone height and pad thickness are drawn across their ranges, the bone's length
+    as a share of the section's (:data:`BONE_LENGTH_SHARE`). The draws are deterministic
+    for a seed.
+
+    Parameters
+    ----------
+    species : SpeciesGeometry
+        The ranges.
+    count : int
+        How many sections (>= 1), the default section among them.
+    seed : int
+        Seed of the Latin hypercube.
+    fits : callable, optional
+        ``fits(section) -> bool``: whether a drawn section is usable (that its thickest
+        outer layer meshes, say); a section the outline refuses is always left out.
+
+    Returns
+    -------
+    list of FingerSection
+    """
+    from scipy.stats import qmc  # here: the geometry is imported where scipy.stats is not
+
+    if count < 1:
+        raise ValueError(f"need at least one section, not {count}")
+    sections = [species.section()]
+    sampler = qmc.LatinHypercube(d=len(SECTION_VALUES), seed=seed)
+    draws = 0
+    while len(sections) < count:
+        if draws > 100 * count:
+            raise RuntimeError(f"fewer than {count} usable sections in {draws} draws")
+        for u in sampler.random(count):
+            draws += 1
+            values = {}
+            for name, share in zip(SECTION_VALUES, u, strict=True):
+                if name == "bone_length":
+                    continue
+                span = getattr(species, name)
+                values[f"{name}_mm"] = float(span.low_mm + share * (span.high_mm - span.low_mm))
+            low, high = BONE_LENGTH_SHARE
+            values["bone_length_mm"] = float(values["length_mm"] * (low + u[2] * (high - low)))
+            try:
+                section = FingerSection(**values)
+            except ValueError:
+                continue
+            if fits is None or fits(section):
+                sections.append(section)
+            if len(sections) == count:
+                break
+    return sections

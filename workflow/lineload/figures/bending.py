@@ -15,16 +15,15 @@ from __future__ import annotations
 from collections import ChainMap
 
 import numpy as np
-from matplotlib import ticker
 from matplotlib.lines import Line2D
 
 from lineload.figures.data import data_handle, deflection_limits, draw_fitted_trial, fit_row
+from lineload.figures.estimates import draw_estimates_by_depth
 from lineload.figures.style import (
     DEFLECTION_LABEL,
     DOUBLE_COLUMN_MM,
     MODEL_NAMES,
     SINGLE_COLUMN_MM,
-    SPECIES_PLURAL,
     WINDOW_STYLE,
     add_footer,
     legend_columns,
@@ -43,8 +42,6 @@ BENDING_COLOUR = FAMILIES["bending"].colour
 BENDING_NAME = "bending skin"
 #: The families drawn beside the bending skin, in drawing order.
 OTHER_FAMILIES = ("boussinesq", "waterbed", "arc")
-#: Marker of each species in the bending-length figure.
-SPECIES_MARKERS = {"monkey": "o", "human": "s"}
 
 
 def _bending_row(bending, subject, depth_mm):
@@ -176,78 +173,29 @@ def figure_bending_lengths(bending, averaged, subjects, notice=""):
     rows = bending[np.isfinite(bending["bending_length_mm"].astype(float))] if len(bending) else []
     if not len(rows):
         return message_figure("No trial of this dataset has a bending fit.", notice)
-    table = subject_table(subjects)
-    species_present = [s for s in ("monkey", "human") if (rows["species"] == s).any()]
-    species_present += sorted(set(rows["species"]) - set(species_present))
-    fig = new_figure(SINGLE_COLUMN_MM if len(species_present) == 1 else DOUBLE_COLUMN_MM, 70.0)
-    axes = fig.subplots(1, len(species_present), squeeze=False, sharey=True)[0]
     low_end = float(np.nanmin(rows["bending_length_ci_low_mm"].astype(float)))
     high_end = float(np.nanmax(rows["bending_length_ci_high_mm"].astype(float)))
     distances = averaged["distance_mm"].astype(float) if len(averaged) else []
     first_mm = float(np.min(distances[distances > 0])) if len(distances) else np.nan
-    for ax, species in zip(axes, species_present, strict=True):
-        members = [s for s in table.index if s in set(rows["subject"][rows["species"] == species])]
-        depths = sorted(set(rows["depth_mm"].astype(float)))
-        step = min(np.diff(depths)) if len(depths) > 1 else 0.5
-        for k, subject in enumerate(members):
-            offset = (k - (len(members) - 1) / 2) * 0.6 * step / max(len(members), 1)
-            mine = rows[rows["subject"] == subject]
-            for _, row in mine.iterrows():
-                x = float(row["depth_mm"]) + offset
-                lb = float(row["bending_length_mm"])
-                low, high = (
-                    float(row["bending_length_ci_low_mm"]),
-                    float(row["bending_length_ci_high_mm"]),
-                )
-                bound = float(row.get("bending_length_at_bound", 0.0)) > 0
-                colour = f"C{k % 10}"
-                ax.plot(
-                    [x, x], [low, high], color=colour, linewidth=0.9, gid=f"lb-interval:{subject}"
-                )
-                ax.plot(
-                    x,
-                    lb,
-                    linestyle="none",
-                    marker=SPECIES_MARKERS.get(species, "D"),
-                    markersize=4.0,
-                    color=colour,
-                    markerfacecolor="white" if bound else colour,
-                    gid=f"lb-bound:{subject}" if bound else f"lb:{subject}",
-                )
-            label = table.loc[subject, "label"] if subject in table.index else subject
-            ax.plot(
-                [],
-                [],
-                linestyle="none",
-                marker=SPECIES_MARKERS.get(species, "D"),
-                color=f"C{k % 10}",
-                label=str(label),
-            )
+
+    def first_reading(ax):
         if np.isfinite(first_mm):
             ax.axhline(first_mm, gid="first-reading", **WINDOW_STYLE)
-        ax.set_yscale("log")
-        # plain numbers: a power of ten's exponent would print below the 7-point floor
-        ax.yaxis.set_major_formatter(ticker.FuncFormatter(lambda value, _: f"{value:g}"))
-        ax.yaxis.set_minor_formatter(ticker.NullFormatter())
-        ax.set_ylim(low_end / 2, high_end * 40)  # room above for the subjects' key
-        ax.set_xticks(depths, [f"{d:g}" for d in depths])
-        ax.set_xlabel("indentation depth W₀ (mm)")
-        ax.set_title(SPECIES_PLURAL.get(species, species).capitalize(), loc="left")
-        ax.legend(loc="upper left", ncols=2, fontsize=7.0)
-    axes[0].set_ylabel("bending length l_b (mm, log scale)")
-    handles = [
-        Line2D([], [], linestyle="none", marker="o", color="0.3", label="estimate, 95 % interval"),
-        Line2D(
-            [],
-            [],
-            linestyle="none",
-            marker="o",
-            color="0.3",
-            markerfacecolor="white",
-            label="at the range's end (one-sided interval)",
-        ),
-        Line2D([], [], label="closest reading to the wedge", **WINDOW_STYLE),
-    ]
-    fig.legend(handles=handles, loc="outside upper center", ncols=legend_columns(fig, handles, 3))
-    add_footer(fig, notice)
-    return fig
+
+    return draw_estimates_by_depth(
+        rows,
+        subjects,
+        value="bending_length_mm",
+        low="bending_length_ci_low_mm",
+        high="bending_length_ci_high_mm",
+        at_bound="bending_length_at_bound",
+        gid="lb",
+        # the symbol is the caption's: a subscript in matplotlib's mathtext would print
+        # below the 7-point floor
+        ylabel="bending length (mm, log scale)",
+        bound_label="at the range's end (one-sided interval)",
+        ylim=(low_end / 2, high_end * 40),  # room above for the subjects' key
+        notice=notice,
+        extra_handles=[Line2D([], [], label="closest reading to the wedge", **WINDOW_STYLE)],
+        decorate=first_reading,
+    )

@@ -547,7 +547,7 @@ def figure_species_fits(averaged, fits, subjects, species, fit_window_mm, notice
 
 @styled
 def figure_digitised(subject, trials, notice=""):
-    """Quality of a photographed subject's digitising: one row per depth.
+    """Quality of photographed trials' digitising: one row per trial.
 
     Left, the loaded photograph near the wedge with the outline the workflow found
     (gid ``outline-loaded``), the resting outline moved onto it (``outline-rest``), the
@@ -558,9 +558,9 @@ def figure_digitised(subject, trials, notice=""):
     Parameters
     ----------
     subject : str
-        The subject's label.
+        The subject's label (a trial's own ``label``, where it has one, goes first).
     trials : list of dict
-        Per depth: ``depth_mm``, ``image`` (the loaded photograph, 2-D), ``extent_mm``
+        Per trial: ``depth_mm``, ``image`` (the loaded photograph, 2-D), ``extent_mm``
         (``x0, x1, z0, z1`` of the image in tissue mm), ``outlines`` and ``readings``
         and ``tip_x_mm`` of :class:`lineload.rawdata.photographs.DigitisedTrial`; optionally
         ``truth``, side -> ``(distance_mm, deflection_mm)``.
@@ -622,7 +622,10 @@ def figure_digitised(subject, trials, notice=""):
             )
         span = 3.0
         ax_image.set_xlim(tip - span, tip + span)
-        ax_image.set_title(f"{subject}, {trial['depth_mm']:g} mm: loaded photograph", loc="left")
+        ax_image.set_title(
+            f"{trial.get('label', subject)}, {trial['depth_mm']:g} mm: loaded photograph",
+            loc="left",
+        )
         ax_image.set_xlabel("x (mm)")
         ax_image.set_ylabel("z (mm)")
         left_d, left_w = trial["readings"]["left"]

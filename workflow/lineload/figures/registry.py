@@ -35,7 +35,7 @@ __all__ = [
 KINDS = ("file", "dataset", "setting")
 
 #: The jobs that draw figures, each a group of figures drawn in one process.
-GROUPS = ("outlines", "schematics", "fits", "supplements", "bending", "calibration")
+GROUPS = ("outlines", "schematics", "fits", "supplements", "bending", "elastic", "calibration")
 
 #: Report categories of the figures.
 CATEGORIES = ("Paper figures", "Supplement")
@@ -115,6 +115,13 @@ ARGUMENTS = {
     "bending": Argument(
         "file", "the bending skin's fits, one row per subject and depth (tables/bending.csv)"
     ),
+    "elastic": Argument(
+        "file",
+        "the elastic finger's fits, one row per subject and depth (tables/elastic_fits.csv)",
+    ),
+    "elastic_library": Argument(
+        "file", "the elastic finger's solution library the fits were made from (elastic)"
+    ),
     "coverage": Argument(
         "file",
         "the coverage study's summary as committed (docs/calibration/coverage.csv; "
@@ -135,8 +142,8 @@ class Figure:
     group : str
         The job that draws it, one of :data:`GROUPS`.
     module : str
-        ``data``, ``schematics``, ``supplements``, ``bending`` or ``calibration``: the module
-        ``lineload.figures.<module>`` that holds the function.
+        ``data``, ``schematics``, ``supplements``, ``bending``, ``elastic`` or
+        ``calibration``: the module ``lineload.figures.<module>`` that holds the function.
     function : str
         Name of the figure function in that module.
     arguments : tuple of str
@@ -250,6 +257,15 @@ FIGURES = (
         title="Every human at every depth, with its waterbed fit",
     ),
     Figure(
+        "supplement_coverage",
+        "calibration",
+        "calibration",
+        "figure_coverage_misspecified",
+        ("coverage", "notice"),
+        category="Supplement",
+        title="Coverage of the intervals when the errors' true sizes are not the stated ones",
+    ),
+    Figure(
         "supplement_coordinates",
         "supplements",
         "supplements",
@@ -313,13 +329,22 @@ FIGURES = (
         title="The skin's fitted bending length by species and depth, with its interval",
     ),
     Figure(
-        "supplement_coverage",
-        "calibration",
-        "calibration",
-        "figure_coverage_misspecified",
-        ("coverage", "notice"),
+        "supplement_elastic",
+        "elastic",
+        "elastic",
+        "figure_elastic_examples",
+        ("averaged", "elastic", "elastic_library", "subjects", "fit_window_mm", "notice"),
         category="Supplement",
-        title="Coverage of the intervals when the errors' true sizes are not the stated ones",
+        title="The homogeneous and the layered elastic finger on a monkey and a human",
+    ),
+    Figure(
+        "supplement_elastic_ratios",
+        "elastic",
+        "elastic",
+        "figure_elastic_ratios",
+        ("elastic", "subjects", "notice"),
+        category="Supplement",
+        title="The layered finger's fitted modulus ratio by species and depth, with its interval",
     ),
 )
 

@@ -57,6 +57,7 @@ __all__ = [
     "REST_COLOUR",
     "SCHEMATIC_MM",
     "SINGLE_COLUMN_MM",
+    "SPECIES_MARKERS",
     "SPECIES_PLURAL",
     "STYLE",
     "WINDOW_STYLE",
@@ -65,6 +66,7 @@ __all__ = [
     "figure_style",
     "grid_legend",
     "grid_shape",
+    "grid_ylabel",
     "label_outer_axes",
     "legend_columns",
     "log_distance_axis",
@@ -97,6 +99,8 @@ NOTE_FONT_PT = 7.0
 LEGEND_ROW_MM = 3.6
 
 SPECIES_PLURAL = {"monkey": "monkeys", "human": "humans"}
+#: Marker of each species wherever species are told apart by marker.
+SPECIES_MARKERS = {"monkey": "o", "human": "s"}
 
 #: Colour of each model of the fit table (the registry's: Okabe-Ito palette, safe for
 #: colour-blind readers).
@@ -513,6 +517,52 @@ def grid_shape(n_panels, max_columns=2):
     """Rows and columns of a grid holding n_panels, at most max_columns wide."""
     n_columns = min(n_panels, max_columns)
     return math.ceil(n_panels / n_columns), n_columns
+
+
+def grid_ylabel(fig, axes, text, fontsize=None):
+    """One y label for a grid of panels, centred on the panels and no longer than they
+    are high.
+
+    ``Figure.supylabel`` centres its label on the whole figure, legend and footer
+    included, so a label longer than the panels are high runs into the legend above
+    them.  Here the figure is laid out once (without rendering), the label wrapped onto
+    more lines where it is longer than the panels' height, and moved to their middle;
+    the constrained layout keeps that height when it places the label again.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        With the constrained layout.
+    axes : iterable of Axes
+        The panels the label belongs to.
+    text : str
+    fontsize : float, optional
+        Points; the axes labels' size by default.
+
+    Returns
+    -------
+    matplotlib.text.Text
+    """
+    fontsize = fontsize or matplotlib.rcParams["axes.labelsize"]
+    axes = list(axes)
+    label = fig.supylabel(text, fontsize=fontsize)
+
+    def panels_span():
+        fig.draw_without_rendering()
+        boxes = [ax.get_position() for ax in axes]
+        return min(b.y0 for b in boxes), max(b.y1 for b in boxes)
+
+    low, high = panels_span()
+    # a character of DejaVu Sans is about 0.58 of the type size wide on average
+    per_line = max(12, int((high - low) * fig.get_figheight() * 72.0 / (0.58 * fontsize)))
+    if len(text) > per_line:
+        # a parenthesis ('(mm, log scale)') starts a line of its own
+        head, _, tail = text.partition(" (")
+        parts = [head, f"({tail}"] if tail else [head]
+        label.set_text("\n".join(line for part in parts for line in textwrap.wrap(part, per_line)))
+        low, high = panels_span()
+    label.set_y(0.5 * (low + high))
+    return label
 
 
 def label_outer_axes(axes_grid, present, xlabel, ylabel):

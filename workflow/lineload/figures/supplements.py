@@ -30,10 +30,12 @@ from lineload.figures.style import (
     MODEL_LINESTYLES,
     MODEL_NAMES,
     SINGLE_COLUMN_MM,
+    SPECIES_MARKERS,
     SPECIES_PLURAL,
     WINDOW_STYLE,
     add_footer,
     grid_shape,
+    grid_ylabel,
     label_outer_axes,
     log_distance_axis,
     message_figure,
@@ -62,8 +64,6 @@ __all__ = [
 REFIT_COLOURS = {model: FAMILIES[model].colour for model in REFIT_MODELS}
 #: Depths side by side in the residual and parabola-against-arc supplements; more wrap.
 DEPTHS_PER_ROW = 4
-#: Marker of each species where trials are drawn as points.
-SPECIES_MARKERS = {"monkey": "o", "human": "s"}
 
 
 def depths_per_row(n_depths):
@@ -854,11 +854,11 @@ def figure_mechanics(mechanics_trials, mechanics, subjects, notice=""):
     # labels on the outer panels (short: neighbouring panels' labels would collide);
     # one y label for the whole grid
     label_outer_axes(axes, present, "depth (mm, log scale)", "")
-    fig.supylabel(
+    ylabel = (
         "force on the wedge (N, log scale)"
         if absolute
-        else "force / force at the smallest depth (log scale)",
-        fontsize=8,
+        # relative to what, the legend's title says
+        else "relative force (log scale)"
     )
     handles = []
     if absolute:
@@ -887,4 +887,6 @@ def figure_mechanics(mechanics_trials, mechanics, subjects, notice=""):
     )
     fig.legend(handles=handles, loc="outside upper center", ncols=3, title=title, title_fontsize=7)
     add_footer(fig, notice)
+    # placed last: the legend and the footer take their room first
+    grid_ylabel(fig, axes[present], ylabel, fontsize=8)
     return fig

@@ -36,8 +36,10 @@ __all__ = [
     "bending_facts",
     "calibration_design",
     "counted",
+    "counted_words",
     "dataset_design",
     "design_text",
+    "elastic_facts",
     "every",
     "group_depths_text",
     "join_words",
@@ -96,33 +98,47 @@ def group_depths_text(members, depths_mm):
     return _depths_text(common) + (f" ({'; '.join(others)})" if others else "")
 
 
-def _plural(species, count):
-    return species if count == 1 else f"{species}s"
+def counted_words(count, noun, plural=None):
+    """:func:`~lineload.publishing.tables.counted` with a small count in words, as a
+    sentence writes it: ``"one subject"``, ``"three monkeys"``, ``"12 trials"``."""
+    count = int(count)
+    return f"{number_words(count)} {counted(count, noun, plural).split(' ', 1)[1]}"
 
 
 #: How many photographed subjects' quality figures the article prints (the report has all).
 PHOTOGRAPH_FIGURES = 4
 
 
-def photograph_facts(records, subjects, figures):
+def _batch_label(batch, subjects):
+    """How a figure's caption names a digitise batch: its subject's label, or its size."""
+    members = [r["subject"] for r in batch["subjects"]]
+    if len(members) == 1:
+        return subjects[members[0]]["label"]
+    return f"the batch of {len(members)} subjects from {members[0]} to {members[-1]}"
+
+
+def photograph_facts(batches, subjects, figures):
     """What the article says of the subjects read from photographs (None if there are none).
 
     Parameters
     ----------
-    records : list of dict
-        The digitise jobs' quality records (``digitised/<subject>.json``), sheet order.
+    batches : list of dict
+        The digitise jobs' quality records (``digitised/<batch>.json``: ``batch`` and
+        its ``subjects``, each with its ``trials``), sheet order.
     subjects : dict
         Subject id -> ``{"label", ...}`` (the subject sheet).
     figures : list of str
-        Each record's quality figure, as the article names it (relative to the results).
+        Each batch's quality figure, as the article names it (relative to the results).
 
     Returns
     -------
     dict or None
         ``subjects`` (named), ``all`` (every subject photographed), ``n_trials``, the
         ranges of the reading uncertainty and registration residual (um) and of the first
-        distance read (mm), the figures to print, and one row per trial.
+        distance read (mm), the figures to print (a batch's id, ``subject``, names it),
+        and one row per trial.
     """
+    records = [record for batch in batches for record in batch["subjects"]]
     if not records:
         return None
     trials = [(r["subject"], t) for r in records for t in r["trials"]]
@@ -153,10 +169,10 @@ def photograph_facts(records, subjects, figures):
             [t["error_rms_um"] for _, t in trials if t.get("error_rms_um") is not None], 1, " µm"
         ),
         "figures": [
-            {"file": f, "subject": r["subject"], "label": subjects[r["subject"]]["label"]}
-            for f, r in list(zip(figures, records, strict=True))[:PHOTOGRAPH_FIGURES]
+            {"file": f, "subject": b["batch"], "label": _batch_label(b, subjects)}
+            for f, b in list(zip(figures, batches, strict=True))[:PHOTOGRAPH_FIGURES]
         ],
-        "n_figures": len(records),
+        "n_figures": len(batches),
         "rows": rows,
     }
 
@@ -176,7 +192,7 @@ def _data_facts(subjects, depths_mm, notice):
             {
                 "species": species,
                 "count": len(members),
-                "count_words": f"{number_words(len(members))} {_plural(species, len(members))}",
+                "count_words": counted_words(len(members), species),
                 "subjects": join_words(members),
                 "depths": group_depths_text(members, depths_mm),
                 "n_trials": sum(len(depths_mm[s]) for s in members),
@@ -718,7 +734,7 @@ def _mechanics_facts(mechanics):
     return {
         "n_subjects": len(rows),
         "n_words": number_words(len(rows)),
-        "subjects_text": f"{number_words(len(rows))} {'subject' if len(rows) == 1 else 'subjects'}",
+        "subjects_text": counted_words(len(rows), "subject"),
         "with_contact_lengths": with_lengths,
         "any_exact": bool((mechanics["dof"].to_numpy(int) == 0).any()),
         "rows": rows,
@@ -765,4 +781,61 @@ def bending_facts(bending, fits, claims):
         "better_aicc": f"{better} of {counted(len(fitted), 'trial')}",
         "wall": str(fitted["wall"].iloc[0]) if "wall" in fitted and len(fitted) else "clamped",
         "c13": str(c13.iloc[0]) if len(c13) else "",
+    }
+
+
+def elastic_facts(elastic, fits):
+    """What the article says of the elastic finger (issue: the later literature's model).
+
+    Parameters
+    ----------
+    elastic : pandas.DataFrame or None
+        The elastic fits (``tables/elastic_fits.csv``); None or empty without one.
+    fits : pandas.DataFrame
+        The fit table (the waterbed's RMSE, the yardstick on the same points).
+
+    Returns
+    -------
+    dict or None
+        Counts and ranges as text: trials fitted and not, how many layered ratios lie at
+        the library's largest ratio, the range of the others, the RMSE of each elastic
+        fit and of the waterbed over the same trials, how many trials the layered finger
+        wins over the homogeneous one by AICc and how many it fits better than the
+        waterbed. None when no trial has an elastic fit.
+    """
+    if elastic is None or not len(elastic):
+        return None
+    fitted = elastic[np.isfinite(elastic["elastic_layered_modulus_ratio"].astype(float))]
+    if not len(fitted):
+        return None
+    at_end = fitted["elastic_layered_ratio_at_bound"].astype(float) > 0
+    free = fitted[~at_end]
+    merged = fitted.merge(
+        fits[["subject", "depth_mm", "waterbed_rmse_mm"]], on=["subject", "depth_mm"], how="left"
+    )
+    layered = merged["elastic_layered_rmse_mm"].to_numpy(float)
+    homogeneous = merged["elastic_homogeneous_rmse_mm"].to_numpy(float)
+    waterbed = merged["waterbed_rmse_mm"].to_numpy(float)
+    layered_wins = int((merged["elastic_layered_aicc"] < merged["elastic_homogeneous_aicc"]).sum())
+    return {
+        "n": counted(len(fitted), "trial"),
+        "every": every(len(fitted), "trial"),
+        "not_fitted": counted(len(elastic) - len(fitted), "trial"),
+        "all_fitted": len(fitted) == len(elastic),
+        "at_end": counted(int(at_end.sum()), "trial"),
+        "all_at_end": bool(at_end.all()),
+        "none_at_end": not bool(at_end.any()),
+        "free": counted(len(free), "trial"),
+        "free_range": span_text(free["elastic_layered_modulus_ratio"].to_numpy(float), 3, ""),
+        "largest_ratio": f"{float(fitted['elastic_layered_ratio_ci_high'].max()):g}",
+        "rmse_layered": span_text(layered, 3),
+        "rmse_homogeneous": span_text(homogeneous, 3),
+        "rmse_waterbed": span_text(waterbed, 3),
+        "layered_wins": f"{layered_wins} of {counted(len(fitted), 'trial')}",
+        "waterbed_sentence": (
+            "the layered finger fits no trial better than the waterbed"
+            if not (layered < waterbed).any()
+            else f"the layered finger fits {int((layered < waterbed).sum())} of "
+            f"{counted(len(fitted), 'trial')} better than the waterbed"
+        ),
     }

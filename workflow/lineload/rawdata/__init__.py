@@ -25,6 +25,8 @@ paths
     Links leading out of the raw folder; names that nearly match the contract's.
 photographs
     Reading a skin outline from a pair of photographs (before and under the wedge).
+digitising
+    A batch of photographed subjects read pair by pair, as rule ``digitise`` does.
 readings
     Digitised readings of the print to tissue millimetres.
 """
