@@ -943,16 +943,16 @@ def test_registry_lists_each_figure_once_in_its_group():
         "outlines": ["figure1"],
         "schematics": ["figure3", "figure4", "figure5"],
         "fits": ["figure2", "figure6", "figure7"],
-        "supplements": [  # in the article's order (its Figures 8-12)
+        "supplements": [  # in the article's order (its Figures 9-13)
             "supplement_coordinates",
             "supplement_residuals",
             "supplement_arc_vs_parabola",
             "supplement_sensitivity",
             "supplement_mechanics",
         ],
-        "bending": ["supplement_bending", "supplement_bending_lengths"],  # Figures 13-14
-        "elastic": ["supplement_elastic", "supplement_elastic_ratios"],  # Figures 15-16
-        "calibration": ["supplement_coverage"],  # Figure 15
+        "bending": ["supplement_bending", "supplement_bending_lengths"],  # Figures 14-15
+        "elastic": ["supplement_elastic", "supplement_elastic_ratios"],  # Figures 16-17
+        "calibration": ["supplement_coverage"],  # Figure 8
     }
     # the paper's figures in its order, then the supplements
     assert names[:7] == [f"figure{i}" for i in range(1, 8)]
