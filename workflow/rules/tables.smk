@@ -1,5 +1,6 @@
 # Stage 4, tables: fit tables in CSV/Markdown/LaTeX, species summary, claims.
 
+
 rule fit_tables:
     """Fit table as Markdown and LaTeX; summary per species and depth (CSV, Markdown, LaTeX)."""
     input:

@@ -268,6 +268,8 @@ def reconstruction_claims(
     claims = compute_claims(fits, pd.DataFrame(averaged), settings, forces=forces)
     if wall is None:  # the bending skin not fitted: its claims are not judged
         claims = claims[~claims["claim"].isin(BENDING_CLAIMS)]
+    # nor those of the elastic finger, whose fits are not made here
+    claims = claims[~claims["claim"].isin(UNCALIBRATED_CLAIMS)]
     return claims.reset_index(drop=True)
 
 
