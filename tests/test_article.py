@@ -324,6 +324,50 @@ def test_the_text_compares_the_models_as_the_counts_say():
     assert _coordinates_text(1, 3) == "more than one reading's noise in 1 of 3 trials"
 
 
+def test_the_abstract_names_the_other_model_only_where_it_wins_a_trial():
+    from lineload.publishing.article import _comparison_short
+
+    assert _comparison_short(4, 4) == (
+        "the waterbed leaves the smaller residuals in all 4 trials with both fits"
+    )
+    assert _comparison_short(25, 26).endswith(
+        "25 of 26 trials with both fits, the half-space form in the other one"
+    )
+    assert _comparison_short(2, 5).endswith("in the other 3")
+    assert _comparison_short(0, 2).startswith(
+        "the half-space form leaves the smaller residuals in both"
+    )
+    assert "half-space" not in _comparison_short(3, 3) and "waterbed" not in _comparison_short(0, 3)
+    assert _comparison_short(0, 0).startswith("no trial")
+
+
+def test_the_elastic_ratios_are_printed_to_two_significant_digits_of_the_smallest():
+    """A modulus ratio of 20.582 is printed 21, not to three decimals; a ratio below ten
+    keeps its first decimal."""
+    from lineload.publishing.article import elastic_facts
+
+    def facts(ratios):
+        n = len(ratios)
+        elastic = pd.DataFrame(
+            {
+                "subject": [f"M{i}" for i in range(n)],
+                "depth_mm": [1.0] * n,
+                "elastic_layered_modulus_ratio": ratios,
+                "elastic_layered_ratio_at_bound": [0] * n,
+                "elastic_layered_ratio_ci_high": [1000.0] * n,
+                "elastic_layered_rmse_mm": [0.05] * n,
+                "elastic_homogeneous_rmse_mm": [0.2] * n,
+                "elastic_layered_aicc": [-10.0] * n,
+                "elastic_homogeneous_aicc": [0.0] * n,
+            }
+        )
+        fits = elastic[["subject", "depth_mm"]].assign(waterbed_rmse_mm=0.01)
+        return elastic_facts(elastic, fits)
+
+    assert facts([20.582, 420.548])["free_range"] == "21 to 421"
+    assert facts([2.46, 420.548])["free_range"] == "2.5 to 420.5"
+
+
 def test_the_calibration_is_printed_only_for_the_design_it_was_computed_for():
     from lineload.publishing.article import calibration_design, dataset_design, design_text
 
