@@ -341,6 +341,41 @@ def test_the_abstract_names_the_other_model_only_where_it_wins_a_trial():
     assert _comparison_short(0, 0).startswith("no trial")
 
 
+def test_a_digitising_batch_is_named_and_its_figures_take_a_verb_that_agrees():
+    """One figure "shows", two "show"; a batch of two subjects is named by both."""
+    from lineload.publishing.article import photograph_facts
+
+    trial = {
+        "depth_mm": 1.0,
+        "tip_x_mm": 8.0,
+        "shift_x_mm": 0.01,
+        "shift_z_mm": 0.0,
+        "registration_rms_um": 1.5,
+        "reading_sd_um": 0.8,
+        "first_read_mm": {"left": 0.05, "right": 0.05},
+        "readings": {"left": 27, "right": 27},
+    }
+
+    def batch(*members):
+        return {
+            "batch": f"{members[0]}+{len(members) - 1}",
+            "subjects": [{"subject": m, "trials": [trial]} for m in members],
+        }
+
+    sheet = {m: {"label": f"monkey {m}"} for m in ("M1", "M2", "M3", "M4")}
+    one = photograph_facts([batch("M1", "M2")], sheet, ["digitised/M1+1.pdf"])
+    assert one["figures_show"] == "shows"
+    assert one["figures"][0]["label"] == "the batch of M1 and M2"
+    two = photograph_facts(
+        [batch("M1"), batch("M2", "M3", "M4")], sheet, ["digitised/a.pdf", "digitised/b.pdf"]
+    )
+    assert two["figures_show"] == "show"
+    assert [f["label"] for f in two["figures"]] == [
+        "monkey M1",
+        "the batch of 3 subjects from M2 to M4",
+    ]
+
+
 def test_the_elastic_ratios_are_printed_to_two_significant_digits_of_the_smallest():
     """A modulus ratio of 20.582 is printed 21, not to three decimals; a ratio below ten
     keeps its first decimal."""

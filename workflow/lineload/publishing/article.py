@@ -114,6 +114,8 @@ def _batch_label(batch, subjects):
     members = [r["subject"] for r in batch["subjects"]]
     if len(members) == 1:
         return subjects[members[0]]["label"]
+    if len(members) == 2:
+        return f"the batch of {members[0]} and {members[1]}"
     return f"the batch of {len(members)} subjects from {members[0]} to {members[-1]}"
 
 
@@ -173,6 +175,8 @@ def photograph_facts(batches, subjects, figures):
             for f, b in list(zip(figures, batches, strict=True))[:PHOTOGRAPH_FIGURES]
         ],
         "n_figures": len(batches),
+        # the verb after the list of figures printed: "Figure C1 shows", "C1 and C2 show"
+        "figures_show": "shows" if min(len(batches), PHOTOGRAPH_FIGURES) == 1 else "show",
         "rows": rows,
     }
 
