@@ -512,8 +512,14 @@ def article_facts(
         "built_in": None
         if built_in is None
         else {
-            how.replace(" ", "_"): join_words(r["claim"] for r in built_in if r["how"] == how)
-            for how in ("tuned", "by construction", "follows")
+            **{
+                how.replace(" ", "_"): join_words(r["claim"] for r in built_in if r["how"] == how)
+                for how in ("tuned", "by construction", "follows")
+            },
+            # claims the generator's list is silent on (added after it was written)
+            "not_listed": join_words(
+                c for c in claims["claim"] if c not in {r["claim"] for r in built_in}
+            ),
         },
         "claim_verdicts": {row["claim"]: row["verdict"] for _, row in claims.iterrows()},
         # which claims' rules read each setting, from the claims registry
