@@ -62,6 +62,8 @@ def test_headers_carry_words_and_units_and_values_the_articles_digits():
     assert column_label("boussinesq_x0_mm") == "Boussinesq x₀ (mm)"
     assert column_label("pretension_se_N_per_mm") == "pretension SE (N/mm)"
     assert column_label("waterbed_aicc") == "waterbed AICc" and column_label("chi2") == "chi2"
+    # a sum of squares in mm², as the bending and elastic tables have one
+    assert column_label("bending_sse_mm2") == "bending SSE (mm²)"
     # L to 0.01 mm as the article prints it, even when its interval supports one decimal
     columns = ["waterbed_L_mm", "waterbed_L_ci_low_mm", "waterbed_L_ci_high_mm"]
     columns += ["waterbed_rmse_mm", "waterbed_aicc", "n_points"]
