@@ -4,6 +4,7 @@ import math
 from html.parser import HTMLParser
 
 import pandas as pd
+import pytest
 
 from conftest import REPO
 from lineload.io import read_results_csv
@@ -162,3 +163,21 @@ def test_a_data_files_rows_are_on_its_page():
 def test_a_paragraph_in_a_cell_is_set_wide_and_a_word_is_not():
     page = table_page("t", ["claim", "rule"], [["C1", "x " * 300], ["C2", "a rule"]])
     assert page.count('<td class="paragraph">') == 1 and "<td>a rule</td>" in page
+
+
+@pytest.mark.parametrize("name", ["converted", "averaged"])
+def test_a_batch_of_readings_is_captioned_by_its_subjects_not_its_file_name(name):
+    """A batch's file name (``H1+2``) says which subjects it holds only to one who knows
+    the naming: the caption says it in words, and a lone subject is named alone."""
+    from jinja2 import Template
+
+    source = (REPO / "workflow" / "report" / f"{name}.rst").read_text(encoding="utf-8")
+
+    def rendered(batch):
+        text = Template(source).render(snakemake={"config": {}, "wildcards": {"batch": batch}})
+        return " ".join(text.split())
+
+    assert "the batch H1+2 (H1 and the next 2 subjects of the subject sheet)" in rendered("H1+2")
+    assert "(M1 and the next 1 subject of the subject sheet)" in rendered("M1+1")
+    assert "subject M1 " in rendered("M1") and "batch" not in rendered("M1").split(".")[0]
+    assert "subject(s)" not in rendered("H1+2")
