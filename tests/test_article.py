@@ -471,3 +471,15 @@ def test_the_verdict_calibrations_table_is_kept_whole_on_one_page(shipped_build)
     # the check sees a cut: the last rows on the next page, under a 'continued' header
     split = [f"{caption} {rows[0]}", f"Table 5, continued {rows[-1]}"]
     assert not whole_on_one_page(split, caption, rows)
+
+
+@pytest.mark.e2e
+@pytest.mark.parametrize("build", ["shipped_build", "photograph_build"])
+def test_the_replication_choices_are_kept_whole_on_one_page(build, request):
+    """The choices table is shorter than a page: at the body's size its caption, header and
+    first row sat at one page's foot (or its last row on a page of its own)."""
+    results = request.getfixturevalue(build)[1]
+    reader = PdfReader(results / "article" / "reproduction.pdf")
+    pages = [" ".join(page.extract_text().split()) for page in reader.pages]
+    rows = ["Averaging", "Fit window", "sensitivity.reach_fraction"]
+    assert whole_on_one_page(pages, "The choices the paper leaves open", rows)
