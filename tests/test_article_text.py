@@ -121,6 +121,7 @@ def test_names_in_the_prose_are_found():
     """The check above can fail: a key in the serif is found, a symbol written out is not."""
     assert articletext.is_code_name("large_depth_mm") and articletext.is_code_name("arc_L_mm")
     assert articletext.is_code_name("lineload.claims.chord_curvature")
+    assert articletext.is_code_name("lineload.mechanics")  # a module, with no underscore
     for symbol in ("f_w", "SSE_waterbed", "SSE_Boussinesq", "0.05", "claims.csv"):
         assert not articletext.is_code_name(symbol), symbol
     assert SYMBOL_AS_LETTERS.findall("at the data's W0/L; W₀/L") == ["W0"]
