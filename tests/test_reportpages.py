@@ -181,3 +181,14 @@ def test_a_batch_of_readings_is_captioned_by_its_subjects_not_its_file_name(name
     assert "(M1 and the next 1 subject of the subject sheet)" in rendered("M1+1")
     assert "subject M1 " in rendered("M1") and "batch" not in rendered("M1").split(".")[0]
     assert "subject(s)" not in rendered("H1+2")
+
+
+def test_the_claims_caption_counts_as_evidence_only_what_the_article_counts():
+    """The article counts only the paper's claims about fingers; the report's caption
+    once called every 'holds' evidence, C12's (later work) and C6's (a property of the
+    method) among them.  Each kind of claim is named in it."""
+    from lineload.claims.verdicts import KINDS, PAPER_CLAIM
+
+    text = " ".join((REPO / "workflow" / "report" / "claims.rst").read_text().split())
+    assert f"only where the column 'kind' says '{PAPER_CLAIM}'" in text
+    assert [kind for kind in KINDS if f"'{kind}'" not in text] == []
