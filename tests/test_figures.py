@@ -535,6 +535,7 @@ def every_figure(notice):
         "noise_mm": None,
         "noise": noise_table(),
         "bending": bending_table(fits),
+        "coverage": coverage_table(),
         "elastic": elastic_table(averaged, subjects),
         "elastic_library": elastic_library(),
     }
@@ -650,9 +651,39 @@ def layout_values(n_per_species, n_depths, notice=NOTICE):
         "mechanics": mechanics,
         "mechanics_trials": mechanics_trials,
         "bending": bending_table(fits),
+        "coverage": coverage_table(),
         "elastic": elastic_table(averaged, subjects),
         "elastic_library": elastic_library(),
     }, with_intervals
+
+
+def coverage_table(n_trials=1040):
+    """A coverage summary as the calibration writes it: every scenario, model and
+    parameter, pooled, coverage falling as the priors' true sizes grow."""
+    from lineload.simulation.coverage import CHECKED, SCENARIOS, described
+    from lineload.simulation.rates import binomial_interval
+
+    rows = []
+    for scenario in SCENARIOS:
+        for model, parameters in CHECKED.items():
+            for parameter in parameters:
+                covered = round(n_trials * min(0.96, 0.96 / scenario.prior_ratio**0.5))
+                low, high = binomial_interval(covered, n_trials)
+                rows.append(
+                    {
+                        "scenario": scenario.name,
+                        "model": model,
+                        "parameter": parameter,
+                        "species": "all",
+                        "depth_mm": "all",
+                        "n_trials": n_trials,
+                        "n_covered": covered,
+                        "coverage": covered / n_trials,
+                        "ci_low": low,
+                        "ci_high": high,
+                    }
+                )
+    return pd.DataFrame(described(rows))
 
 
 @functools.cache
@@ -912,24 +943,30 @@ def test_registry_lists_each_figure_once_in_its_group():
         "outlines": ["figure1"],
         "schematics": ["figure3", "figure4", "figure5"],
         "fits": ["figure2", "figure6", "figure7"],
-        "supplements": [  # in the article's order (its Figures 8-12)
+        "supplements": [  # in the article's order (its Figures 9-13)
             "supplement_coordinates",
             "supplement_residuals",
             "supplement_arc_vs_parabola",
             "supplement_sensitivity",
             "supplement_mechanics",
         ],
-        "bending": ["supplement_bending", "supplement_bending_lengths"],  # Figures 13-14
-        "elastic": ["supplement_elastic", "supplement_elastic_ratios"],  # Figures 15-16
+        "bending": ["supplement_bending", "supplement_bending_lengths"],  # Figures 14-15
+        "elastic": ["supplement_elastic", "supplement_elastic_ratios"],  # Figures 16-17
+        "calibration": ["supplement_coverage"],  # Figure 8
     }
     # the paper's figures in its order, then the supplements
     assert names[:7] == [f"figure{i}" for i in range(1, 8)]
     categories = [figure.category for figure in registry.FIGURES]
-    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 9
+    assert categories == ["Paper figures"] * 7 + ["Supplement"] * 10
     for figure in registry.FIGURES:
-        assert figure.module in ("data", "schematics", "supplements", "bending", "elastic"), (
-            figure.name
-        )
+        assert figure.module in (
+            "data",
+            "schematics",
+            "supplements",
+            "bending",
+            "elastic",
+            "calibration",
+        ), figure.name
         assert figure.title and "\n" not in figure.title, figure.name
     used = {name for figure in registry.FIGURES for name in figure.arguments}
     assert used == set(registry.ARGUMENTS)  # no argument is described but never taken

@@ -182,6 +182,22 @@ def crate_files(wildcards):
     return files
 
 
+# The calibration tables kept in the repository (snakemake calibration remakes them);
+# the claims table, the article and the calibration's figure read them.
+COMMITTED_CALIBRATION = {
+    name: os.path.relpath(REPOSITORY / "docs" / "calibration" / f"{name}.csv")
+    for name in ("verdicts", "coverage", "boundary", "mechanics_coverage", "bootstrap")
+}
+
+
+def coverage_blocks():
+    """Jobs of the coverage study: one per scenario of errors, by its index (the index
+    seeds it); the scenarios are imported only when the calibration is asked for."""
+    from lineload.simulation.coverage import SCENARIOS
+
+    return [str(i) for i in range(len(SCENARIOS))]
+
+
 def boundary_blocks():
     """Jobs of the boundary calibration: '{world}.{first}' per world and block of
     datasets (config calibration: verdict_datasets, block_datasets); the worlds are

@@ -29,6 +29,8 @@ FIGURE_TABLES = {
     "bending": [rules.bending_table.output[0]],
     "elastic": [rules.elastic_fits.output[0]],
     "elastic_library": [rules.elastic_fits.input.library],
+    # the committed calibration, so the default build draws it without running it
+    "coverage": [COMMITTED_CALIBRATION["coverage"]],
 }
 # Per group: the settings its figures take; the subject sheet ([subject, species,
 # label] in sheet order) if they take it; its named inputs (the raw-data check, the
@@ -80,6 +82,7 @@ FIGURE_FILES = [f for group in registry.GROUPS for f in GROUP_FILES[group]]
 #   figure_supplements residuals, parabola against arc, sensitivity, coordinates
 #   figure_bending     the bending skin beside the other families; its bending lengths
 #   figure_elastic     the elastic finger's fits, one subject per species; its modulus ratios
+#   figure_calibration coverage when the priors are wrong (the committed calibration)
 for group in registry.GROUPS:
 
     rule:

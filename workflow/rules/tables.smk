@@ -1,19 +1,5 @@
 # Stage 4, tables: fit tables in CSV/Markdown/LaTeX, species summary, claims.
 
-# The calibration tables kept in the repository (snakemake calibration remakes them).
-COMMITTED_CALIBRATION = {
-    name: os.path.relpath(REPOSITORY / "docs" / "calibration" / f"{name}.csv")
-    for name in ("verdicts", "coverage", "boundary", "mechanics_coverage", "bootstrap")
-}
-# The claims' registry imports each claim's function by name (importlib), which no
-# import statement shows: every module of the claims package is the claims job's code.
-CLAIM_MODULES = sorted(
-    f"lineload.claims.{path.stem}"
-    for path in (WORKFLOW_DIR / "lineload" / "claims").glob("*.py")
-    if path.stem != "__init__"
-)
-
-
 rule fit_tables:
     """Fit table as Markdown and LaTeX; summary per species and depth (CSV, Markdown, LaTeX)."""
     input:
@@ -57,7 +43,7 @@ rule claims_table:
         forces=FORCES,
         verdict_calibration=COMMITTED_CALIBRATION["verdicts"],
         boundary_calibration=COMMITTED_CALIBRATION["boundary"],
-        code=code("make_claims.py", CLAIM_MODULES),
+        code=code("make_claims.py"),
     output:
         csv=report_item(
             result("tables", "claims.csv"),

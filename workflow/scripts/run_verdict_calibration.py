@@ -11,9 +11,10 @@ from lineload.simulation.verdicts import (
 )
 
 
-def verdict_calibration(outputs, seed, datasets, window_mm, priors, max_trials, claims):
-    """Run the verdict study; write every dataset's verdicts, the summary and its Markdown."""
-    rows = verdict_study(seed, datasets, window_mm, priors, max_trials, claims)
+def verdict_calibration(outputs, seed, datasets, window_mm, priors, max_trials, claims, wall):
+    """Run the verdict study (the bending skin fitted too, with walls ``wall``); write every
+    dataset's verdicts, the summary and its Markdown."""
+    rows = verdict_study(seed, datasets, window_mm, priors, max_trials, claims, wall=wall)
     summary = summarise_verdicts(rows)
     write_rows(rows, DATASET_COLUMNS, outputs.datasets)
     write_rows(summary, SUMMARY_COLUMNS, outputs.summary)

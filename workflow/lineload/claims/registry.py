@@ -526,7 +526,14 @@ def claim_function(claim):
     a job runs from import statements (:mod:`lineload.runtime.codedeps`), and without
     it a change to a claim's rule would not rebuild the claims table.
     """
-    from lineload.claims import bending, fit_quality, forces, halfwidth, shape  # noqa: F401
+    from lineload.claims import (  # noqa: F401
+        bending,
+        elastic,
+        fit_quality,
+        forces,
+        halfwidth,
+        shape,
+    )
 
     return getattr(importlib.import_module(claim.import_path), claim.function)
 

@@ -35,7 +35,7 @@ __all__ = [
 KINDS = ("file", "dataset", "setting")
 
 #: The jobs that draw figures, each a group of figures drawn in one process.
-GROUPS = ("outlines", "schematics", "fits", "supplements", "bending", "elastic")
+GROUPS = ("outlines", "schematics", "fits", "supplements", "bending", "elastic", "calibration")
 
 #: Report categories of the figures.
 CATEGORIES = ("Paper figures", "Supplement")
@@ -122,6 +122,12 @@ ARGUMENTS = {
     "elastic_library": Argument(
         "file", "the elastic finger's solution library the fits were made from (elastic)"
     ),
+    "coverage": Argument(
+        "file",
+        "the coverage study's summary as committed (docs/calibration/coverage.csv; "
+        "snakemake calibration remakes it): coverage per scenario of errors, model and "
+        "parameter, with the true/stated size of the priors",
+    ),
 }
 
 
@@ -136,8 +142,8 @@ class Figure:
     group : str
         The job that draws it, one of :data:`GROUPS`.
     module : str
-        ``data``, ``schematics``, ``supplements``, ``bending`` or ``elastic``: the module
-        ``lineload.figures.<module>`` that holds the function.
+        ``data``, ``schematics``, ``supplements``, ``bending``, ``elastic`` or
+        ``calibration``: the module ``lineload.figures.<module>`` that holds the function.
     function : str
         Name of the figure function in that module.
     arguments : tuple of str
@@ -249,6 +255,15 @@ FIGURES = (
         _PROFILES_AND_FITS,
         fixed=(("species", "human"),),
         title="Every human at every depth, with its waterbed fit",
+    ),
+    Figure(
+        "supplement_coverage",
+        "calibration",
+        "calibration",
+        "figure_coverage_misspecified",
+        ("coverage", "notice"),
+        category="Supplement",
+        title="Coverage of the intervals when the errors' true sizes are not the stated ones",
     ),
     Figure(
         "supplement_coordinates",

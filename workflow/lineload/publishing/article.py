@@ -641,6 +641,13 @@ def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None, bootst
     if bootstrap is not None:
         replicated = bootstrap[bootstrap["species"] == "all"]
         resampled = {
+            # what the bootstrap is not: the data's world (its models exact, priors as stated)
+            "limits": (
+                "the replicates are made by the fitted models themselves, so each model is "
+                "exactly right in them, and with the priors' errors at their stated sizes: "
+                "the check is of the intervals at this design and these fitted values, not "
+                "in a world with the data's own misfit or with wrong priors"
+            ),
             "n": str(int(replicated["n_trials"].iloc[0])),
             "rows": [
                 {
@@ -658,6 +665,19 @@ def _calibration_facts(verdicts, coverage, boundary=None, mechanics=None, bootst
         "boundary_claims": str(len({row["claim"] for row in at_boundary})),
         "membrane": membrane or None,
         "bootstrap": resampled,
+        # the coverage study's worlds whose errors are not as stated (Figure
+        # supplement_coverage): each world, interval and its coverage
+        "misspecified": [
+            {
+                "scenario": str(row["scenario"]),
+                "ratio": f"{float(row['prior_ratio']):g}",
+                "model": _MODEL_NAMES.get(str(row["model"]), str(row["model"])),
+                "parameter": _symbol(row["parameter"]),
+                "coverage": _percent(row["coverage"], row["ci_low"], row["ci_high"]),
+            }
+            for _, row in pooled.iterrows()
+            if str(row.get("misspecified", "none")) != "none"
+        ],
         "n_datasets": str(int(every["n_datasets"])),
         "any_wrong": str(int(every["n_wrong"])),
         "any_rate": (

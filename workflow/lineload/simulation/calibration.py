@@ -38,6 +38,7 @@ from lineload.simulation.mechanics_coverage import (
 from lineload.simulation.rates import binomial_interval, claim_error_rates, percent_interval
 from lineload.simulation.reports import boundary_markdown, mechanics_markdown, verdict_markdown
 from lineload.simulation.verdicts import (
+    BENDING_CLAIMS,
     DATASET_COLUMNS,
     SUMMARY_COLUMNS,
     TRUTH_SCALE,
@@ -49,6 +50,7 @@ from lineload.simulation.verdicts import (
 )
 
 __all__ = [
+    "BENDING_CLAIMS",
     "BOUNDARY_COLUMNS",
     "BOUNDARY_SUMMARY_COLUMNS",
     "BOUNDARY_WORLDS",

@@ -15,12 +15,23 @@ parameter the data were made with.
 Two kinds of noise the estimator does not assume test its robustness: tracing
 errors with a squared-exponential correlation, and reading errors from a
 Student t with three degrees of freedom.
+
+The rest of the scenarios make the calibration able to catch its own
+assumptions: worlds where the stated priors are wrong while the fits keep them.
+The errors the left-right differences cannot measure (:data:`lineload.noise.PRIORS`:
+the shared offset and tilt, the depth error, the misplaced wedge) are made at 0.5,
+2 and 3 times their stated sizes, and the depth error alone at 30 um; a resting
+curvature error that is the same on both sides (so the differences cannot see it
+either) is made although the noise model has no room for it; and 5 % of the
+readings are misread by 6 reading SDs.  In every one the fit states the priors at
+their stated sizes (:data:`lineload.simulation.errors.TRUE_NOISE`), as a lab whose
+priors are wrong would: the scenario changes only what the forward error model
+(:func:`lineload.simulation.errors.read_side_mm`) makes.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -34,9 +45,15 @@ from lineload.noise import (
 )
 from lineload.rawdata.readings import reading_distances_mm
 from lineload.simulation.errors import (
+    AS_ASSUMED,
     IMAGE_RESOLUTION_MM,
+    MISREAD_FRACTION,
+    MISREAD_SDS,
+    RESTING_CURVATURE_SD_PER_MM,
     TRUE_NOISE,
+    Scenario,
     TrialErrors,
+    draw_misreads_mm,
     read_side_mm,
 )
 from lineload.simulation.rates import binomial_interval
@@ -44,13 +61,17 @@ from lineload.simulation.subjects import MAGNIFICATION, shipped_subjects
 
 __all__ = [
     "COVERAGE_COLUMNS",
+    "COVERAGE_STUDY_COLUMNS",
+    "PRIOR_RATIOS",
     "SCENARIOS",
+    "SCENARIO_COLUMNS",
     "TRIAL_COLUMNS",
     "TRUE_NOISE",
     "Scenario",
     "bootstrap_study",
     "coverage_rows",
     "coverage_study",
+    "described",
     "simulate_dataset",
     "summarise_coverage",
 ]
@@ -100,28 +121,49 @@ COVERAGE_COLUMNS = [
 ]
 
 
-@dataclass(frozen=True)
-class Scenario:
-    """The errors of a simulation: which correlation, which tails.
+#: Columns the coverage study's summary adds after ``scenario``: what the scenario
+#: makes differently from what the fit states, and the ratio of the true to the stated
+#: size of every prior (1 where the priors are as stated).
+SCENARIO_COLUMNS = ["misspecified", "prior_ratio"]
+#: Columns of the coverage study's summary (``docs/calibration/coverage.csv``).
+COVERAGE_STUDY_COLUMNS = [COVERAGE_COLUMNS[0], *SCENARIO_COLUMNS, *COVERAGE_COLUMNS[1:]]
 
-    Attributes
-    ----------
-    name : str
-    kernel : {"exponential", "squared_exponential"}
-        Correlation of the tracing error (the estimator assumes exponential).
-    df : float or None
-        Student t reading errors with these degrees of freedom; None: Gaussian.
-    """
-
-    name: str
-    kernel: str = "exponential"
-    df: float | None = None
+#: True over stated size of every prior in the misspecified-priors scenarios.
+PRIOR_RATIOS = (0.5, 2.0, 3.0)
 
 
 SCENARIOS = (
-    Scenario("as assumed"),
-    Scenario("squared-exponential tracing", kernel="squared_exponential"),
-    Scenario("heavy-tailed readings (t, 3 df)", df=3.0),
+    AS_ASSUMED,
+    Scenario(
+        "squared-exponential tracing",
+        kernel="squared_exponential",
+        misspecified="tracing correlation",
+    ),
+    Scenario("heavy-tailed readings (t, 3 df)", df=3.0, misspecified="reading tails"),
+    # appended after the first three, so their seeds (seed, i, j, k) are unchanged
+    *(
+        Scenario(
+            f"shared errors {ratio:g}x their stated sizes",
+            misspecified="shared errors' sizes",
+            prior_ratio=ratio,
+        )
+        for ratio in PRIOR_RATIOS
+    ),
+    Scenario(
+        "depth error 30 um (stated 10 um)",
+        misspecified="depth error 3x",
+        true_sizes=(("depth_sd_mm", 0.03),),
+    ),
+    Scenario(
+        "resting curvature (both sides alike)",
+        misspecified="resting curvature",
+        curvature_sd_per_mm=RESTING_CURVATURE_SD_PER_MM,
+    ),
+    Scenario(
+        f"misreads ({100 * MISREAD_FRACTION:g} % at {MISREAD_SDS:g} SD)",
+        misspecified="misreads",
+        misread_fraction=MISREAD_FRACTION,
+    ),
 )
 
 
@@ -153,10 +195,21 @@ def _read_trial(rng, model, params, distance_mm, depth_mm, noise, scenario):
     depth_error_mm = rng.normal(0.0, noise.depth_sd_mm)
     offset_mm = rng.normal(0.0, noise.shared_offset_sd_mm)
     shared_tilt = rng.normal(0.0, noise.shared_tilt_sd)
-    errors = TrialErrors(offset_mm, rotation, shared_tilt, depth_error_mm, wedge_mm)
+    # drawn only where the scenario makes it: the other scenarios' streams stay as they were
+    curvature = (
+        rng.normal(0.0, scenario.curvature_sd_per_mm) if scenario.curvature_sd_per_mm else 0.0
+    )
+    errors = TrialErrors(offset_mm, rotation, shared_tilt, depth_error_mm, wedge_mm, curvature)
     sides = {}
     for side in ("left", "right"):
         side_errors_mm = draw_side_errors_mm(rng, distance_mm, noise, scenario.kernel, scenario.df)
+        if scenario.misread_fraction:
+            side_errors_mm = side_errors_mm + draw_misreads_mm(
+                rng,
+                len(distance_mm),
+                scenario.misread_fraction,
+                scenario.misread_sds * noise.reading_sd_mm,
+            )
         read_mm = read_side_mm(
             lambda seen_mm: _true_profile(model, seen_mm, depth_mm, params),
             distance_mm,
@@ -188,7 +241,8 @@ def simulate_dataset(model, seed, window_mm=3.0, scenario=SCENARIOS[0], noise=TR
         Readings are made out to a little beyond the fit window.
     scenario : Scenario, optional
     noise : NoiseModel, optional
-        Sizes of every error.
+        The stated size of every error; the data are made with the scenario's true
+        sizes (:meth:`Scenario.true_noise`).
 
     Returns
     -------
@@ -198,17 +252,21 @@ def simulate_dataset(model, seed, window_mm=3.0, scenario=SCENARIOS[0], noise=TR
     """
     rng = np.random.default_rng(seed)
     distance_mm = reading_distances_mm(window_mm + 0.5)
+    true_noise = scenario.true_noise(noise)
     trials = []
     for subject in shipped_subjects():
         for depth_mm in subject.depths_mm:
             params = _draw_params(rng, model, depth_mm, float(distance_mm[0]))
-            trial = _read_trial(rng, model, params, distance_mm, depth_mm, noise, scenario)
+            trial = _read_trial(rng, model, params, distance_mm, depth_mm, true_noise, scenario)
             trials.append({"species": subject.species, **trial})
     return trials
 
 
 def coverage_rows(model, seed, window_mm=3.0, scenario=SCENARIOS[0], noise=TRUE_NOISE):
     """Simulate one dataset, measure its noise, fit ``model``; one row per trial and parameter.
+
+    The data are made with the scenario's true sizes; the fit states the priors at
+    ``noise``'s (a scenario whose true sizes differ is a world where they are wrong).
 
     Returns
     -------
@@ -270,8 +328,12 @@ def bootstrap_study(fitted, seed, n_replicates, noise, window_mm=3.0, models=tup
     reads it with every error of the measured noise model, measures the noise
     again from the replicate's left-right differences and fits it as the
     workflow does.  An interval covers when it holds the fitted value the
-    replicate was made from.  This checks the intervals in the world the data
-    point to, where a coverage study of invented parameters cannot reach.
+    replicate was made from.  This checks the intervals at the data's own design
+    and fitted parameters.  It is not the data's world: every replicate is made by
+    the model it is fitted with, so the model is exactly right there, while on the
+    data every model leaves a misfit larger than the noise; and the priors' errors
+    are made at their stated sizes (the misspecified worlds of :data:`SCENARIOS` show
+    what wrong sizes do).
 
     Parameters
     ----------
@@ -363,11 +425,43 @@ def summarise_coverage(rows):
     return summary
 
 
-def coverage_study(seed, n_datasets, models=tuple(CHECKED), scenarios=SCENARIOS, window_mm=3.0):
+def described(summary, scenarios=SCENARIOS):
+    """The coverage summary with :data:`SCENARIO_COLUMNS`: each row's scenario's
+    ``misspecified`` and ``prior_ratio``.
+
+    Raises
+    ------
+    KeyError
+        If a row's scenario is not one of ``scenarios``.
+    """
+    by_name = {scenario.name: scenario for scenario in scenarios}
+    return [
+        {
+            **row,
+            "misspecified": by_name[row["scenario"]].misspecified,
+            "prior_ratio": by_name[row["scenario"]].prior_ratio,
+        }
+        for row in summary
+    ]
+
+
+def coverage_study(
+    seed, n_datasets, models=tuple(CHECKED), scenarios=SCENARIOS, window_mm=3.0, only=None
+):
     """Every trial of ``n_datasets`` simulated datasets per scenario and model.
 
     Dataset ``k`` of scenario ``i`` and model ``j`` is seeded by
     ``(seed, i, j, k)``: any slice reruns alone with the same numbers.
+
+    Parameters
+    ----------
+    seed, n_datasets : int
+    models : sequence of str, optional
+    scenarios : sequence of Scenario, optional
+    window_mm : float, optional
+    only : sequence of int, optional
+        Run only these scenarios (their positions ``i`` in ``scenarios``, which seed
+        them); all if None.
 
     Returns
     -------
@@ -376,6 +470,8 @@ def coverage_study(seed, n_datasets, models=tuple(CHECKED), scenarios=SCENARIOS,
     """
     rows = []
     for i, scenario in enumerate(scenarios):
+        if only is not None and i not in only:
+            continue
         for j, model in enumerate(models):
             for k in range(n_datasets):
                 for row in coverage_rows(model, (seed, i, j, k), window_mm, scenario):

@@ -31,13 +31,17 @@ import numpy as np
 from lineload.noise import NoiseModel
 
 __all__ = [
+    "AS_ASSUMED",
     "DEPTH_SD_MM",
     "FORCE_NOISE_SD_N",
     "FORCE_RESOLUTION_N",
     "IMAGE_RESOLUTION_MM",
+    "MISREAD_FRACTION",
+    "MISREAD_SDS",
     "NOISE_SD_MM",
     "REGISTRATION_OFFSET_SD_MM",
     "REGISTRATION_TILT_SD",
+    "RESTING_CURVATURE_SD_PER_MM",
     "SEEN_FLOOR_MM",
     "SHARED_TILT_SD",
     "SIDE_NOISE",
@@ -47,6 +51,7 @@ __all__ = [
     "TRUE_NOISE",
     "WEDGE_POSITION_SD_MM",
     "TrialErrors",
+    "draw_misreads_mm",
     "image_mm",
     "read_force_N",
     "read_side_mm",
@@ -76,6 +81,21 @@ DEPTH_SD_MM = 0.01
 #: Misplacement of the wedge along the outline: the left side's distances too long by
 #: this much and the right side's too short.
 WEDGE_POSITION_SD_MM = 0.01
+#: Two errors the generator does not make and the noise model does not name, for the
+#: coverage study's misspecified worlds (:data:`lineload.simulation.coverage.SCENARIOS`):
+#:
+#: An error of the resting outline's curvature, the same on both sides (the resting
+#: outline traced or superimposed a little too round or too flat): a reading at ``x``
+#: is raised by ``curvature x**2 / 2``.  Symmetric, it cancels in the left-right
+#: differences, so no dataset can measure it.  Stated size: the resting outline's
+#: radius (about 10 mm) misjudged by 2 %, a curvature error of SD 0.002 per mm, 9 um
+#: at 3 mm from the wedge.
+RESTING_CURVATURE_SD_PER_MM = 0.002
+#: Misreads: a share of the readings off by a multiple of the reading error's SD, up or
+#: down at random (a slip of the pencil, a grid line miscounted): 5 % at 6 SD.
+MISREAD_FRACTION = 0.05
+MISREAD_SDS = 6.0
+
 #: Resolution of a reading on the enlargement (image mm).
 IMAGE_RESOLUTION_MM = 0.1
 #: Standard deviation of one force reading (N) and its resolution (N).
@@ -137,6 +157,10 @@ class TrialErrors:
     wedge_shift_mm : float
         Misplacement of the wedge: the left side's distances too long by this much,
         the right side's too short.
+    curvature_per_mm : float
+        Error of the resting outline's curvature (1/mm), the same on both sides: a
+        reading at ``x`` is raised by ``curvature_per_mm * x**2 / 2``
+        (:data:`RESTING_CURVATURE_SD_PER_MM`; none in the generator).
     """
 
     offset_mm: float = 0.0
@@ -144,6 +168,7 @@ class TrialErrors:
     shared_tilt: float = 0.0
     depth_error_mm: float = 0.0
     wedge_shift_mm: float = 0.0
+    curvature_per_mm: float = 0.0
 
 
 def _sign(side):
@@ -190,16 +215,41 @@ def read_side_mm(true_profile, distance_mm, side, depth_mm, errors, side_errors_
     Returns
     -------
     numpy.ndarray
-        ``(1 + e_d / depth) w(seen x) + t |x| + side errors + offset + rotation x``,
-        tissue mm, not rounded: a reading can be slightly negative where the skin
-        barely moves.
+        ``(1 + e_d / depth) w(seen x) + t |x| + k x**2 / 2 + side errors + offset +
+        rotation x``, tissue mm, not rounded: a reading can be slightly negative where
+        the skin barely moves.
     """
     x = np.asarray(distance_mm, dtype=float)
     seen_mm = seen_distance_mm(x, side, errors.wedge_shift_mm)
     scale = 1.0 + errors.depth_error_mm / depth_mm
     true_mm = scale * true_profile(seen_mm) + errors.shared_tilt * x
+    if errors.curvature_per_mm:  # added only where made: no rounding moves elsewhere
+        true_mm = true_mm + 0.5 * errors.curvature_per_mm * x**2
     # the registration added term by term, as registration_mm writes it
     return true_mm + side_errors_mm + errors.offset_mm + errors.rotation * (-_sign(side) * x)
+
+
+def draw_misreads_mm(rng, n_readings, fraction, size_mm):
+    """Misreads of one side: each reading, with probability ``fraction``, off by
+    ``size_mm`` up or down at random.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    n_readings : int
+    fraction : float
+        Probability that a reading is a misread (0-1).
+    size_mm : float
+        How far a misread is off (tissue mm).
+
+    Returns
+    -------
+    numpy.ndarray
+        The misreads' errors (mm), 0 where a reading is not a misread.
+    """
+    misread = rng.random(n_readings) < fraction
+    sign = np.where(rng.random(n_readings) < 0.5, -1.0, 1.0)
+    return np.where(misread, sign * size_mm, 0.0)
 
 
 def image_mm(value_mm, magnification):
@@ -211,3 +261,51 @@ def image_mm(value_mm, magnification):
 def read_force_N(true_N, noise_N):
     """A force as read: the true force plus its noise, rounded to :data:`FORCE_RESOLUTION_N`."""
     return round(round((true_N + noise_N) / FORCE_RESOLUTION_N) * FORCE_RESOLUTION_N, 9)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """The errors of a simulation: which correlation, which tails, which true sizes.
+
+    The fit always states the priors at the sizes it is given (the stated noise);
+    a scenario changes only what the data are made with.
+
+    Attributes
+    ----------
+    name : str
+    kernel : {"exponential", "squared_exponential"}
+        Correlation of the tracing error (the estimator assumes exponential).
+    df : float or None
+        Student t reading errors with these degrees of freedom; None: Gaussian.
+    misspecified : str
+        What the scenario makes differently from what the fit states ("none").
+    prior_ratio : float
+        Every prior's true size over its stated size (:data:`lineload.noise.PRIORS`).
+    true_sizes : tuple of (str, float)
+        Priors whose true size is set outright (mm or rad), after the ratio.
+    curvature_sd_per_mm : float
+        SD of a resting curvature error the same on both sides (1/mm; the fit has
+        no room for it).
+    misread_fraction : float
+        Share of readings misread by ``misread_sds`` reading SDs, up or down.
+    misread_sds : float
+    """
+
+    name: str
+    kernel: str = "exponential"
+    df: float | None = None
+    misspecified: str = "none"
+    prior_ratio: float = 1.0
+    true_sizes: tuple = ()
+    curvature_sd_per_mm: float = 0.0
+    misread_fraction: float = 0.0
+    misread_sds: float = MISREAD_SDS
+
+    def true_noise(self, stated):
+        """The sizes the data are made with, from the ``stated`` NoiseModel."""
+        return stated.scaled_priors(self.prior_ratio).with_priors(**dict(self.true_sizes))
+
+
+#: The world the fit assumes: every error at its stated size and shape (the shipped
+#: data's).
+AS_ASSUMED = Scenario("as assumed")

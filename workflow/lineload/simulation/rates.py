@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from lineload.claims import FAILS, HOLDS, IDENTITY
+from lineload.claims import FAILS, HOLDS, IDENTITY, UNTESTABLE
 
 __all__ = ["binomial_interval", "claim_error_rates", "percent_interval"]
 
@@ -64,6 +64,18 @@ def claim_error_rates(verdicts, boundary=None):
         n, wrong = int(group["n_datasets"].sum()), int(group["n_wrong"].sum())
         undecided = int(group["n_untestable"].sum())
         high = binomial_interval(wrong, n)[1]
+        if (group["truth"] == UNTESTABLE).all():
+            # nothing built in decides the claim (e.g. C13: no bending skin in the
+            # reconstruction): no verdict is opposite to the truth, so none is counted
+            # wrong; a decided one claims more than the error-free data support
+            decided = n - undecided
+            rates[str(claim)] = (
+                f"its error-free truth is undecided in all {n} reconstructions, so no "
+                f"verdict can be counted wrong; with fresh errors the rule decided in "
+                f"{decided} of them (95 % upper bound "
+                f"{100 * binomial_interval(decided, n)[1]:.1f} %)"
+            )
+            continue
         if undecided == n:  # no decided verdict: no rate of wrong ones to give
             rates[str(claim)] = (
                 f"undecided in every one of {n} reconstructions with fresh errors, so no "

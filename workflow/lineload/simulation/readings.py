@@ -27,14 +27,11 @@ from lineload import paper
 from lineload.noise import draw_side_errors_mm
 from lineload.rawdata.readings import GRID_TICK_MM, reading_distances_mm
 from lineload.simulation.errors import (
-    DEPTH_SD_MM,
+    AS_ASSUMED,
     FORCE_NOISE_SD_N,
-    REGISTRATION_OFFSET_SD_MM,
-    REGISTRATION_TILT_SD,
-    SHARED_TILT_SD,
-    SIDE_NOISE,
-    WEDGE_POSITION_SD_MM,
+    TRUE_NOISE,
     TrialErrors,
+    draw_misreads_mm,
     image_mm,
     read_force_N,
     read_side_mm,
@@ -60,6 +57,11 @@ __all__ = [
     "true_reading_mm",
 ]
 
+#: Streams of a subject drawn only in a world whose errors are not as stated
+#: (:class:`lineload.simulation.errors.Scenario`): the resting curvature error of each
+#: trial and each side's misreads.  The shipped data never draw from them.
+CURVATURE_STREAM = 7
+MISREAD_STREAM = 8
 #: First reading of a side is 0.05 mm with this probability, else 0.1 mm (glare).
 P_FIRST_AT_FINEST = 0.6
 #: Sampling step of the drawn outlines (tissue mm) and their margin beyond the edge.
@@ -98,7 +100,7 @@ def noise_free_mean_profile(subject, depth_mm, window_mm=FORCE_FIT_WINDOW_MM):
     return distance_mm, (sides[0] + sides[1]) / 2.0
 
 
-def trial_forces(subject, seed=DEFAULT_SEED):
+def trial_forces(subject, seed=DEFAULT_SEED, stiffening=0.0):
     """The membrane behind each trial's force, its true force and the force as read.
 
     At each depth the membrane takes the ``L`` of the exact arc fitted
@@ -114,6 +116,11 @@ def trial_forces(subject, seed=DEFAULT_SEED):
         Must have a contact length, stiffness and pre-strain.
     seed : int, optional
         Dataset seed.
+    stiffening : float, optional
+        0 (the shipped data): the linear law above, the one rule ``mechanics`` inverts.
+        Otherwise a strain-stiffening membrane, ``N = N0 + E (exp(b eps) - 1) / b`` with
+        ``b`` this value: tension ``N0`` and tangent stiffness ``E`` at rest, stiffer as
+        it stretches (a law other than the one the fit inverts).
 
     Returns
     -------
@@ -134,7 +141,11 @@ def trial_forces(subject, seed=DEFAULT_SEED):
         L_mm = fit_arc(distance_mm, deflection_mm, depth_mm).params["L_mm"]
         angle = float(arc_load_angle_rad(depth_mm, L_mm))
         strain = float(arc_strain(depth_mm, L_mm))
-        tension = subject.pretension_N_per_mm + subject.stiffness_N_per_mm * strain
+        if stiffening:
+            stretch = math.expm1(stiffening * strain) / stiffening
+        else:
+            stretch = strain
+        tension = subject.pretension_N_per_mm + subject.stiffness_N_per_mm * stretch
         true_N = 2.0 * subject.contact_length_mm * tension * math.sin(angle)
         read_N = read_force_N(true_N, noise)
         rows.append(
@@ -150,7 +161,7 @@ def trial_forces(subject, seed=DEFAULT_SEED):
     return rows
 
 
-def force_table(subjects, seed=DEFAULT_SEED, errors=True):
+def force_table(subjects, seed=DEFAULT_SEED, errors=True, stiffening=0.0):
     """The force readings of every finger with a membrane: ``subject``, ``depth_mm``, ``force_N``.
 
     Parameters
@@ -159,6 +170,8 @@ def force_table(subjects, seed=DEFAULT_SEED, errors=True):
     seed : int, optional
     errors : bool, optional
         False: the true forces, without reading noise or rounding.
+    stiffening : float, optional
+        As for :func:`trial_forces` (0: the linear law the fit inverts).
 
     Returns
     -------
@@ -173,12 +186,12 @@ def force_table(subjects, seed=DEFAULT_SEED, errors=True):
         }
         for s in subjects
         if s.contact_length_mm is not None
-        for r in trial_forces(s, seed)
+        for r in trial_forces(s, seed, stiffening)
     ]
     return pd.DataFrame(rows, columns=["subject", "depth_mm", "force_N"])
 
 
-def registration_error_mm(subject, seed=DEFAULT_SEED):
+def registration_error_mm(subject, seed=DEFAULT_SEED, noise=TRUE_NOISE):
     """Offset and tilt of each trial's superimposed outlines, drawn once per trial.
 
     The error of a reading at signed distance ``x`` (left side negative) is
@@ -191,6 +204,8 @@ def registration_error_mm(subject, seed=DEFAULT_SEED):
     subject : SubjectParameters
     seed : int, optional
         Dataset seed.
+    noise : NoiseModel, optional
+        The errors' sizes (``shared_offset_sd_mm``, ``rotation_sd``).
 
     Returns
     -------
@@ -201,14 +216,14 @@ def registration_error_mm(subject, seed=DEFAULT_SEED):
     draws = rng.normal(0.0, 1.0, (len(subject.depths_mm), 2))
     return {
         float(depth_mm): (
-            float(REGISTRATION_OFFSET_SD_MM * offset),
-            float(REGISTRATION_TILT_SD * tilt),
+            float(noise.shared_offset_sd_mm * offset),
+            float(noise.rotation_sd * tilt),
         )
         for depth_mm, (offset, tilt) in zip(subject.depths_mm, draws, strict=True)
     }
 
 
-def trial_errors(subject, seed=DEFAULT_SEED):
+def trial_errors(subject, seed=DEFAULT_SEED, noise=TRUE_NOISE):
     """The errors of each trial that are not per reading: shared tilt, depth, wedge.
 
     Parameters
@@ -216,6 +231,8 @@ def trial_errors(subject, seed=DEFAULT_SEED):
     subject : SubjectParameters
     seed : int, optional
         Dataset seed.
+    noise : NoiseModel, optional
+        The errors' sizes (``shared_tilt_sd``, ``depth_sd_mm``, ``wedge_position_sd_mm``).
 
     Returns
     -------
@@ -225,7 +242,7 @@ def trial_errors(subject, seed=DEFAULT_SEED):
     """
     rng = subject_rng(seed, subject.species, subject.index, 5)
     draws = rng.normal(0.0, 1.0, (len(subject.depths_mm), 3))
-    sizes = np.array([SHARED_TILT_SD, DEPTH_SD_MM, WEDGE_POSITION_SD_MM])
+    sizes = np.array([noise.shared_tilt_sd, noise.depth_sd_mm, noise.wedge_position_sd_mm])
     return {
         float(depth_mm): tuple(float(v) for v in sizes * draw)
         for depth_mm, draw in zip(subject.depths_mm, draws, strict=True)
@@ -268,7 +285,12 @@ def true_reading_mm(distance_mm, trial, side, errors):
 
 
 def profile_table(
-    subject, seed=DEFAULT_SEED, magnification=MAGNIFICATION, shuffle=False, errors=True
+    subject,
+    seed=DEFAULT_SEED,
+    magnification=MAGNIFICATION,
+    shuffle=False,
+    errors=True,
+    scenario=AS_ASSUMED,
 ):
     """Simulated digitised readings of one finger, in image units.
 
@@ -297,6 +319,13 @@ def profile_table(
     errors : bool, optional
         False: the true profile on the same reading grid, without any error and
         not rounded (the truth the verdict calibration compares with).
+    scenario : Scenario, optional
+        The world the errors are made in (:class:`lineload.simulation.errors.Scenario`):
+        its true sizes of every error (from :data:`~lineload.simulation.errors.TRUE_NOISE`),
+        tracing correlation and reading tails, and, where it makes them, a resting
+        curvature error per trial (stream 7) and misreads (stream 8).  The default is
+        the world the shipped data are made in; the same draws scaled to other sizes
+        make the same dataset with larger or smaller errors.
 
     Returns
     -------
@@ -306,8 +335,15 @@ def profile_table(
     """
     rng = subject_rng(seed, subject.species, subject.index, 1)
     tracing_rng = subject_rng(seed, subject.species, subject.index, 6)
-    registration = registration_error_mm(subject, seed)
-    shared = trial_errors(subject, seed)
+    noise = scenario.true_noise(TRUE_NOISE)
+    registration = registration_error_mm(subject, seed, noise)
+    shared = trial_errors(subject, seed, noise)
+    curvature = dict.fromkeys(map(float, subject.depths_mm), 0.0)
+    if scenario.curvature_sd_per_mm:
+        curvature_rng = subject_rng(seed, subject.species, subject.index, CURVATURE_STREAM)
+        draws = curvature_rng.normal(0.0, scenario.curvature_sd_per_mm, len(curvature))
+        curvature = dict(zip(curvature, map(float, draws), strict=True))
+    misread_rng = subject_rng(seed, subject.species, subject.index, MISREAD_STREAM)
     depth, side, distance, deflection = [], [], [], []
     for depth_mm in subject.depths_mm:
         trial = trial_parameters(subject, depth_mm)
@@ -315,11 +351,25 @@ def profile_table(
         for side_name in ("left", "right"):
             first_mm = GRID_TICK_MM if rng.random() < P_FIRST_AT_FINEST else 2 * GRID_TICK_MM
             distance_mm = reading_distances_mm(trial.extent_mm(side_name), first_mm)
-            noise_mm = draw_side_errors_mm(tracing_rng, distance_mm, SIDE_NOISE)
+            noise_mm = draw_side_errors_mm(
+                tracing_rng, distance_mm, noise, scenario.kernel, scenario.df
+            )
+            if scenario.misread_fraction:
+                noise_mm = noise_mm + draw_misreads_mm(
+                    misread_rng,
+                    distance_mm.size,
+                    scenario.misread_fraction,
+                    scenario.misread_sds * noise.reading_sd_mm,
+                )
             if errors:
                 shared_tilt, depth_error_mm, wedge_shift_mm = shared[float(depth_mm)]
                 trial_error = TrialErrors(
-                    offset_mm, tilt, shared_tilt, depth_error_mm, wedge_shift_mm
+                    offset_mm,
+                    tilt,
+                    shared_tilt,
+                    depth_error_mm,
+                    wedge_shift_mm,
+                    curvature[float(depth_mm)],
                 )
             else:
                 trial_error = TrialErrors()

@@ -45,19 +45,24 @@ from lineload.claims import (
     judged_settings,
 )
 from lineload.fitting.batch import fit_trials
+from lineload.fitting.bending import fit_bending_trials, with_bending
 from lineload.noise import measure_noise_table, model_from_rows, trial_models
-from lineload.simulation.errors import TRUE_NOISE
+from lineload.simulation.errors import AS_ASSUMED, TRUE_NOISE
 from lineload.simulation.rates import binomial_interval
 from lineload.simulation.readings import force_table, profile_table
 from lineload.simulation.subjects import MAGNIFICATION, shipped_subjects
 
 __all__ = [
+    "BENDING_CLAIMS",
     "DATASET_COLUMNS",
+    "SCENARIO_DATASET_COLUMNS",
+    "SCENARIO_SUMMARY_COLUMNS",
     "SUMMARY_COLUMNS",
     "TRUTH_SCALE",
     "UNCALIBRATED_CLAIMS",
     "reconstruction_claims",
     "reconstruction_fits",
+    "summarise_scenario_verdicts",
     "summarise_verdicts",
     "verdict_study",
 ]
@@ -83,16 +88,25 @@ SUMMARY_COLUMNS = [
     "wrong_ci_high",
 ]
 
+#: Columns of the verdicts in worlds whose errors are not as stated: the world's name,
+#: then those of :data:`DATASET_COLUMNS` / :data:`SUMMARY_COLUMNS`; the summary names
+#: what the world makes differently and the true/stated size of the priors.
+SCENARIO_DATASET_COLUMNS = ["scenario", *DATASET_COLUMNS]
+SCENARIO_SUMMARY_COLUMNS = ["scenario", "misspecified", "prior_ratio", *SUMMARY_COLUMNS]
+
 #: The opposite of each evidence verdict: saying it when the other is true is wrong.
 _OPPOSITE = {HOLDS: FAILS, FAILS: HOLDS}
 
-#: Claims the calibration does not judge: those that need the bending skin's or the elastic
-#: finger's fits, which the reconstructions analysed in memory here do not make (the
-#: claims table and the article say "not calibrated"; C12's rates come from its own study,
+#: Claims that need the bending skin's fits (C13): judged when a reconstruction fits the
+#: bending skin too (``wall`` given, as the verdict calibration does), left out when it
+#: does not (the boundary worlds, none of which is such a claim's, skip its fits: they
+#: would double each analysis's time).
+BENDING_CLAIMS = tuple(claim.id for claim in CLAIMS if "bending" in claim.needs)
+#: Claims the verdict calibration does not judge: those that need the elastic finger's
+#: fits, which the reconstructions analysed in memory here do not make (the claims table
+#: and the article say "not calibrated"; C12's rates come from its own study,
 #: docs/calibration/elastic_layer_margin.md).
-UNCALIBRATED_CLAIMS = tuple(
-    claim.id for claim in CLAIMS if {"bending", "elastic"} & set(claim.needs)
-)
+UNCALIBRATED_CLAIMS = tuple(claim.id for claim in CLAIMS if "elastic" in claim.needs)
 
 
 def _trials_of(averaged):
@@ -113,14 +127,23 @@ def _scaled_noise(scale):
     )
 
 
-def reconstruction_fits(subjects, seed, window_mm, priors, max_trials, errors=True):
+def reconstruction_fits(
+    subjects, seed, window_mm, priors, max_trials, errors=True, wall=None, scenario=AS_ASSUMED
+):
     """One dataset of ``subjects`` read, averaged, its noise measured and fitted.
 
     Each step calls what its rule's script calls: ``prepare_profiles``
     (:func:`lineload.averaging.tissue_columns`, :func:`lineload.averaging.average_subjects`),
-    ``noise`` (:func:`lineload.noise.measure_noise_table`) and ``fit_models``
-    (:func:`lineload.noise.trial_models`, :func:`lineload.fitting.batch.fit_trials`), in
-    memory: nothing is written or read back.
+    ``noise`` (:func:`lineload.noise.measure_noise_table`), ``fit_models``
+    (:func:`lineload.noise.trial_models`, :func:`lineload.fitting.batch.fit_trials`) and,
+    with ``wall``, ``fit_bending`` (:func:`lineload.fitting.bending.fit_bending_trials`,
+    joined as rule ``claims_table`` joins it), in memory: nothing is written or read back.
+
+    ``wall`` is the bending skin's wall condition (config ``bending: wall``); None: the
+    bending skin is not fitted (its claims cannot be judged).  ``scenario`` is the world
+    the readings' errors are made in (:class:`lineload.simulation.errors.Scenario`); the
+    noise is measured and the priors stated (``priors``) as ever, so a scenario whose
+    true sizes differ from ``priors`` is a world where the stated priors are wrong.
 
     Returns
     -------
@@ -132,7 +155,7 @@ def reconstruction_fits(subjects, seed, window_mm, priors, max_trials, errors=Tr
     """
     converted = [
         tissue_columns(
-            profile_table(subject, seed, errors=errors),
+            profile_table(subject, seed, errors=errors, scenario=scenario),
             subject.subject,
             MAGNIFICATION,
         )
@@ -171,11 +194,33 @@ def reconstruction_fits(subjects, seed, window_mm, priors, max_trials, errors=Tr
             for (name, _, _), row in zip(trials, fitted, strict=True)
         ]
     )
+    if wall is not None:
+        bending = fit_bending_trials(
+            [columns["distance_mm"][r] for *_, r in trials],
+            [columns["deflection_mm"][r] for *_, r in trials],
+            [depth for _, depth, _ in trials],
+            window_mm,
+            noise=trial_noise,
+            n_sides=[columns["n_sides"][r] for *_, r in trials],
+            wall=wall,
+        )
+        labelled = pd.DataFrame(
+            [{"subject": name, **row} for (name, _, _), row in zip(trials, bending, strict=True)]
+        )
+        fits = with_bending(fits, labelled)
     return fits, averaged, noise, trial_noise
 
 
 def reconstruction_claims(
-    seed, window_mm, priors, max_trials, claims=None, errors=True, subjects=None
+    seed,
+    window_mm,
+    priors,
+    max_trials,
+    claims=None,
+    errors=True,
+    subjects=None,
+    wall=None,
+    scenario=AS_ASSUMED,
 ):
     """One dataset of the reconstruction with its own errors, analysed as the workflow does.
 
@@ -198,6 +243,11 @@ def reconstruction_claims(
     subjects : list of SubjectParameters, optional
         The fingers' true profiles; the shipped reconstruction's if None (a
         boundary world of :data:`BOUNDARY_WORLDS` changes some of them).
+    wall : {"clamped", "pinned"} or None, optional
+        The bending skin's walls (config ``bending: wall``): its fits are made and
+        its claims (:data:`BENDING_CLAIMS`) judged; None: neither.
+    scenario : Scenario, optional
+        The world the readings' errors are made in (as for :func:`reconstruction_fits`).
 
     Returns
     -------
@@ -210,14 +260,15 @@ def reconstruction_claims(
         settings["noise_mm"] = None
         settings["force_sd_N"] = TRUTH_SCALE * ClaimSettings(**settings).force_sd_N
     fits, averaged, noise, trial_noise = reconstruction_fits(
-        subjects, seed, window_mm, priors, max_trials, errors
+        subjects, seed, window_mm, priors, max_trials, errors, wall, scenario
     )
     forces = force_table(subjects, seed, errors=errors)
     # as rule claims_table judges them: the dataset's noise and each trial's
     settings = judged_settings(settings, fits, noise, trial_noise)
     claims = compute_claims(fits, pd.DataFrame(averaged), settings, forces=forces)
-    # the reconstructions do not fit the bending skin: its claim is not calibrated here
-    return claims[~claims["claim"].isin(UNCALIBRATED_CLAIMS)].reset_index(drop=True)
+    if wall is None:  # the bending skin not fitted: its claims are not judged
+        claims = claims[~claims["claim"].isin(BENDING_CLAIMS)]
+    return claims.reset_index(drop=True)
 
 
 def verdict_study(
@@ -230,6 +281,8 @@ def verdict_study(
     first=0,
     subjects=None,
     truth_claims=None,
+    wall=None,
+    scenario=AS_ASSUMED,
 ):
     """The verdict of every claim on ``datasets`` reconstructions with fresh errors.
 
@@ -248,6 +301,10 @@ def verdict_study(
     truth_claims : dict, optional
         Settings of the claims for the error-free truth (``claims`` if None): a
         boundary world judges its truth as its boundary was placed.
+    wall : {"clamped", "pinned"} or None, optional
+        As for :func:`reconstruction_claims`: with it, the bending skin's claims too.
+    scenario : Scenario, optional
+        The world the readings' errors are made in; the truth is error-free in every one.
 
     Returns
     -------
@@ -257,7 +314,14 @@ def verdict_study(
     rows = []
     for k in range(first, first + datasets):
         read = reconstruction_claims(
-            (seed, k), window_mm, priors, max_trials, claims, subjects=subjects
+            (seed, k),
+            window_mm,
+            priors,
+            max_trials,
+            claims,
+            subjects=subjects,
+            wall=wall,
+            scenario=scenario,
         )
         true = reconstruction_claims(
             (seed, k),
@@ -267,6 +331,7 @@ def verdict_study(
             claims if truth_claims is None else truth_claims,
             False,
             subjects,
+            wall,
         )
         for claim, verdict, truth in zip(
             read["claim"], read["verdict"], true["verdict"], strict=True
@@ -344,4 +409,38 @@ def summarise_verdicts(rows):
             "wrong_ci_high": high,
         }
     )
+    return summary
+
+
+def summarise_scenario_verdicts(rows, scenarios):
+    """:func:`summarise_verdicts` per world whose errors are not as stated.
+
+    Parameters
+    ----------
+    rows : iterable of dict
+        As :func:`verdict_study` gives them, each with its ``scenario``'s name.
+    scenarios : sequence of Scenario
+        The worlds, in the order of the summary.
+
+    Returns
+    -------
+    list of dict
+        Columns :data:`SCENARIO_SUMMARY_COLUMNS`.
+    """
+    by_name = {}
+    for row in rows:
+        by_name.setdefault(row["scenario"], []).append(row)
+    summary = []
+    for scenario in scenarios:
+        if scenario.name not in by_name:
+            continue
+        for row in summarise_verdicts(by_name[scenario.name]):
+            summary.append(
+                {
+                    "scenario": scenario.name,
+                    "misspecified": scenario.misspecified,
+                    "prior_ratio": scenario.prior_ratio,
+                    **row,
+                }
+            )
     return summary
