@@ -34,6 +34,8 @@ CODE_NAME = re.compile(r"[A-Za-z0-9]+(?:[._][A-Za-z0-9]+)+")
 def is_code_name(word):
     """Whether a word matched by :data:`CODE_NAME` names something in the code."""
     parts = re.split(r"[._]", word)
+    if word.startswith("lineload."):  # a module of the package: lineload.mechanics
+        return True
     return "_" in word and sum(len(p) >= 2 and p.islower() for p in parts) >= 2
 
 

@@ -116,7 +116,13 @@ def test_facts_follow_the_tables():
     listed = article_facts(
         fits, claims, checks, subjects, depths, settings, "Made up.", software, built_in=built_in
     )
-    assert listed["built_in"] == {"tuned": "C1 and C9", "by_construction": "C8", "follows": "C3"}
+    assert listed["built_in"] == {
+        "tuned": "C1 and C9",
+        "by_construction": "C8",
+        "follows": "C3",
+        # C2, in the claims table but not in the list, is named as such
+        "not_listed": "C2",
+    }
 
 
 def pdf_text(path):
@@ -324,6 +330,85 @@ def test_the_text_compares_the_models_as_the_counts_say():
     assert _coordinates_text(1, 3) == "more than one reading's noise in 1 of 3 trials"
 
 
+def test_the_abstract_names_the_other_model_only_where_it_wins_a_trial():
+    from lineload.publishing.article import _comparison_short
+
+    assert _comparison_short(4, 4) == (
+        "the waterbed leaves the smaller residuals in all 4 trials with both fits"
+    )
+    assert _comparison_short(25, 26).endswith(
+        "25 of 26 trials with both fits, the half-space form in the other one"
+    )
+    assert _comparison_short(2, 5).endswith("in the other 3")
+    assert _comparison_short(0, 2).startswith(
+        "the half-space form leaves the smaller residuals in both"
+    )
+    assert "half-space" not in _comparison_short(3, 3) and "waterbed" not in _comparison_short(0, 3)
+    assert _comparison_short(0, 0).startswith("no trial")
+
+
+def test_a_digitising_batch_is_named_and_its_figures_take_a_verb_that_agrees():
+    """One figure "shows", two "show"; a batch of two subjects is named by both."""
+    from lineload.publishing.article import photograph_facts
+
+    trial = {
+        "depth_mm": 1.0,
+        "tip_x_mm": 8.0,
+        "shift_x_mm": 0.01,
+        "shift_z_mm": 0.0,
+        "registration_rms_um": 1.5,
+        "reading_sd_um": 0.8,
+        "first_read_mm": {"left": 0.05, "right": 0.05},
+        "readings": {"left": 27, "right": 27},
+    }
+
+    def batch(*members):
+        return {
+            "batch": f"{members[0]}+{len(members) - 1}",
+            "subjects": [{"subject": m, "trials": [trial]} for m in members],
+        }
+
+    sheet = {m: {"label": f"monkey {m}"} for m in ("M1", "M2", "M3", "M4")}
+    one = photograph_facts([batch("M1", "M2")], sheet, ["digitised/M1+1.pdf"])
+    assert one["figures_show"] == "shows"
+    assert one["figures"][0]["label"] == "the batch of M1 and M2"
+    two = photograph_facts(
+        [batch("M1"), batch("M2", "M3", "M4")], sheet, ["digitised/a.pdf", "digitised/b.pdf"]
+    )
+    assert two["figures_show"] == "show"
+    assert [f["label"] for f in two["figures"]] == [
+        "monkey M1",
+        "the batch of 3 subjects from M2 to M4",
+    ]
+
+
+def test_the_elastic_ratios_are_printed_to_two_significant_digits_of_the_smallest():
+    """A modulus ratio of 20.582 is printed 21, not to three decimals; a ratio below ten
+    keeps its first decimal."""
+    from lineload.publishing.article import elastic_facts
+
+    def facts(ratios):
+        n = len(ratios)
+        elastic = pd.DataFrame(
+            {
+                "subject": [f"M{i}" for i in range(n)],
+                "depth_mm": [1.0] * n,
+                "elastic_layered_modulus_ratio": ratios,
+                "elastic_layered_ratio_at_bound": [0] * n,
+                "elastic_layered_ratio_ci_high": [1000.0] * n,
+                "elastic_layered_rmse_mm": [0.05] * n,
+                "elastic_homogeneous_rmse_mm": [0.2] * n,
+                "elastic_layered_aicc": [-10.0] * n,
+                "elastic_homogeneous_aicc": [0.0] * n,
+            }
+        )
+        fits = elastic[["subject", "depth_mm"]].assign(waterbed_rmse_mm=0.01)
+        return elastic_facts(elastic, fits)
+
+    assert facts([20.582, 420.548])["free_range"] == "21 to 421"
+    assert facts([2.46, 420.548])["free_range"] == "2.5 to 420.5"
+
+
 def test_the_calibration_is_printed_only_for_the_design_it_was_computed_for():
     from lineload.publishing.article import calibration_design, dataset_design, design_text
 
@@ -386,3 +471,15 @@ def test_the_verdict_calibrations_table_is_kept_whole_on_one_page(shipped_build)
     # the check sees a cut: the last rows on the next page, under a 'continued' header
     split = [f"{caption} {rows[0]}", f"Table 5, continued {rows[-1]}"]
     assert not whole_on_one_page(split, caption, rows)
+
+
+@pytest.mark.e2e
+@pytest.mark.parametrize("build", ["shipped_build", "photograph_build"])
+def test_the_replication_choices_are_kept_whole_on_one_page(build, request):
+    """The choices table is shorter than a page: at the body's size its caption, header and
+    first row sat at one page's foot (or its last row on a page of its own)."""
+    results = request.getfixturevalue(build)[1]
+    reader = PdfReader(results / "article" / "reproduction.pdf")
+    pages = [" ".join(page.extract_text().split()) for page in reader.pages]
+    rows = ["Averaging", "Fit window", "sensitivity.reach_fraction"]
+    assert whole_on_one_page(pages, "The choices the paper leaves open", rows)

@@ -101,10 +101,27 @@ def test_names_are_set_as_code_symbols_as_symbols_and_appendices_cited_by_letter
         assert not re.search(r"Figure D\d", text)
 
 
+@pytest.mark.e2e
+@pytest.mark.parametrize("build", ["shipped_article", "photograph_build", "half_space_build"])
+def test_the_limitations_say_which_later_models_are_fitted(build, request):
+    """The Limitations name the bending skin and the elastic finger as not fitted only on
+    a build that has no such fits; and the rules' >= and <= are printed as signs."""
+    _, results = request.getfixturevalue(build)
+    text = articletext.pdf_text(results / "article" / "reproduction.pdf")
+    elastic = results / "tables" / "elastic_fits.csv"
+    has_elastic = elastic.is_file() and (
+        pd.read_csv(elastic)["elastic_layered_modulus_ratio"].notna().any()
+    )
+    later = re.search(r"later model of the same group \([^)]*\), is (not fitted|fitted only)", text)
+    assert later and (later.group(1) == "fitted only") == has_elastic
+    assert ">=" not in text and "<=" not in text
+
+
 def test_names_in_the_prose_are_found():
     """The check above can fail: a key in the serif is found, a symbol written out is not."""
     assert articletext.is_code_name("large_depth_mm") and articletext.is_code_name("arc_L_mm")
     assert articletext.is_code_name("lineload.claims.chord_curvature")
+    assert articletext.is_code_name("lineload.mechanics")  # a module, with no underscore
     for symbol in ("f_w", "SSE_waterbed", "SSE_Boussinesq", "0.05", "claims.csv"):
         assert not articletext.is_code_name(symbol), symbol
     assert SYMBOL_AS_LETTERS.findall("at the data's W0/L; W₀/L") == ["W0"]

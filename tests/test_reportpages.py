@@ -4,6 +4,7 @@ import math
 from html.parser import HTMLParser
 
 import pandas as pd
+import pytest
 
 from conftest import REPO
 from lineload.io import read_results_csv
@@ -62,6 +63,8 @@ def test_headers_carry_words_and_units_and_values_the_articles_digits():
     assert column_label("boussinesq_x0_mm") == "Boussinesq x₀ (mm)"
     assert column_label("pretension_se_N_per_mm") == "pretension SE (N/mm)"
     assert column_label("waterbed_aicc") == "waterbed AICc" and column_label("chi2") == "chi2"
+    # a sum of squares in mm², as the bending and elastic tables have one
+    assert column_label("bending_sse_mm2") == "bending SSE (mm²)"
     # L to 0.01 mm as the article prints it, even when its interval supports one decimal
     columns = ["waterbed_L_mm", "waterbed_L_ci_low_mm", "waterbed_L_ci_high_mm"]
     columns += ["waterbed_rmse_mm", "waterbed_aicc", "n_points"]
@@ -160,3 +163,48 @@ def test_a_data_files_rows_are_on_its_page():
 def test_a_paragraph_in_a_cell_is_set_wide_and_a_word_is_not():
     page = table_page("t", ["claim", "rule"], [["C1", "x " * 300], ["C2", "a rule"]])
     assert page.count('<td class="paragraph">') == 1 and "<td>a rule</td>" in page
+
+
+@pytest.mark.parametrize("name", ["converted", "averaged"])
+def test_a_batch_of_readings_is_captioned_by_its_subjects_not_its_file_name(name):
+    """A batch's file name (``H1+2``) says which subjects it holds only to one who knows
+    the naming: the caption says it in words, and a lone subject is named alone."""
+    from jinja2 import Template
+
+    source = (REPO / "workflow" / "report" / f"{name}.rst").read_text(encoding="utf-8")
+
+    def rendered(batch):
+        text = Template(source).render(snakemake={"config": {}, "wildcards": {"batch": batch}})
+        return " ".join(text.split())
+
+    assert "the batch H1+2 (H1 and the next 2 subjects of the subject sheet)" in rendered("H1+2")
+    assert "(M1 and the next 1 subject of the subject sheet)" in rendered("M1+1")
+    assert "subject M1 " in rendered("M1") and "batch" not in rendered("M1").split(".")[0]
+    assert "subject(s)" not in rendered("H1+2")
+
+
+def test_the_claims_caption_counts_as_evidence_only_what_the_article_counts():
+    """The article counts only the paper's claims about fingers; the report's caption
+    once called every 'holds' evidence, C12's (later work) and C6's (a property of the
+    method) among them.  Each kind of claim is named in it."""
+    from lineload.claims.verdicts import KINDS, PAPER_CLAIM
+
+    text = " ".join((REPO / "workflow" / "report" / "claims.rst").read_text().split())
+    assert f"only where the column 'kind' says '{PAPER_CLAIM}'" in text
+    assert [kind for kind in KINDS if f"'{kind}'" not in text] == []
+
+
+def test_a_figure_with_a_panel_per_species_is_described_for_any_species():
+    """Figure 2 and the bending and elastic examples draw the first subject of each species
+    in the data: the photograph example has monkeys only, so neither the report's title
+    nor its caption may promise a human."""
+    from lineload.figures.registry import FIGURES
+
+    for figure in FIGURES:
+        if figure.name not in ("figure2", "supplement_bending", "supplement_elastic"):
+            continue
+        caption = (REPO / "workflow" / "report" / f"{figure.name}.rst").read_text()
+        # the paper's own choice may be named as such
+        caption = " ".join(caption.split()).replace("(the paper's: a monkey and a human)", "")
+        for text in (figure.title, caption):
+            assert "human" not in text, (figure.name, text)

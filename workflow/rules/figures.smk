@@ -81,7 +81,7 @@ FIGURE_FILES = [f for group in registry.GROUPS for f in GROUP_FILES[group]]
 #   figure_fits        Figures 2, 6 and 7: averaged profiles against the fitted models
 #   figure_supplements residuals, parabola against arc, sensitivity, coordinates
 #   figure_bending     the bending skin beside the other families; its bending lengths
-#   figure_elastic     the elastic finger's fits on a monkey and a human; its modulus ratios
+#   figure_elastic     the elastic finger's fits, one subject per species; its modulus ratios
 #   figure_calibration coverage when the priors are wrong (the committed calibration)
 for group in registry.GROUPS:
 

@@ -317,7 +317,7 @@ FIGURES = (
         "figure_bending_examples",
         ("averaged", "fits", "bending", "subjects", "fit_window_mm", "notice"),
         category="Supplement",
-        title="Every model family, the bending skin's included, on a monkey and a human",
+        title="Every model family, the bending skin's included, on one subject per species",
     ),
     Figure(
         "supplement_bending_lengths",
@@ -335,7 +335,7 @@ FIGURES = (
         "figure_elastic_examples",
         ("averaged", "elastic", "elastic_library", "subjects", "fit_window_mm", "notice"),
         category="Supplement",
-        title="The homogeneous and the layered elastic finger on a monkey and a human",
+        title="The homogeneous and the layered elastic finger on one subject per species",
     ),
     Figure(
         "supplement_elastic_ratios",

@@ -114,6 +114,8 @@ def _batch_label(batch, subjects):
     members = [r["subject"] for r in batch["subjects"]]
     if len(members) == 1:
         return subjects[members[0]]["label"]
+    if len(members) == 2:
+        return f"the batch of {members[0]} and {members[1]}"
     return f"the batch of {len(members)} subjects from {members[0]} to {members[-1]}"
 
 
@@ -173,6 +175,8 @@ def photograph_facts(batches, subjects, figures):
             for f, b in list(zip(figures, batches, strict=True))[:PHOTOGRAPH_FIGURES]
         ],
         "n_figures": len(batches),
+        # the verb after the list of figures printed: "Figure C1 shows", "C1 and C2 show"
+        "figures_show": "shows" if min(len(batches), PHOTOGRAPH_FIGURES) == 1 else "show",
         "rows": rows,
     }
 
@@ -242,6 +246,7 @@ def _fit_facts(fits, checks, noise_mm):
     n_gaps, n_above = int(gaps.size), int((gaps > noise_mm).sum())
     return {
         "comparison": _comparison_text(n_better, n_compared),
+        "comparison_short": _comparison_short(n_better, n_compared),
         "n_compared": n_compared,
         "n_waterbed_better": n_better,
         "coordinates": _coordinates_text(n_above, n_gaps),
@@ -273,14 +278,15 @@ def _fit_facts(fits, checks, noise_mm):
     }
 
 
-def _ratio_decimals(ratios):
-    """Decimals that show the smallest ratio to two significant digits (one at least,
-    three at most): a ratio of 0.02 is not printed as 0.0."""
+def _ratio_decimals(ratios, least=1):
+    """Decimals that show the smallest ratio to two significant digits (``least`` at
+    least, three at most): a ratio of 0.02 is not printed as 0.0, nor one of 20.58 as
+    20.582 with ``least=0``."""
     ratios = np.abs(np.asarray(ratios, float))
     ratios = ratios[np.isfinite(ratios) & (ratios > 0)]
     if not ratios.size:
-        return 1
-    return int(min(3, max(1, 1 - math.floor(math.log10(ratios.min())))))
+        return least
+    return int(min(3, max(least, 1 - math.floor(math.log10(ratios.min())))))
 
 
 def _comparison_text(n_better, n_compared):
@@ -302,6 +308,34 @@ def _comparison_text(n_better, n_compared):
         f"does in {n_better} of {counted(n_compared, 'trial')}, the half-space form in the "
         + ("other one" if n_compared - n_better == 1 else f"other {n_compared - n_better}")
     )
+
+
+def _comparison_short(n_better, n_compared):
+    """The abstract's half-sentence on the residuals: which model leaves the smaller ones
+    in how many trials, naming the other model only where it wins any."""
+    if n_compared == 0:
+        return "no trial has both fits to compare their residuals"
+    if n_better == 0:
+        return (
+            "the half-space form leaves the smaller residuals in "
+            + every(n_compared, "trial")
+            + " with both fits"
+        )
+    text = (
+        "the waterbed leaves the smaller residuals in "
+        + (
+            every(n_compared, "trial")
+            if n_better == n_compared
+            else f"{n_better} of {counted(n_compared, 'trial')}"
+        )
+        + " with both fits"
+    )
+    others = n_compared - n_better
+    if others:
+        text += ", the half-space form in the " + (
+            "other one" if others == 1 else f"other {others}"
+        )
+    return text
 
 
 def _coordinates_text(n_above, n_gaps):
@@ -478,8 +512,14 @@ def article_facts(
         "built_in": None
         if built_in is None
         else {
-            how.replace(" ", "_"): join_words(r["claim"] for r in built_in if r["how"] == how)
-            for how in ("tuned", "by construction", "follows")
+            **{
+                how.replace(" ", "_"): join_words(r["claim"] for r in built_in if r["how"] == how)
+                for how in ("tuned", "by construction", "follows")
+            },
+            # claims the generator's list is silent on (added after it was written)
+            "not_listed": join_words(
+                c for c in claims["claim"] if c not in {r["claim"] for r in built_in}
+            ),
         },
         "claim_verdicts": {row["claim"]: row["verdict"] for _, row in claims.iterrows()},
         # which claims' rules read each setting, from the claims registry
@@ -826,7 +866,11 @@ def elastic_facts(elastic, fits):
         "all_at_end": bool(at_end.all()),
         "none_at_end": not bool(at_end.any()),
         "free": counted(len(free), "trial"),
-        "free_range": span_text(free["elastic_layered_modulus_ratio"].to_numpy(float), 3, ""),
+        "free_range": span_text(
+            free["elastic_layered_modulus_ratio"].to_numpy(float),
+            _ratio_decimals(free["elastic_layered_modulus_ratio"].to_numpy(float), least=0),
+            "",
+        ),
         "largest_ratio": f"{float(fitted['elastic_layered_ratio_ci_high'].max()):g}",
         "rmse_layered": span_text(layered, 3),
         "rmse_homogeneous": span_text(homogeneous, 3),

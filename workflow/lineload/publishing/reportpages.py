@@ -111,6 +111,7 @@ _UNITS = {
     "_um2_per_mm": "µm²/mm",
     "_um2": "µm²",
     "_um": "µm",
+    "_mm2": "mm²",
     "_mm": "mm",
     "_N": "N",
     "_deg": "°",
@@ -119,6 +120,7 @@ _UNITS = {
 #: Words of the column names as the article writes them.
 _WORDS = {
     "rmse": "RMSE",
+    "sse": "SSE",
     "aicc": "AICc",
     "boussinesq": "Boussinesq",
     "x0": "x₀",
