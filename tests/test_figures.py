@@ -574,6 +574,13 @@ def test_every_figure_fits_its_journal_width_and_keeps_legends_and_labels_on_the
         sizes = {t.get_fontsize() for ax in fig.axes for t in ax.texts} | {
             t.get_fontsize() for legend in fig.legends for t in legend.get_texts()
         }
+        # the tick labels too (a "small" one prints at 6.7 pt), those with text
+        sizes |= {
+            t.get_fontsize()
+            for ax in fig.axes
+            for t in ax.get_xticklabels() + ax.get_yticklabels()
+            if t.get_text()
+        }
         assert min(sizes) >= 7, name
 
 

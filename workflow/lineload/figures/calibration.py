@@ -20,6 +20,7 @@ from matplotlib.ticker import NullLocator
 
 from lineload.figures.style import (
     DOUBLE_COLUMN_MM,
+    MIN_FONT_PT,
     MODEL_COLOURS,
     MODEL_NAMES,
     add_footer,
@@ -152,7 +153,7 @@ def figure_coverage_misspecified(coverage, notice=""):
     right.set_xticks(
         positions,
         [textwrap.fill(_WORLD_LABELS.get(short[w], short[w]), 11) for w in worlds],
-        fontsize="small",
+        fontsize=MIN_FONT_PT,  # "small" would print at 6.7 pt
     )
     right.set_title("Other errors the fit does not state", fontsize="medium")
     right.set_xlim(-0.6, len(worlds) - 0.4)
