@@ -2,6 +2,7 @@
 'does not hold' on data built to violate it, and says when it cannot judge."""
 
 import math
+import re
 from dataclasses import replace
 from functools import cache
 from pathlib import Path
@@ -888,6 +889,36 @@ def test_c11_without_two_depths_and_when_no_pre_strain_can_help():
     check = mechanics.ratio_check(0.5, (14.5, 14.4, 14.6), 2.0, (13.5, 13.4, 13.6), 10 / 3)
     assert check["tension_only"] > 10 / 3 and check["prestrain"] == math.inf
     assert f"HU {format_ratio(check['stress_free'])} / none" in row["our_value"]
+
+
+def test_c11_weighs_the_forces_by_their_measured_scatter_not_the_configs():
+    # six subjects whose shapes allow a stress-free membrane, forces read with an SD six
+    # times the config's: the stated SD would reject the stress-free membrane, the SD the
+    # forces themselves give (the mechanics table's pooled chi-square) does not
+    fits = membrane_fits({f"M{i}": GROWING_L["MK"] for i in range(6)})
+    rng = np.random.default_rng(7)
+    true_sd_N = 6 * SETTINGS.force_sd_N
+
+    def read(prestrain):
+        exact = membrane_forces(fits, prestrain=prestrain, stiffness=2.0)
+        return exact.assign(force_N=exact["force_N"] + rng.normal(0, true_sd_N, len(exact)))
+
+    free = read(0.0)
+    row = claim_c11(fits, None, SETTINGS, forces=free)
+    assert row["verdict"] == HOLDS
+    stated = re.search(r"force SD ([0-9.]+) N, pooled chi-square", row["our_value"])
+    assert stated and 0.5 * true_sd_N < float(stated.group(1)) < 2 * true_sd_N
+    groups = mechanics.force_groups(fits, free)
+    at_config = [
+        mechanics.fit_membrane(*g[:3], SETTINGS.force_sd_N, g[3], stress_free=True).p_value
+        for g in groups.values()
+    ]
+    assert min(at_config) < SETTINGS.significance / len(groups)  # the old rule: 'does not hold'
+    # the same scatter does not hide a tension at rest
+    assert claim_c11(fits, None, SETTINGS, forces=read(0.3))["verdict"] == FAILS
+    # forces more precise than the config's SD: the config's value is the floor
+    exact = membrane_forces(fits, prestrain=0.0, stiffness=2.0)
+    assert "config prior (floor)" in claim_c11(fits, None, SETTINGS, forces=exact)["our_value"]
 
 
 def test_compute_claims_passes_the_forces_to_c11_only():

@@ -88,6 +88,7 @@ __all__ = [
     "arc_strain",
     "arc_stretch",
     "fit_membrane",
+    "force_groups",
     "force_terms",
     "mechanics_tables",
     "pooled_force_sd",
@@ -582,6 +583,40 @@ def _force_lookup(forces):
     }
 
 
+def force_groups(fits, forces):
+    """Each subject's trials that a membrane fit can use: forces at two or more depths.
+
+    Parameters
+    ----------
+    fits : pandas.DataFrame
+        The fit table (``subject``, ``depth_mm`` and the ``arc_L_*`` columns).
+    forces : pandas.DataFrame or None
+        ``subject``, ``depth_mm``, ``force_N`` (N).
+
+    Returns
+    -------
+    dict
+        Subject -> ``(depth_mm, L_mm, force_N, L_sd_mm)`` arrays in order of depth, the
+        trials with a force, a finite exact-arc L with a finite interval and a load
+        angle; only subjects with two or more such depths.
+    """
+    lookup = _force_lookup(forces)
+    groups = {}
+    for subject, rows in fits.groupby("subject", sort=False):
+        rows = rows.sort_values("depth_mm", kind="stable")
+        depth = rows["depth_mm"].to_numpy(float)
+        L_mm = rows[f"{WATERBED_VARIANT}_L_mm"].to_numpy(float)
+        L_sd = sd_from_interval(
+            rows[f"{WATERBED_VARIANT}_L_ci_low_mm"], rows[f"{WATERBED_VARIANT}_L_ci_high_mm"]
+        )
+        force = np.array([lookup.get(trial_key(subject, d), math.nan) for d in depth])
+        usable = np.isfinite(force) & np.isfinite(arc_load_angle_rad(depth, L_mm))
+        usable &= np.isfinite(L_sd)
+        if np.unique(depth[usable]).size >= 2:
+            groups[str(subject)] = (depth[usable], L_mm[usable], force[usable], L_sd[usable])
+    return groups
+
+
 def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=None):
     """The per-trial and per-subject mechanics tables.
 
@@ -612,23 +647,12 @@ def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=None)
         from lineload.io import config_defaults
 
         force_sd_N = config_defaults("mechanics")["force_sd_N"]
-    lookup = _force_lookup(forces)
     lengths = {
         str(k): (math.nan if v is None else float(v)) for k, v in (contact_length_mm or {}).items()
     }
-    trials, subjects, groups = [], [], {}
-    for subject, rows in fits.groupby("subject", sort=False):
-        rows = rows.sort_values("depth_mm", kind="stable")
-        depth = rows["depth_mm"].to_numpy(float)
-        L_mm = rows[f"{WATERBED_VARIANT}_L_mm"].to_numpy(float)
-        L_sd = sd_from_interval(
-            rows[f"{WATERBED_VARIANT}_L_ci_low_mm"], rows[f"{WATERBED_VARIANT}_L_ci_high_mm"]
-        )
-        force = np.array([lookup.get(trial_key(subject, d), math.nan) for d in depth])
-        usable = np.isfinite(force) & np.isfinite(arc_load_angle_rad(depth, L_mm))
-        usable &= np.isfinite(L_sd)
-        if np.unique(depth[usable]).size >= 2:
-            groups[str(subject)] = (depth[usable], L_mm[usable], force[usable], L_sd[usable])
+    lookup = _force_lookup(forces)
+    trials, subjects = [], []
+    groups = force_groups(fits, forces)
     prior_sd_N = force_sd_N
     force_sd_N, sd_dof, sd_source = pooled_force_sd(list(groups.values()), prior_sd_N)
     for subject, rows in fits.groupby("subject", sort=False):

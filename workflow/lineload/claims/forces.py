@@ -12,7 +12,6 @@ from lineload.claims.rows import _every, _list, _n, _row
 from lineload.claims.verdicts import FAILS, HOLDS, UNTESTABLE
 from lineload.publishing.tables import format_fixed
 from lineload.publishing.tables import span_text as _span
-from lineload.trials import trial_key
 
 __all__ = [
     "claim_c11",
@@ -44,29 +43,24 @@ def _shape_checks(fits, allowed):
     return checks
 
 
-def _force_checks(fits, forces, force_sd_N):
-    """Per subject with forces at two or more depths: the stress-free and the full fit."""
-    variant = mechanics.WATERBED_VARIANT
-    lookup = mechanics._force_lookup(forces)
+def _force_checks(fits, forces, prior_sd_N):
+    """Per subject with forces at two or more depths: the stress-free and the full fit.
+
+    Each force's SD is the mechanics table's: the pooled chi-square of the full fits,
+    with the config's ``prior_sd_N`` a floor and the fallback
+    (:func:`lineload.mechanics.pooled_force_sd`).  Returns ``(checks, sd_N, source)``.
+    """
+    groups = mechanics.force_groups(fits, forces)
+    sd_N, _, source = mechanics.pooled_force_sd(list(groups.values()), prior_sd_N)
     checks = {}
-    for subject, rows in fits.groupby("subject", sort=False):
-        rows = rows.sort_values("depth_mm", kind="stable")
-        depth = rows["depth_mm"].to_numpy(float)
-        L_mm = rows[f"{variant}_L_mm"].to_numpy(float)
-        L_sd = mechanics.sd_from_interval(
-            rows[f"{variant}_L_ci_low_mm"], rows[f"{variant}_L_ci_high_mm"]
-        )
-        force = np.array([lookup.get(trial_key(subject, d), np.nan) for d in depth])
-        use = np.isfinite(force) & np.isfinite(L_mm) & np.isfinite(L_sd)
-        if np.unique(depth[use]).size < 2:
-            continue
-        args = (depth[use], L_mm[use], force[use], force_sd_N, L_sd[use])
-        checks[str(subject)] = {
+    for subject, (depth, L_mm, force, L_sd) in groups.items():
+        args = (depth, L_mm, force, sd_N, L_sd)
+        checks[subject] = {
             "stress_free": mechanics.fit_membrane(*args, stress_free=True),
             "tensioned": mechanics.fit_membrane(*args),
-            "ratio": float(force[use][-1] / force[use][0]),
+            "ratio": float(force[-1] / force[0]),
         }
-    return checks
+    return checks, sd_N, source
 
 
 def claim_c11(fits, averaged, settings, forces=None):
@@ -83,8 +77,10 @@ def claim_c11(fits, averaged, settings, forces=None):
         f"force inside the paper's {low_N:g}-{high_N:g} N allows at most {high_N:g}/{low_N:g} "
         f"= {allowed:.2f}. (b) Forces, where forces.csv has two or more depths of a subject: "
         "the stress-free membrane fitted to them (one constant) by weighted least squares, "
-        f"each force with variance force_sd_N² = ({settings.force_sd_N:g} N)² plus the "
-        "part from L's uncertainty, and its chi-square against the chi-square distribution "
+        "each force with variance s² plus the part from L's uncertainty, s the force SD of "
+        "the mechanics table (from the pooled chi-square of the membrane fits with a tension "
+        f"at rest; the config's force_sd_N = {settings.force_sd_N:g} N its floor and "
+        "fallback), and its chi-square against the chi-square distribution "
         f"(significance = {alpha:g} divided by the number of subjects tested, Bonferroni). "
         "Does not hold if in some subject even the most favourable ends of the intervals "
         "give a ratio above the allowed one, or the forces reject the stress-free membrane; "
@@ -95,7 +91,9 @@ def claim_c11(fits, averaged, settings, forces=None):
         "tension alone exceeds it)."
     )
     shapes = _shape_checks(fits, allowed)
-    measured = _force_checks(fits, forces, settings.force_sd_N) if forces is not None else {}
+    measured, force_sd_N, sd_source = {}, settings.force_sd_N, ""
+    if forces is not None:
+        measured, force_sd_N, sd_source = _force_checks(fits, forces, settings.force_sd_N)
     if not shapes and not measured:
         return _row(
             "C11",
@@ -144,7 +142,8 @@ def claim_c11(fits, averaged, settings, forces=None):
         rejected = [s for s, pv in p_values.items() if math.isfinite(pv) and pv < critical]
         fitted_prestrain = [c["tensioned"].prestrain for c in measured.values()]
         parts.append(
-            f"forces of forces.csv, {_n(len(measured), 'subject')}: ratio "
+            f"forces of forces.csv, {_n(len(measured), 'subject')} (force SD "
+            f"{force_sd_N:.3g} N, {sd_source}): ratio "
             f"{_span([c['ratio'] for c in measured.values()], 2, '')}; stress-free rejected in "
             f"{len(rejected)} of {len(measured)} (p < {critical:.2g}); fitted pre-strain "
             f"{_span(fitted_prestrain, 2, '')}"
