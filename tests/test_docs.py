@@ -96,3 +96,33 @@ def test_a_dead_link_or_heading_is_found(tmp_path, monkeypatch):
         "there.md#no-such-heading",
         "gone.png",
     ]
+
+
+def quoted_but_not_found(text, base):
+    """The percentages of each paragraph of ``text`` that none of the calibration pages
+    it links (relative to ``base``) contains: numbers copied from a page that has moved on."""
+    missing = []
+    for paragraph in re.split(r"\n\s*\n", text):
+        linked = [t.partition("#")[0] for t in _LINK.findall(paragraph)]
+        sources = [base / t for t in linked if "calibration/" in t and t.endswith(".md")]
+        if not sources:
+            continue
+        pages_text = " ".join(p.read_text(encoding="utf-8") for p in sources if p.exists())
+        for number in re.findall(r"\b\d+\.\d %", paragraph):
+            if number not in pages_text:
+                missing.append(number)
+    return missing
+
+
+def test_the_readmes_calibration_numbers_are_the_calibration_pages():
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    assert re.search(r"\d+\.\d %", readme)  # the README quotes some
+    assert quoted_but_not_found(readme, REPO) == []
+
+
+def test_a_number_the_calibration_no_longer_gives_is_found(tmp_path):
+    page = tmp_path / "docs" / "calibration" / "coverage.md"
+    page.parent.mkdir(parents=True)
+    page.write_text("| as assumed | waterbed | L_mm | 96.5 % |\n", encoding="utf-8")
+    text = "Cover 96.5 % and 91.0 % ([coverage](docs/calibration/coverage.md))."
+    assert quoted_but_not_found(text, tmp_path) == ["91.0 %"]
