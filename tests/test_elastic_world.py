@@ -116,7 +116,7 @@ def test_scores_have_their_structure():
     scores = small_dataset(20.0)
     trials = 2 * 4  # one section per species, four depths
     parameters = sum(len(names) for names in CHECKED.values())
-    assert len(scores["coverage"]) == trials * parameters * len(world.TRUTHS)
+    assert len(scores["coverage"]) == trials * parameters
     assert len(scores["ratio"]) == trials
     claims = [row["claim"] for row in scores["verdicts"]]
     assert "C12" in claims
@@ -132,10 +132,10 @@ def test_scores_have_their_structure():
 
 
 def test_truth_is_the_best_fit_to_the_error_free_profile():
-    """The least-squares truth of a trial is the fit to the error-free mean: its value lies
+    """The truth of a trial is the fit to the error-free mean: its value lies
     near the estimate from the read data (the errors are small), and a planted wrong truth
     (the truth times 1.5) is covered far less often."""
-    rows = [r for r in small_dataset(20.0)["coverage"] if r["truth"] == "least squares"]
+    rows = small_dataset(20.0)["coverage"]
     ratios = np.array([r["estimate"] / r["true"] for r in rows])
     assert np.median(np.abs(ratios - 1)) < 0.1
     right = world.summarise_world_coverage([{**r, "world": "w", "dataset": 0} for r in rows])
@@ -152,10 +152,16 @@ def test_truth_is_the_best_fit_to_the_error_free_profile():
         ]
     )
     pooled = {(s["model"], s["parameter"]): s for s in right if s["species"] == "all"}
+    # a truth on the search bound leaves the interior count
+    bounded = world.summarise_world_coverage(
+        [{**r, "world": "w", "dataset": 0, "true_at_bound": True} for r in rows]
+    )
+    assert all(s["n_interior"] == 0 for s in bounded)
     planted = {(s["model"], s["parameter"]): s for s in wrong if s["species"] == "all"}
     assert sum(s["k"] for s in planted.values()) < sum(s["k"] for s in pooled.values()) / 2
     for key, summary in pooled.items():
         assert summary["n"] == 8
+        assert summary["n_interior"] == summary["n"] - summary["n_true_at_bound"]
         assert summary["ci_low"] <= summary["rate"] <= summary["ci_high"]
         assert planted[key]["rate"] <= summary["rate"]
 
@@ -166,6 +172,10 @@ def test_ratio_recovery_scores_the_truth_it_is_given():
     (pooled,) = [s for s in summary if s["species"] == "all"]
     assert pooled["n_trials"] == 8
     assert pooled["n_covered"] == sum(r["low"] <= 20.0 <= r["high"] for r in rows)
+    aimed = sum(r["low"] <= r["error_free_ratio"] <= r["high"] for r in rows)
+    assert pooled["n_covers_error_free"] == aimed
+    # the error-free fit lands near the finger's ratio (off-library section and mesh)
+    assert all(10.0 < r["error_free_ratio"] < 40.0 for r in rows)
     # a layer twenty times stiffer is seen: the interval excludes a homogeneous finger
     assert pooled["n_excludes_1"] >= 6
     # planted: a finger called homogeneous is covered only where the interval reaches 1
