@@ -205,3 +205,37 @@ def test_verdict_summary_counts_wrong_verdicts_per_world():
 def test_world_names(ratio):
     name = world.world_name(ratio)
     assert ("homogeneous" in name) == (ratio == 1.0)
+
+
+def test_a_seed_repeats_and_wrong_priors_change_the_readings_not_the_truth():
+    noise, max_trials = priors()
+    again = world.world_dataset(
+        small_solutions(),
+        1.0,
+        (7, 0),
+        WINDOW_MM,
+        noise,
+        max_trials,
+        blocks(),
+        config_defaults("claims"),
+    )
+    first = small_dataset(1.0)
+    for part in ("coverage", "verdicts", "ratio"):
+        assert pd.DataFrame(again[part]).equals(pd.DataFrame(first[part]))
+    wrong = world.world_dataset(
+        small_solutions(),
+        1.0,
+        (7, 0),
+        WINDOW_MM,
+        noise,
+        max_trials,
+        blocks(),
+        config_defaults("claims"),
+        prior_ratio=3.0,
+    )
+    made, stated = pd.DataFrame(wrong["coverage"]), pd.DataFrame(first["coverage"])
+    assert np.array_equal(made["true"], stated["true"])
+    assert not np.array_equal(made["estimate"], stated["estimate"])
+    truths = [r["truth"] for r in wrong["verdicts"]]
+    assert truths == [r["truth"] for r in first["verdicts"]]
+    assert world.world_name(1.0, 3.0) == "homogeneous, shared errors 3x"

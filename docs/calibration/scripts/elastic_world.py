@@ -16,6 +16,9 @@ at the committed size and writes the tables beside ``docs/calibration/elastic_wo
    intervals against their best fit to the error-free profile), ``elastic_world_verdicts.csv``
    and ``elastic_world_verdict_datasets.csv`` (each claim's verdict against its truth),
    ``elastic_world_ratio.csv`` and ``elastic_world_ratio_trials.csv`` (the layered fit's ratio).
+   The same worlds again on the first :data:`PRIOR_DATASETS` datasets' draws with the errors
+   the left-right differences cannot measure at :data:`PRIOR_RATIO` times their stated sizes
+   (worlds named ``..., shared errors 2x``), the priors stated as configured.
 
 Run: ``python docs/calibration/scripts/elastic_world.py [--solve] [--datasets N]``.
 """
@@ -39,6 +42,10 @@ OUT = REPO / "docs" / "calibration"
 PROFILES = OUT / "elastic_world_profiles.csv"
 #: Seed of the datasets' errors, and datasets per world.
 SEED, DATASETS = 3614, 20
+#: The worlds again with the errors the left-right differences cannot measure at this
+#: multiple of their stated sizes (the priors stated as configured), on the first
+#: ``PRIOR_DATASETS`` datasets' draws: how the scores move when the priors are wrong.
+PRIOR_RATIO, PRIOR_DATASETS = 2.0, 10
 
 
 def solve(grid):
@@ -82,6 +89,25 @@ def main():
     )
     print(
         f"{args.datasets} datasets per world scored in {time.perf_counter() - wall:.1f} s "
+        f"({time.process_time() - cpu:.1f} s of CPU)"
+    )
+    wall, cpu = time.perf_counter(), time.process_time()
+    wrong = world.world_study(
+        solutions,
+        SEED,
+        min(PRIOR_DATASETS, args.datasets),
+        window_mm,
+        noise,
+        max_trials,
+        blocks,
+        config_defaults("claims"),
+        ratios=world.RATIOS,
+        prior_ratio=PRIOR_RATIO,
+    )
+    for part, rows in wrong.items():
+        scores[part] += rows
+    print(
+        f"and with the shared errors {PRIOR_RATIO:g}x in {time.perf_counter() - wall:.1f} s "
         f"({time.process_time() - cpu:.1f} s of CPU)"
     )
     coverage = pd.DataFrame(world.summarise_world_coverage(scores["coverage"]))

@@ -482,7 +482,16 @@ def _judged(fits, averaged, noise, trial_noise, claims, errors):
 
 
 def world_dataset(
-    solutions, ratio, seed, window_mm, priors, max_trials, blocks, claims=None, depths_mm=None
+    solutions,
+    ratio,
+    seed,
+    window_mm,
+    priors,
+    max_trials,
+    blocks,
+    claims=None,
+    depths_mm=None,
+    prior_ratio=1.0,
 ):
     """One dataset of a world (every section of both species at ``ratio``) read, analysed and
     scored against its error-free readings.
@@ -501,6 +510,10 @@ def world_dataset(
         Settings of the claims (config ``claims``).
     depths_mm : sequence of float, optional
         The depths read; the solutions' if None.
+    prior_ratio : float, optional
+        The errors the left-right differences cannot measure (:data:`lineload.noise.PRIORS`)
+        are made at this multiple of their stated sizes, the same draws scaled; the analysis
+        states them at ``priors`` all the same (a world where the stated priors are wrong).
 
     Returns
     -------
@@ -513,7 +526,8 @@ def world_dataset(
         depths_mm = sorted({key[3] for key in solutions})
     sections = sorted({key[1] for key in solutions})
     fingers = world_fingers(ratio, len(sections))
-    read, true = read_dataset(solutions, fingers, depths_mm, np.random.default_rng(seed))
+    made = TRUE_NOISE.scaled_priors(prior_ratio)
+    read, true = read_dataset(solutions, fingers, depths_mm, np.random.default_rng(seed), made)
     fits, averaged, noise, trial_noise = analyse_dataset(
         read, window_mm, priors, max_trials, blocks
     )
@@ -583,37 +597,58 @@ def world_dataset(
 
 
 def world_study(
-    solutions, seed, datasets, window_mm, priors, max_trials, blocks, claims=None, ratios=None
+    solutions,
+    seed,
+    datasets,
+    window_mm,
+    priors,
+    max_trials,
+    blocks,
+    claims=None,
+    ratios=None,
+    prior_ratio=1.0,
 ):
     """Every world (one per ratio) with ``datasets`` datasets each.
 
     Dataset ``k`` of world ``i`` (the ``i``-th of ``ratios``) is seeded by ``(seed, i, k)``:
-    any slice reruns alone with the same numbers.
+    any slice reruns alone with the same numbers, and a ``prior_ratio`` other than 1 makes
+    the same draws with the unmeasurable errors scaled (:func:`world_dataset`).
 
     Returns
     -------
     dict
         ``coverage``, ``verdicts`` and ``ratio``: lists of rows with the columns
         :data:`COVERAGE_COLUMNS`, :data:`VERDICT_COLUMNS` and :data:`RATIO_COLUMNS`; the
-        world is named by its ratio (``homogeneous`` or ``layered, ratio r``).
+        world is named by its ratio and the errors (:func:`world_name`).
     """
     if ratios is None:
         ratios = sorted({key[2] for key in solutions})
     out = {"coverage": [], "verdicts": [], "ratio": []}
     for i, ratio in enumerate(ratios):
-        world = world_name(ratio)
+        world = world_name(ratio, prior_ratio)
         for k in range(datasets):
             scored = world_dataset(
-                solutions, ratio, (seed, i, k), window_mm, priors, max_trials, blocks, claims
+                solutions,
+                ratio,
+                (seed, i, k),
+                window_mm,
+                priors,
+                max_trials,
+                blocks,
+                claims,
+                prior_ratio=prior_ratio,
             )
             for part, rows in scored.items():
                 out[part] += [{"world": world, "dataset": k, **row} for row in rows]
     return out
 
 
-def world_name(ratio):
-    """A world's name: ``homogeneous`` at ratio 1, else ``layered, ratio r``."""
-    return "homogeneous" if ratio == 1 else f"layered, ratio {ratio:g}"
+def world_name(ratio, prior_ratio=1.0):
+    """A world's name: ``homogeneous`` at ratio 1, else ``layered, ratio r``; with
+    ``, shared errors Nx`` where the unmeasurable errors are made at N times their stated
+    sizes."""
+    name = "homogeneous" if ratio == 1 else f"layered, ratio {ratio:g}"
+    return name if prior_ratio == 1 else f"{name}, shared errors {prior_ratio:g}x"
 
 
 def _interval_columns(k, n):
