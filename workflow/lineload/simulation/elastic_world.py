@@ -81,6 +81,8 @@ __all__ = [
     "summarise_world_coverage",
     "summarise_world_verdicts",
     "world_dataset",
+    "world_fingers",
+    "world_name",
     "world_sections",
     "world_study",
 ]
