@@ -33,6 +33,10 @@ mechanics_coverage
     Coverage of the membrane's intervals on the verdict calibration's datasets.
 reports
     The calibration's tables as Markdown, each with the command that made it.
+elastic_world
+    A world the fits do not assume: the finite-element finger (homogeneous and layered)
+    read with the digitising errors; the paper's models' intervals, the claims' verdicts
+    and the layered fit's modulus ratio scored there (docs/calibration/elastic_world.md).
 rates
     Binomial (Clopper-Pearson) intervals and the error-rate sentences of the claims
     table; light, so the claims table does not depend on the generator.
