@@ -22,6 +22,10 @@ photograph_example
     The photograph example (two fingers photographed at rest and loaded).
 coverage
     How often the intervals hold the truth on data made with known parameters.
+analysis
+    A simulated dataset analysed as the rule scripts analyse a real one, in memory
+    (averaged, noise measured, the paper's models fitted, claims judged); its truth
+    judged with the noise shrunk to nothing.
 calibration
     The verdict calibration's public face: every name of the four modules below.
 verdicts

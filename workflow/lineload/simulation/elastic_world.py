@@ -43,24 +43,24 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pandas as pd
 
-from lineload.averaging import average_subjects, tissue_columns
-from lineload.claims import FAILS, HOLDS, ClaimSettings, compute_claims, judged_settings
+from lineload.averaging import tissue_columns
+from lineload.claims import FAILS, HOLDS
 from lineload.claims.registry import CLAIMS, FORCE_CLAIMS
 from lineload.elastic import materials, solver
 from lineload.elastic import mesh as meshing
 from lineload.elastic.geometry import SPECIES
 from lineload.elastic.library import library_sections
 from lineload.elastic.wedge import Wedge
-from lineload.fitting.batch import fit_trials
 from lineload.fitting.elastic import fit_elastic_trials, with_elastic
-from lineload.noise import draw_side_errors_mm, measure_noise_table, model_from_rows, trial_models
+from lineload.noise import draw_side_errors_mm
 from lineload.rawdata.readings import GRID_TICK_MM, reading_distances_mm
+from lineload.simulation.analysis import analyse, judged_claims
 from lineload.simulation.coverage import CHECKED
 from lineload.simulation.errors import TRUE_NOISE, TrialErrors, image_mm, read_side_mm
 from lineload.simulation.rates import binomial_interval
 from lineload.simulation.readings import P_FIRST_AT_FINEST
 from lineload.simulation.subjects import MAGNIFICATION, SPECIES_PREFIX
-from lineload.simulation.verdicts import TRUTH_SCALE, summarise_verdicts
+from lineload.simulation.verdicts import summarise_verdicts
 
 __all__ = [
     "COVERAGE_COLUMNS",
@@ -396,13 +396,6 @@ def read_dataset(solutions, fingers, depths_mm, rng, noise=TRUE_NOISE):
     return read, true
 
 
-def _shrunk_noise():
-    values = TRUE_NOISE.as_dict()
-    return type(TRUE_NOISE)(
-        **{k: v if k == "tracing_length_mm" else v * TRUTH_SCALE for k, v in values.items()}
-    )
-
-
 def analyse_dataset(tables, window_mm, priors, max_trials, blocks, errors=True):
     """A dataset analysed as the workflow does, in memory: averaged, noise, fits, claims' input.
 
@@ -419,7 +412,7 @@ def analyse_dataset(tables, window_mm, priors, max_trials, blocks, errors=True):
         The elastic library (:func:`lineload.fitting.elastic.library_blocks`).
     errors : bool, optional
         False: the error-free readings, fitted with the generator's noise shrunk by
-        :data:`lineload.simulation.verdicts.TRUTH_SCALE` (nothing measured).
+        :data:`lineload.simulation.analysis.TRUTH_SCALE` (nothing measured).
 
     Returns
     -------
@@ -428,58 +421,24 @@ def analyse_dataset(tables, window_mm, priors, max_trials, blocks, errors=True):
         columns, the averaged columns, the dataset's noise model and each trial's.
     """
     converted = [tissue_columns(table, subject, MAGNIFICATION) for subject, _, table in tables]
-    averaged = average_subjects(converted)
-    subject = np.asarray(averaged["subject"])
-    depth = np.asarray(averaged["depth_mm"], dtype=float)
-    new = np.r_[True, (subject[1:] != subject[:-1]) | (depth[1:] != depth[:-1])]
-    starts = np.flatnonzero(new)
-    ends = np.r_[starts[1:], subject.size]
-    trials = [(subject[a], float(depth[a]), slice(a, b)) for a, b in zip(starts, ends, strict=True)]
-    columns = {
-        name: np.asarray(averaged[name], dtype=float)
-        for name in ("distance_mm", "deflection_mm", "left_mm", "right_mm", "n_sides")
-    }
-    keys = [(name, d) for name, d, _ in trials]
-    if errors:
-        profiles = [
-            (columns["distance_mm"][r], columns["left_mm"][r], columns["right_mm"][r])
-            for *_, r in trials
-        ]
-        _, rows = measure_noise_table(profiles, priors, window_mm, max_trials)
-        noise = model_from_rows(rows)
-        trial_noise = trial_models(rows, keys)
-    else:
-        noise = _shrunk_noise()
-        trial_noise = [noise] * len(keys)
-    x = [columns["distance_mm"][r] for *_, r in trials]
-    y = [columns["deflection_mm"][r] for *_, r in trials]
-    depths = [d for _, d, _ in trials]
-    sides = [columns["n_sides"][r] for *_, r in trials]
-    fitted = fit_trials(x, y, depths, window_mm, noise=trial_noise, n_sides=sides)
     species_of = {name: species for name, species, _ in tables}
-    fits = pd.DataFrame(
-        [
-            {"subject": name, "species": species_of[name], **row}
-            for (name, _, _), row in zip(trials, fitted, strict=True)
-        ]
-    )
-    species = [species_of[name] for name, _, _ in trials]
+    analysis = analyse(converted, species_of, window_mm, priors, max_trials, errors)
     elastic = fit_elastic_trials(
-        x, y, species, depths, window_mm, blocks, noise=trial_noise, n_sides=sides
+        analysis.per_trial("distance_mm"),
+        analysis.per_trial("deflection_mm"),
+        [species_of[name] for name, _, _ in analysis.trials],
+        analysis.depths_mm,
+        window_mm,
+        blocks,
+        noise=analysis.trial_noise,
+        n_sides=analysis.per_trial("n_sides"),
     )
-    elastic = pd.DataFrame(
-        [{"subject": name, **row} for (name, _, _), row in zip(trials, elastic, strict=True)]
-    )
-    return with_elastic(fits, elastic), averaged, noise, trial_noise
+    fits = with_elastic(analysis.fits, analysis.labelled(elastic))
+    return fits, analysis.averaged, analysis.noise, analysis.trial_noise
 
 
 def _judged(fits, averaged, noise, trial_noise, claims, errors):
-    settings = dict(claims or {})
-    if not errors:
-        settings["noise_mm"] = None
-        settings["force_sd_N"] = TRUTH_SCALE * ClaimSettings(**settings).force_sd_N
-    settings = judged_settings(settings, fits, noise, trial_noise)
-    table = compute_claims(fits, pd.DataFrame(averaged), settings)
+    table = judged_claims(fits, averaged, noise, trial_noise, claims, errors)
     return table[~table["claim"].isin(NOT_JUDGED)].reset_index(drop=True)
 
 

@@ -29,9 +29,8 @@ Dataset ``k`` of a study seeded ``seed`` is drawn from the generator seed
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 
-from lineload.averaging import average_subjects, tissue_columns
+from lineload.averaging import tissue_columns
 from lineload.claims import (
     CLAIM_KINDS,
     CLAIMS,
@@ -40,14 +39,10 @@ from lineload.claims import (
     IDENTITY,
     PAPER_CLAIM,
     UNTESTABLE,
-    ClaimSettings,
-    compute_claims,
-    judged_settings,
 )
-from lineload.fitting.batch import fit_trials
 from lineload.fitting.bending import fit_bending_trials, with_bending
-from lineload.noise import measure_noise_table, model_from_rows, trial_models
-from lineload.simulation.errors import AS_ASSUMED, TRUE_NOISE
+from lineload.simulation.analysis import TRUTH_SCALE, analyse, judged_claims
+from lineload.simulation.errors import AS_ASSUMED
 from lineload.simulation.rates import binomial_interval
 from lineload.simulation.readings import force_table, profile_table
 from lineload.simulation.subjects import MAGNIFICATION, shipped_subjects
@@ -67,9 +62,6 @@ __all__ = [
     "verdict_study",
 ]
 
-#: Every standard deviation of the noise, and of a force reading, times this when
-#: the rules judge the error-free readings: intervals a thousandth of their size.
-TRUTH_SCALE = 1e-3
 
 #: Columns of the per-dataset table: one row per dataset and claim.
 DATASET_COLUMNS = ["dataset", "claim", "truth", "verdict", "wrong"]
@@ -109,24 +101,6 @@ BENDING_CLAIMS = tuple(claim.id for claim in CLAIMS if "bending" in claim.needs)
 UNCALIBRATED_CLAIMS = tuple(claim.id for claim in CLAIMS if "elastic" in claim.needs)
 
 
-def _trials_of(averaged):
-    """Each trial's rows of the averaged columns, in table order: (subject, depth, slice)."""
-    subject = np.asarray(averaged["subject"])
-    depth = np.asarray(averaged["depth_mm"], dtype=float)
-    new = np.r_[True, (subject[1:] != subject[:-1]) | (depth[1:] != depth[:-1])]
-    starts = np.flatnonzero(new)
-    ends = np.r_[starts[1:], subject.size]
-    return [(subject[a], float(depth[a]), slice(a, b)) for a, b in zip(starts, ends, strict=True)]
-
-
-def _scaled_noise(scale):
-    """The generator's noise with every standard deviation times ``scale``."""
-    values = TRUE_NOISE.as_dict()
-    return type(TRUE_NOISE)(
-        **{k: v if k == "tracing_length_mm" else v * scale for k, v in values.items()}
-    )
-
-
 def reconstruction_fits(
     subjects, seed, window_mm, priors, max_trials, errors=True, wall=None, scenario=AS_ASSUMED
 ):
@@ -161,54 +135,21 @@ def reconstruction_fits(
         )
         for subject in subjects
     ]
-    averaged = average_subjects(converted)
-    trials = _trials_of(averaged)
-    columns = {
-        name: np.asarray(averaged[name], dtype=float)
-        for name in ("distance_mm", "deflection_mm", "left_mm", "right_mm", "n_sides")
-    }
-    keys = [(name, depth) for name, depth, _ in trials]
-    if errors:
-        profiles = [
-            (columns["distance_mm"][r], columns["left_mm"][r], columns["right_mm"][r])
-            for *_, r in trials
-        ]
-        _, rows = measure_noise_table(profiles, priors, window_mm, max_trials)
-        noise = model_from_rows(rows)
-        trial_noise = trial_models(rows, keys)
-    else:
-        noise = _scaled_noise(TRUTH_SCALE)
-        trial_noise = [noise] * len(keys)
-    fitted = fit_trials(
-        [columns["distance_mm"][r] for *_, r in trials],
-        [columns["deflection_mm"][r] for *_, r in trials],
-        [depth for _, depth, _ in trials],
-        window_mm,
-        noise=trial_noise,
-        n_sides=[columns["n_sides"][r] for *_, r in trials],
-    )
     species = {subject.subject: subject.species for subject in subjects}
-    fits = pd.DataFrame(
-        [
-            {"subject": name, "species": species[name], **row}
-            for (name, _, _), row in zip(trials, fitted, strict=True)
-        ]
-    )
+    analysis = analyse(converted, species, window_mm, priors, max_trials, errors)
+    fits = analysis.fits
     if wall is not None:
         bending = fit_bending_trials(
-            [columns["distance_mm"][r] for *_, r in trials],
-            [columns["deflection_mm"][r] for *_, r in trials],
-            [depth for _, depth, _ in trials],
+            analysis.per_trial("distance_mm"),
+            analysis.per_trial("deflection_mm"),
+            analysis.depths_mm,
             window_mm,
-            noise=trial_noise,
-            n_sides=[columns["n_sides"][r] for *_, r in trials],
+            noise=analysis.trial_noise,
+            n_sides=analysis.per_trial("n_sides"),
             wall=wall,
         )
-        labelled = pd.DataFrame(
-            [{"subject": name, **row} for (name, _, _), row in zip(trials, bending, strict=True)]
-        )
-        fits = with_bending(fits, labelled)
-    return fits, averaged, noise, trial_noise
+        fits = with_bending(fits, analysis.labelled(bending))
+    return fits, analysis.averaged, analysis.noise, analysis.trial_noise
 
 
 def reconstruction_claims(
@@ -255,17 +196,12 @@ def reconstruction_claims(
         The claims table (columns of :data:`lineload.claims.CLAIM_COLUMNS`).
     """
     subjects = shipped_subjects() if subjects is None else subjects
-    settings = dict(claims or {})
-    if not errors:
-        settings["noise_mm"] = None
-        settings["force_sd_N"] = TRUTH_SCALE * ClaimSettings(**settings).force_sd_N
     fits, averaged, noise, trial_noise = reconstruction_fits(
         subjects, seed, window_mm, priors, max_trials, errors, wall, scenario
     )
     forces = force_table(subjects, seed, errors=errors)
     # as rule claims_table judges them: the dataset's noise and each trial's
-    settings = judged_settings(settings, fits, noise, trial_noise)
-    claims = compute_claims(fits, pd.DataFrame(averaged), settings, forces=forces)
+    claims = judged_claims(fits, averaged, noise, trial_noise, claims, errors, forces)
     if wall is None:  # the bending skin not fitted: its claims are not judged
         claims = claims[~claims["claim"].isin(BENDING_CLAIMS)]
     # nor those of the elastic finger, whose fits are not made here
