@@ -2,6 +2,7 @@
 'does not hold' on data built to violate it, and says when it cannot judge."""
 
 import math
+import re
 from dataclasses import replace
 from functools import cache
 from pathlib import Path
@@ -701,6 +702,18 @@ def test_c9_needs_the_readings_below_every_fitted_curve():
     # only 1 mm trials: nothing at or above large_depth_mm
     shallow = table([fit_row("A", "monkey", 1.0)])
     assert verdict("C9", shallow, profile("A", 1.0, lowest / 2)) == UNTESTABLE
+
+
+def test_c9_prints_a_range_whose_ends_agree_once():
+    # one trial at depth: each curve's share of points deflected less is one number, and
+    # the text prints it once ("74 %", not "74 % to 74 %"), as every other range does
+    depth_mm = 2.0
+    fits = table([fit_row("A", "monkey", depth_mm, shifted_L_mm=12.5, arc_L_mm=12.3)])
+    w = models.waterbed_deflection_mm(GRID_MM, depth_mm, 12.0) - 0.01
+    row = CLAIM_FUNCTIONS["C9"](fits, profile("A", depth_mm, w), SETTINGS)
+    text = row["our_value"]
+    assert re.findall(r", \d+ % of points deflected less", text), text
+    assert not re.search(r"(\d+) % to \1 %", text), text
 
 
 @pytest.mark.parametrize("model", ["waterbed", "arc"])
