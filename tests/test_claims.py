@@ -1113,6 +1113,12 @@ def test_c12_holds_on_layered_fingers_and_is_later_work():
     assert row["verdict"] == HOLDS, row["our_value"]
     assert row["kind"] == "later work"
     assert "4 layered" in row["our_value"]
+    # g is named with what it is where the text first uses it, and its range printed as
+    # every range is
+    first = row["our_value"].index(" g ")
+    assert row["our_value"][first:].startswith(" g (the RMS misfit"), row["our_value"]
+    assert re.search(r"\) \d+\.\d( to \d+\.\d)? %;", row["our_value"]), row["our_value"]
+    assert row["our_value"].count("(the RMS misfit") == 1, row["our_value"]
 
 
 def test_c12_does_not_hold_on_homogeneous_fingers():
