@@ -192,6 +192,18 @@ def test_the_calibrations_worlds_are_the_registrys():
     assert calibration.BENDING_CLAIMS == tuple(c.id for c in CLAIMS if "bending" in c.needs)
 
 
+def test_the_generators_list_states_every_claim():
+    # the article's "built in" statement covers a claim only if the list has it: the
+    # later models' claims too, whose verdicts follow from what the generator lacks
+    listed = {row["claim"]: row for row in registry.built_in_verdicts()}
+    assert set(listed) == set(registry.CLAIM_IDS)
+    for claim, lacks in (("C12", "elastic finger"), ("C13", "bending skin")):
+        assert listed[claim]["how"] == "by construction"
+        assert f"the generator has no {lacks}" in listed[claim]["why"]
+        # the calibration's noise-free world makes no elastic or bending fits
+        assert listed[claim]["truth"] == registry.TRUTH_NOT_COMPUTED
+
+
 def test_the_committed_built_in_verdicts_come_from_the_registry():
     committed = json.loads((REPO / "data" / "built_in_verdicts.json").read_text())
     assert committed == registry.built_in_verdicts()
