@@ -287,7 +287,7 @@ CRATE_RULES = {
             os.path.relpath(getattr(rules, name).rule.snakefile, REPOSITORY)
         ).as_posix(),
     }
-    for name in [*OUTPUTS_BY_RULE, "provenance"]
+    for name in [*OUTPUTS_BY_RULE, "provenance", "provenance_page"]
 }
 
 
@@ -297,6 +297,7 @@ rule crate:
     """
     input:
         provenance=rules.provenance.output[0],
+        provenance_page=rules.provenance_page.output[0],
         citation=CITATION_FILES,
         # the raw inputs, the subject sheet first (the raw folder is its folder)
         raw=rules.provenance.input.raw,
