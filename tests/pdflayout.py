@@ -183,3 +183,36 @@ def page_fill(path, margin_mm=22.0, blank_mm=6.0):
             empty += high - reached
         fills.append(1.0 - empty / (high - low))
     return fills
+
+
+def headings(path):
+    """Where each heading of a PDF's outline (Typst writes one per heading) starts.
+
+    Returns
+    -------
+    dict
+        Heading text (with its number, ``"8. Software"``) -> ``(page, top_pt)``: the page
+        (from 1) and the height of the heading's top above the page's foot (points).
+    """
+    reader = pypdf.PdfReader(path)
+    found = {}
+
+    def walk(items):
+        for item in items:
+            if isinstance(item, list):
+                walk(item)
+            else:
+                found[str(item.title)] = (
+                    reader.get_destination_page_number(item) + 1,
+                    float(item.get("/Top", 0.0)),
+                )
+
+    walk(reader.outline)
+    return found
+
+
+def placed_after(figure, heading):
+    """Whether a figure (:class:`PlacedFigure`) prints after a heading's start ``(page,
+    top_pt)``: on a later page, or on the same page below it."""
+    page, top_pt = heading
+    return figure.page > page or (figure.page == page and figure.top_pt <= top_pt)

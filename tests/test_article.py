@@ -255,11 +255,34 @@ def test_every_figure_prints_at_its_own_size_with_no_type_below_7_points(shipped
 
 
 @pytest.mark.e2e
-def test_every_page_but_the_last_is_at_least_four_fifths_full(shipped_build):
-    fills = pdflayout.page_fill(shipped_build[1] / "article" / "reproduction.pdf")
+@pytest.mark.parametrize("build", ["shipped_build", "photograph_build"])
+def test_every_page_but_the_last_is_at_least_four_fifths_full(build, request):
+    results = request.getfixturevalue(build)[1]
+    fills = pdflayout.page_fill(results / "article" / "reproduction.pdf")
     assert len(fills) > 5
     thin = {page: round(fill, 2) for page, fill in enumerate(fills[:-1], start=1) if fill < 0.8}
     assert thin == {}
+
+
+@pytest.mark.e2e
+@pytest.mark.parametrize("build", ["shipped_build", "photograph_build"])
+def test_no_figure_of_the_body_prints_after_the_references_heading(build, request):
+    """A figure floated to the foot of the page where the body ends let the References
+    run in above it; only the appendix's figures (the digitised photographs, printed
+    last) come after that heading."""
+    from lineload.publishing.article import PHOTOGRAPH_FIGURES
+
+    results = request.getfixturevalue(build)[1]
+    pdf = results / "article" / "reproduction.pdf"
+    figures = pdflayout.placed_figures(pdf)
+    references = pdflayout.headings(pdf)["References"]
+    in_appendix = min(len(list((results / "digitised").glob("*.pdf"))), PHOTOGRAPH_FIGURES)
+    body = figures[: len(figures) - in_appendix]
+    assert len(body) >= len(FIGURES) - 2  # the species' figures may be left out
+    late = [(f.page, round(f.top_pt)) for f in body if pdflayout.placed_after(f, references)]
+    assert late == [], references
+    # the check can fail: the appendix's figures are after it
+    assert all(pdflayout.placed_after(f, references) for f in figures[len(body) :])
 
 
 def body_text(path):

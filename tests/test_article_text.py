@@ -11,6 +11,7 @@ import pytest
 
 import articletext
 from conftest import REPO, reading_grid_mm, shared_build
+from lineload.claims.rows import NAMED_FIGURES
 from lineload.publishing.article import calibration_design
 
 TEMPLATE = REPO / "workflow" / "article" / "reproduction.typ"
@@ -99,6 +100,22 @@ def test_names_are_set_as_code_symbols_as_symbols_and_appendices_cited_by_letter
         assert n >= 1 and text.count(cited) >= 2
         assert all(f"{name}: How" in text for name in names)
         assert not re.search(r"Figure D\d", text)
+
+
+@pytest.mark.e2e
+@pytest.mark.parametrize("build", ["shipped_article", "photograph_build"])
+def test_the_claims_cite_a_figure_by_its_number(build, request):
+    """The claims table names a figure as its reader finds it (by its file's name); the
+    article prints its number instead, where the claims' text names one."""
+    _, results = request.getfixturevalue(build)
+    text = articletext.pdf_text(results / "article" / "reproduction.pdf")
+    plain = text.replace("‘", "'").replace("’", "'")
+    claims = pd.read_csv(results / "tables" / "claims.csv")
+    named = " ".join(claims["our_value"].tolist() + claims["reason"].tolist())
+    for name in NAMED_FIGURES:
+        assert name not in plain
+        if name in named:
+            assert re.search(r"instead \(Figure \d+\)|coordinates \(Figure \d+\)", text)
 
 
 @pytest.mark.e2e

@@ -8,6 +8,7 @@ import pytest
 
 from conftest import REPO
 from lineload.claims import FAILS, HOLDS, IDENTITY, UNTESTABLE
+from lineload.claims.registry import TRUTH_NOT_COMPUTED
 from lineload.io import config_defaults
 from lineload.publishing import article
 from lineload.simulation import calibration, synthetic
@@ -48,7 +49,13 @@ def test_error_free_readings_are_the_true_profile_on_the_same_grid():
 def test_shipped_verdicts_and_their_truth_are_the_generators_list():
     # the claims of the shipped seed, with and without errors, analysed in memory as the
     # workflow analyses the files; data/built_in_verdicts.json states both
-    built_in = {row["claim"]: row for row in synthetic.built_in_verdicts()}
+    # (the claims whose fits the reconstructions do not make, C12 and C13, are listed
+    # with their truth not computed)
+    built_in = {
+        row["claim"]: row
+        for row in synthetic.built_in_verdicts()
+        if row["truth"] != TRUTH_NOT_COMPUTED
+    }
     read, true = claims_of(synthetic.DEFAULT_SEED), claims_of(synthetic.DEFAULT_SEED, False)
     assert read == {claim: row["verdict"] for claim, row in built_in.items()}
     assert true == {claim: row["truth"] for claim, row in built_in.items()}

@@ -704,6 +704,18 @@ def test_c9_needs_the_readings_below_every_fitted_curve():
     assert verdict("C9", shallow, profile("A", 1.0, lowest / 2)) == UNTESTABLE
 
 
+def test_c9_prints_a_range_whose_ends_agree_once():
+    # one trial at depth: each curve's share of points deflected less is one number, and
+    # the text prints it once ("74 %", not "74 % to 74 %"), as every other range does
+    depth_mm = 2.0
+    fits = table([fit_row("A", "monkey", depth_mm, shifted_L_mm=12.5, arc_L_mm=12.3)])
+    w = models.waterbed_deflection_mm(GRID_MM, depth_mm, 12.0) - 0.01
+    row = CLAIM_FUNCTIONS["C9"](fits, profile("A", depth_mm, w), SETTINGS)
+    text = row["our_value"]
+    assert re.findall(r", \d+ % of points deflected less", text), text
+    assert not re.search(r"(\d+) % to \1 %", text), text
+
+
 @pytest.mark.parametrize("model", ["waterbed", "arc"])
 def test_c9_mean_residual_error_matches_the_spread_over_repeated_readings(model):
     # readings on the curve with independent noise and a shared offset, 300 times: the
@@ -1131,6 +1143,12 @@ def test_c12_holds_on_layered_fingers_and_is_later_work():
     assert row["verdict"] == HOLDS, row["our_value"]
     assert row["kind"] == "later work"
     assert "4 layered" in row["our_value"]
+    # g is named with what it is where the text first uses it, and its range printed as
+    # every range is
+    first = row["our_value"].index(" g ")
+    assert row["our_value"][first:].startswith(" g (the RMS misfit"), row["our_value"]
+    assert re.search(r"\) \d+\.\d( to \d+\.\d)? %;", row["our_value"]), row["our_value"]
+    assert row["our_value"].count("(the RMS misfit") == 1, row["our_value"]
 
 
 def test_c12_does_not_hold_on_homogeneous_fingers():

@@ -31,6 +31,10 @@ ARGS = [
 ]
 
 
+#: The types the report's view icon shows on the page (any other it downloads).
+SHOWN = {"text/html", "image/png", "image/svg+xml", "image/jpeg", "application/pdf"}
+#: The text of each header of a page's table (run in the page).
+HEADERS = "() => Array.from(document.querySelectorAll('thead th'), th => th.textContent)"
 #: The window's width in pixels, a laptop's.
 WIDTH = 1400
 #: The text of each cell of a page's table body, row by row (run in the page).
@@ -77,7 +81,7 @@ def test_report_reads_as_a_reviewer_needs(tmp_path, browser, build, request):
     made = run_snakemake("--report", str(report), raw=raw, results=results)
     assert made.returncode == 0, made.stderr[-3000:]
 
-    page = browser.new_page(viewport={"width": WIDTH, "height": 900})
+    page = browser.new_page(viewport={"width": WIDTH, "height": 900}, accept_downloads=True)
     page.goto(report.as_uri())
     page.get_by_text("Provenance").first.wait_for(state="visible")
     front = " ".join(page.inner_text("body").split())
@@ -131,6 +135,30 @@ def test_report_reads_as_a_reviewer_needs(tmp_path, browser, build, request):
     supplements = [f for f in registry.FIGURES if f.category == "Supplement"]
     first = registry.FIGURES.index(supplements[0]) + 1
     assert listed == [f"Figure {first + i}" for i in range(len(supplements))]
+    # every item's view icon shows it: Snakemake's report only downloads a CSV or JSON
+    # (its template decides by the type), so each data file is on the report as its
+    # page, the file that page's download
+    types = page.evaluate("Object.values(results).map(r => [r.name, r.mime_type])")
+    assert [name for name, mime in types if mime not in SHOWN] == []
+    # the elastic fits as a table with labels and units, and the CSV to download
+    frame, text = open_item(
+        page,
+        report,
+        ["Fits", "Tables"],
+        textwrap.shorten("The elastic finger per subject and depth", 40, placeholder=" …"),
+    )
+    elastic = read_results_csv(results / "tables" / "elastic_fits.csv")
+    assert frame.locator("tbody tr").count() == len(elastic) > 0
+    headers = frame.evaluate(HEADERS)
+    assert "elastic layered RMSE (mm)" in headers and "depth (mm)" in headers
+    assert "elastic layered modulus ratio" in headers
+    with page.expect_download() as download:
+        frame.get_by_text("Download elastic_fits.csv").click()
+    saved = Path(download.value.path()).read_bytes()
+    assert saved == (results / "tables" / "elastic_fits.csv").read_bytes()
+    # the provenance record on a page of its own under Provenance
+    frame, text = open_item(page, report, ["Provenance", "Pages"], "the provenance record")
+    assert '"sha256"' in text and "Download provenance.json" in text
     # the software page names the versions
     frame, text = open_item(page, report, ["Provenance", "Pages"], "versions and source")
     assert "snakemake" in text and "typst" in text

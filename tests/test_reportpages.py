@@ -42,6 +42,43 @@ def test_a_table_of_named_values_finds_their_standard_errors():
     assert shown[1][1] == 0.01  # a prior: no error, shown as set
 
 
+def test_a_unitless_value_finds_the_interval_that_names_it_by_its_last_word():
+    columns = ["elastic_layered_modulus_ratio", "elastic_layered_ratio_ci_low"]
+    assert error_columns(columns) == {}  # one end is no interval
+    columns.append("elastic_layered_ratio_ci_high")
+    assert error_columns(columns) == {
+        "elastic_layered_modulus_ratio": (
+            "elastic_layered_ratio_ci_low",
+            "elastic_layered_ratio_ci_high",
+        )
+    }
+    # the ratio to two significant digits of its interval, as the article prints it
+    (shown,) = with_supported_digits(columns, [[236.3, 130.2, 396.4]])
+    assert shown == ["236", "130", "396"]
+
+
+def test_a_data_files_page_offers_the_file_and_a_record_is_shown_as_it_is():
+    import base64
+    import re
+
+    from lineload.publishing.reportpages import download_link, record_page
+
+    csv = b"subject,depth_mm\nM1,0.5\n"
+    page = table_page(
+        "t",
+        ["subject", "depth_mm"],
+        [["M1", 0.5]],
+        download=download_link("fits.csv", csv, "text/csv"),
+    )
+    link = re.search(r'<a download="fits.csv"\s+href="data:text/csv;base64,([^"]+)"', page)
+    assert link and base64.b64decode(link.group(1)) == csv
+    assert "Download fits.csv</a>" in page and "<table>" in page
+    assert "Download" not in table_page("t", ["subject"], [["M1"]])  # only where given
+    record = '{\n  "git": {"commit": "<abc>"}\n}'
+    page = record_page("r", record, download=download_link("p.json", record.encode(), "x"))
+    assert "<pre>{\n  &#34;git&#34;: {&#34;commit&#34;: &#34;&lt;abc&gt;&#34;}\n}</pre>" in page
+
+
 def test_values_keep_two_significant_digits_of_their_uncertainty():
     row = ["M1", 0.0840843, 0.00165539, 0.43899, 0.10645, 12.3456, 11.9, 12.8, 2.791041644]
     (shown,) = with_supported_digits(COLUMNS, [row])

@@ -147,7 +147,11 @@ def crate_files(wildcards):
     into inputs/ and source/.  No absolute path: the list stays the same wherever the
     folders are."""
     # (the loop variable is "name": a line that starts with the keyword is read as one)
-    outputs_of = {**OUTPUTS_BY_RULE, "provenance": list(rules.provenance.output)}
+    outputs_of = {
+        **OUTPUTS_BY_RULE,
+        "provenance": list(rules.provenance.output),
+        "provenance_page": list(rules.provenance_page.output),
+    }
     files = [
         {"name": os.path.relpath(f, RES), "rule": name, "kind": "output"}
         for name, outputs in outputs_of.items()

@@ -144,20 +144,8 @@ rule prepare_profiles:
         profiles=profile_files,
         code=code("prepare_profiles.py"),
     output:
-        converted=report_item(
-            result("data", "converted", "{batch}.csv"),
-            caption="../report/converted.rst",
-            category="Data",
-            subcategory="Readings in tissue mm (CSV)",
-            labels={"subjects": "{batch}"},
-        ),
-        averaged=report_item(
-            result("data", "averaged", "{batch}.csv"),
-            caption="../report/averaged.rst",
-            category="Data",
-            subcategory="Left/right averages (CSV)",
-            labels={"subjects": "{batch}"},
-        ),
+        converted=result("data", "converted", "{batch}.csv"),
+        averaged=result("data", "averaged", "{batch}.csv"),
     log:
         result("logs", "prepare_profiles", "{batch}.log"),
     benchmark:

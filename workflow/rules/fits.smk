@@ -10,13 +10,7 @@ rule noise:
         quality=expand(rules.digitise.output.quality, batch=list(DIGITISE_BATCHES)),
         code=code("estimate_noise.py"),
     output:
-        report_item(
-            result("tables", "noise.csv"),
-            caption="../report/noise.rst",
-            category="Fits",
-            subcategory="CSV files",
-            labels={"table": "digitising noise"},
-        ),
+        result("tables", "noise.csv"),
     log:
         result("logs", "noise.log"),
     benchmark:
@@ -59,13 +53,7 @@ rule fits_table:
         tables=expand(rules.fit_models.output[0], batch=BATCH_IDS),
         code=code("concat_tables.py"),
     output:
-        report_item(
-            result("tables", "fits.csv"),
-            caption="../report/fits.rst",
-            category="Fits",
-            subcategory="CSV files",
-            labels={"table": "fits per subject and depth"},
-        ),
+        result("tables", "fits.csv"),
     log:
         result("logs", "fits_table.log"),
     benchmark:
@@ -106,13 +94,7 @@ rule bending_table:
         tables=expand(rules.fit_bending.output[0], batch=BATCH_IDS),
         code=code("concat_tables.py"),
     output:
-        report_item(
-            result("tables", "bending.csv"),
-            caption="../report/bending.rst",
-            category="Fits",
-            subcategory="CSV files",
-            labels={"table": "bending skin per subject and depth"},
-        ),
+        result("tables", "bending.csv"),
     log:
         result("logs", "bending_table.log"),
     benchmark:
@@ -134,13 +116,7 @@ rule elastic_fits:
         noise=rules.noise.output[0],
         code=code("fit_elastic.py"),
     output:
-        report_item(
-            result("tables", "elastic_fits.csv"),
-            caption="../report/elastic_fits.rst",
-            category="Fits",
-            subcategory="CSV files",
-            labels={"table": "elastic finger per subject and depth"},
-        ),
+        result("tables", "elastic_fits.csv"),
     log:
         result("logs", "elastic_fits.log"),
     benchmark:
@@ -185,20 +161,8 @@ rule sensitivity_tables:
         checks=expand(rules.fit_sensitivity.output.checks, batch=BATCH_IDS),
         code=code("sensitivity_tables.py"),
     output:
-        sensitivity=report_item(
-            result("tables", "sensitivity.csv"),
-            caption="../report/sensitivity.rst",
-            category="Supplement",
-            subcategory="CSV files",
-            labels={"table": "sensitivity refits"},
-        ),
-        checks=report_item(
-            result("tables", "trial_checks.csv"),
-            caption="../report/trial_checks.rst",
-            category="Supplement",
-            subcategory="CSV files",
-            labels={"table": "U shift and reach per trial"},
-        ),
+        sensitivity=result("tables", "sensitivity.csv"),
+        checks=result("tables", "trial_checks.csv"),
         markdown=result("tables", "sensitivity.md"),
     log:
         result("logs", "sensitivity_tables.log"),

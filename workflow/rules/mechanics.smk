@@ -9,20 +9,8 @@ rule mechanics:
         forces=FORCES,
         code=code("fit_mechanics.py"),
     output:
-        subjects=report_item(
-            result("tables", "mechanics.csv"),
-            caption="../report/mechanics.rst",
-            category="Mechanics",
-            subcategory="CSV files",
-            labels={"table": "membrane per subject"},
-        ),
-        trials=report_item(
-            result("tables", "mechanics_trials.csv"),
-            caption="../report/mechanics_trials.rst",
-            category="Mechanics",
-            subcategory="CSV files",
-            labels={"table": "membrane per trial"},
-        ),
+        subjects=result("tables", "mechanics.csv"),
+        trials=result("tables", "mechanics_trials.csv"),
     log:
         result("logs", "mechanics.log"),
     benchmark:

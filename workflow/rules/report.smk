@@ -2,8 +2,10 @@
 
 import textwrap
 
-# Snakemake's report shows HTML on the page (a CSV only as a download) and keeps captions
-# behind an icon: each table and figure gets a page with its caption written out.
+# Snakemake's report shows HTML on the page, but its view icon only downloads a CSV or
+# JSON file (its template decides by the file's type), and it keeps captions behind an
+# icon: each table and figure gets a page with its caption written out, and the page,
+# not the data file, is the report's item; a table's page offers its CSV to download.
 # Name -> (title, table, report category).
 REPORT_TABLES = {
     "claims": (
@@ -15,6 +17,11 @@ REPORT_TABLES = {
     "bending": (
         "The bending skin per subject and depth",
         rules.bending_table.output[0],
+        "Fits",
+    ),
+    "elastic_fits": (
+        "The elastic finger per subject and depth",
+        rules.elastic_fits.output[0],
         "Fits",
     ),
     "summary": (
@@ -219,15 +226,8 @@ rule provenance:
         outputs=[f for files in OUTPUTS_BY_RULE.values() for f in files],
         code=code("write_provenance.py"),
     output:
-        report_item(
-            result("provenance.json"),
-            caption="../report/provenance.rst",
-            category="Provenance",
-            # a download (the report shows no JSON), named as the other categories'
-            # CSV files; the versions and the commit are on the software page
-            subcategory="JSON file",
-            labels={"file": "provenance record"},
-        ),
+        # on the report as a page (provenance_page), this file its download
+        result("provenance.json"),
     log:
         result("logs", "provenance.log"),
     benchmark:
@@ -238,6 +238,33 @@ rule provenance:
         config=startup.portable_config(config),
     script:
         "../scripts/write_provenance.py"
+
+
+rule provenance_page:
+    """The provenance record as a page of the report, with the record to download."""
+    input:
+        record=rules.provenance.output[0],
+        caption=os.path.relpath(WORKFLOW_DIR / "report" / "provenance.rst"),
+        code=code("write_provenance_page.py"),
+    output:
+        report_item(
+            result("report", "provenance.html"),
+            caption="../report/provenance.rst",
+            category="Provenance",
+            subcategory="Pages",
+            labels={"page": "the provenance record"},
+        ),
+    log:
+        result("logs", "provenance_page.log"),
+    benchmark:
+        result("benchmarks", "provenance_page.tsv")
+    conda:
+        ENVIRONMENT
+    params:
+        config=startup.portable_config(config),
+        notice=lambda wildcards: NOTICE,
+    script:
+        "../scripts/write_provenance_page.py"
 
 
 # ------------------------------------------------------------------ the run as an RO-Crate
@@ -260,7 +287,7 @@ CRATE_RULES = {
             os.path.relpath(getattr(rules, name).rule.snakefile, REPOSITORY)
         ).as_posix(),
     }
-    for name in [*OUTPUTS_BY_RULE, "provenance"]
+    for name in [*OUTPUTS_BY_RULE, "provenance", "provenance_page"]
 }
 
 
@@ -270,6 +297,7 @@ rule crate:
     """
     input:
         provenance=rules.provenance.output[0],
+        provenance_page=rules.provenance_page.output[0],
         citation=CITATION_FILES,
         # the raw inputs, the subject sheet first (the raw folder is its folder)
         raw=rules.provenance.input.raw,

@@ -9,13 +9,7 @@ rule fit_tables:
     output:
         fits_md=result("tables", "fits.md"),
         fits_tex=result("tables", "fits.tex"),
-        summary_csv=report_item(
-            result("tables", "summary.csv"),
-            caption="../report/summary.rst",
-            category="Fits",
-            subcategory="CSV files",
-            labels={"table": "summary per species and depth"},
-        ),
+        summary_csv=result("tables", "summary.csv"),
         summary_md=result("tables", "summary.md"),
         summary_tex=result("tables", "summary.tex"),
     log:
@@ -46,13 +40,7 @@ rule claims_table:
         boundary_calibration=COMMITTED_CALIBRATION["boundary"],
         code=code("make_claims.py"),
     output:
-        csv=report_item(
-            result("tables", "claims.csv"),
-            caption="../report/claims.rst",
-            category="Claims",
-            subcategory="CSV files",
-            labels={"table": "claims of the paper"},
-        ),
+        csv=result("tables", "claims.csv"),
         md=result("tables", "claims.md"),
     log:
         result("logs", "claims_table.log"),

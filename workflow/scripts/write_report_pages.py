@@ -7,23 +7,23 @@ Snakemake renders them (Jinja with the config, then reStructuredText to HTML).
 import platform
 from pathlib import Path
 
-from docutils.core import publish_parts
-from jinja2 import Template
-
 from lineload.figures import registry
 from lineload.io import output_to, read_json, read_results_csv, write_text
 from lineload.publishing.article import group_depths_text
 from lineload.publishing.provenance import git_state, package_versions
-from lineload.publishing.reportpages import figure_page, table_page, versions_page
+from lineload.publishing.reportpages import (
+    caption,
+    download_link,
+    figure_page,
+    table_page,
+    versions_page,
+)
 from lineload.runtime.jobparams import given
 
 
-def caption(path, config, wildcards=None):
-    """A caption file as HTML (``wildcards``: those of the job whose output it describes)."""
-    text = Template(Path(path).read_text(encoding="utf-8")).render(
-        snakemake={"config": config, "wildcards": wildcards or {}}
-    )
-    return publish_parts(text, writer_name="html5")["body"]
+def csv_download(path):
+    """A table's CSV, offered on its page (the report itself only downloads a CSV)."""
+    return download_link(Path(path).name, Path(path).read_bytes(), "text/csv")
 
 
 def write_report_pages(inputs, outputs, tables, readings, config, notice, subjects, repository):
@@ -39,6 +39,7 @@ def write_report_pages(inputs, outputs, tables, readings, config, notice, subjec
             frame.itertuples(index=False),
             caption(captions / f"{name}.rst", config),
             notice,
+            csv_download(path),
         )
         write_text(text, folder / f"{name}.html")
     # each batch's readings under its kind, captioned as its CSV is
@@ -50,6 +51,7 @@ def write_report_pages(inputs, outputs, tables, readings, config, notice, subjec
             frame.itertuples(index=False),
             caption(captions / f"{kind}.rst", config, {"batch": batch}),
             notice,
+            csv_download(path),
         )
         write_text(text, folder / kind / f"{batch}.html")
     for figure in registry.FIGURES:

@@ -31,7 +31,7 @@ import numpy as np
 from lineload.claims.rows import _n, _row
 from lineload.claims.trials import _averaged_covariance_mm2, _trials, _window_points
 from lineload.claims.verdicts import FAILS, HOLDS, UNTESTABLE
-from lineload.publishing.tables import format_fixed
+from lineload.publishing.tables import format_fixed, span_text
 
 __all__ = [
     "HOMOGENEOUS_ENOUGH",
@@ -177,9 +177,16 @@ def claim_c12(fits, averaged, settings):
         parts.append(
             f"{species}: {_n(len(found), 'trial')}, {counts[LAYERED]} layered, "
             f"{counts[HOMOGENEOUS_ENOUGH]} homogeneous enough, {counts[UNRESOLVED]} "
-            f"unresolved; g {format_fixed(100 * min(gains), 1)}-"
-            f"{format_fixed(100 * max(gains), 1)} % of W₀; layered ratio at the library's "
-            f"largest in {at_bound[species]}"
+            f"unresolved; "
+            # g named with what it is where the text first uses it
+            + (
+                "g "
+                if parts
+                else "the layer's gain g (the RMS misfit it removes beyond "
+                "the noise, as a share of the depth W₀) "
+            )
+            + f"{span_text([100 * g for g in gains], 1, ' %')}; "
+            f"layered ratio at the library's largest in {at_bound[species]}"
         )
     our = "; ".join(parts)
     if any(v == FAILS for v in verdicts.values()):

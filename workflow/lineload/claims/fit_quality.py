@@ -17,7 +17,6 @@ from lineload.claims.rows import (
     _mm,
     _n,
     _p_text,
-    _pct,
     _row,
     _too_few_subjects,
 )
@@ -450,8 +449,8 @@ def claim_c9(fits, averaged, settings):
         f"{FIT_WORDS[m]}: mean residual "
         f"{_span([1e3 * r[0] for r in results[m]], 1, ' µm')} (standard error "
         f"{_span([1e3 * r[1] for r in results[m]], 1, ' µm')}), "
-        f"{_pct(min(r[2] for r in results[m]), 0)} to {_pct(max(r[2] for r in results[m]), 0)} "
-        f"of points deflected less; short of the curve in {int(short[m].sum())} of "
+        f"{_span([100 * r[2] for r in results[m]], 0, ' %')} of points deflected less; "
+        f"short of the curve in {int(short[m].sum())} of "
         f"{_n(len(labels), 'trial')}, beyond it in {int(over[m].sum())}"
         for m in models
     )

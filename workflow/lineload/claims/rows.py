@@ -10,7 +10,11 @@ from lineload.claims.registry import CLAIM_KINDS, CLAIM_TEXT
 from lineload.claims.verdicts import HOLDS, MARGIN_GRID, NO_MARGIN, UNTESTABLE, VERDICTS
 from lineload.publishing.tables import counted, every, format_fixed, join_words, percent_text
 
+#: How the claims table names a figure (its file's name, for a reader of the CSV).
 COORDINATES_FIGURE = "supplementary figure 'coordinates'"
+#: Each figure the claims' text names -> the figure's file name, which the article
+#: labels it with and replaces the name by the figure's number.
+NAMED_FIGURES = {COORDINATES_FIGURE: "supplement_coordinates"}
 
 
 def _mm(value, decimals=2):

@@ -18,7 +18,9 @@ import numpy as np
 from lineload import paper
 from lineload.claims import EVIDENCE_VERDICTS, PAPER_CLAIM, summary_sentence, verdict_counts
 from lineload.claims.registry import NEEDS, SETTINGS, claims_needing, claims_using
+from lineload.claims.rows import NAMED_FIGURES
 from lineload.priors import changed_claims
+from lineload.publishing.formulas import segments
 from lineload.publishing.tables import (
     AT_BOUND_MARK,
     at_bound,
@@ -522,6 +524,10 @@ def article_facts(
             ),
         },
         "claim_verdicts": {row["claim"]: row["verdict"] for _, row in claims.iterrows()},
+        # each claim's rule cut into plain text and formulas, which the article typesets
+        "rules": {row["claim"]: segments(str(row["rule"])) for _, row in claims.iterrows()},
+        # a figure named in the claims' text -> its label: the article cites it by number
+        "named_figures": dict(NAMED_FIGURES),
         # which claims' rules read each setting, from the claims registry
         "claims_using": {setting: join_words(claims_using(setting)) for setting in SETTINGS},
         "claims_needing": {need: join_words(claims_needing(need)) for need in NEEDS},

@@ -21,10 +21,13 @@ import jinja2
 from markupsafe import Markup
 
 __all__ = [
+    "caption",
     "column_label",
+    "download_link",
     "error_columns",
     "figure_page",
     "page",
+    "record_page",
     "table_page",
     "versions_page",
     "with_supported_digits",
@@ -49,6 +52,8 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: now
 th:first-child, td:first-child { position: sticky; left: 0; background: #ffffff; }
 th:first-child { z-index: 1; background: #f9fafb; }
 img { width: 100%; max-width: 1100px; height: auto; border: 1px solid #e5e7eb; }
+.download { margin: 0 0 12px 0; }
+pre { font-size: 12px; background: #f9fafb; padding: 8px 12px; overflow-x: auto; }
 """
 
 
@@ -61,6 +66,9 @@ _PAGE = """\
 <h1>{{ title }}</h1>
 {% if caption_html %}<div class="caption">{{ caption_html }}</div>
 {% endif %}{% if notice %}<div class="notice">{{ notice }}</div>
+{% endif %}{% if download %}<p class="download"><a download="{{ download.name }}"
+ href="data:{{ download.mime }};base64,{{ download.base64 }}">Download {{ download.name }}</a>
+ ({{ download.size }}: the file as the workflow wrote it, which this page shows)</p>
 {% endif %}{% block content %}{{ body }}{% endblock %}
 </body></html>
 """
@@ -72,6 +80,10 @@ _TABLE = """\
 </tr></thead><tbody>
 {%- for row in rows %}<tr>{% for value in row %}{{ value | cell }}{% endfor %}</tr>{% endfor -%}
 </tbody></table>{% endblock %}"""
+
+#: A record (JSON) as it is, indented.
+_RECORD = """\
+{% extends "page" %}{% block content %}<pre>{{ record }}</pre>{% endblock %}"""
 
 #: A figure, embedded as a data URI.
 _FIGURE = """\
@@ -160,6 +172,7 @@ _PLAIN_DECIMALS = (
     ("_prior_share", 3),
     ("_wedge_share", 3),
     ("_mm", 4),
+    ("_mm2", 4),
     ("_um", 1),
     ("_N", 3),
 )
@@ -199,6 +212,14 @@ def error_columns(columns):
             found[column] = (se,)
         if column.endswith("_mm"):
             ends = (column[: -len("_mm")] + "_ci_low_mm", column[: -len("_mm")] + "_ci_high_mm")
+            if all(end in columns for end in ends):
+                found[column] = ends
+        # a value without a unit whose interval names it by its last word
+        # (elastic_layered_modulus_ratio: elastic_layered_ratio_ci_low and _ci_high)
+        words = column.split("_")
+        if len(words) >= 3 and column not in found:
+            stem = "_".join(words[:-2] + words[-1:])
+            ends = (f"{stem}_ci_low", f"{stem}_ci_high")
             if all(end in columns for end in ends):
                 found[column] = ends
     return found
@@ -283,7 +304,9 @@ def _cell(value):
 
 
 _TEMPLATES = jinja2.Environment(
-    loader=jinja2.DictLoader({"page": _PAGE, "table": _TABLE, "figure": _FIGURE}),
+    loader=jinja2.DictLoader(
+        {"page": _PAGE, "table": _TABLE, "figure": _FIGURE, "record": _RECORD}
+    ),
     autoescape=True,
     keep_trailing_newline=True,
     undefined=jinja2.StrictUndefined,
@@ -292,18 +315,73 @@ _TEMPLATES.filters["label"] = column_label
 _TEMPLATES.filters["cell"] = _cell
 
 
-def _render(template, title, caption_html, notice, **values):
+def caption(path, config, wildcards=None):
+    """A caption file (reStructuredText with Jinja, as Snakemake reads a report caption)
+    as HTML.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The caption file (``workflow/report/*.rst``).
+    config : dict
+        The configuration, as ``snakemake.config`` inside the caption.
+    wildcards : dict, optional
+        Those of the job whose output it describes.
+
+    Returns
+    -------
+    str
+        The caption's body as HTML.
+    """
+    from pathlib import Path
+
+    from docutils.core import publish_parts
+
+    text = jinja2.Template(Path(path).read_text(encoding="utf-8")).render(
+        snakemake={"config": config, "wildcards": wildcards or {}}
+    )
+    return publish_parts(text, writer_name="html5")["body"]
+
+
+def download_link(name, data, mime):
+    """What a page needs to offer its file for download: the file embedded as a data URI.
+
+    Parameters
+    ----------
+    name : str
+        The file's name, as the download saves it.
+    data : bytes
+        The file's bytes.
+    mime : str
+        Its type (``text/csv``, ``application/json``).
+
+    Returns
+    -------
+    dict
+        ``name``, ``mime``, ``base64`` and ``size`` (``"3.6 kB"``).
+    """
+    size = f"{len(data) / 1000:.1f} kB" if len(data) >= 1000 else f"{len(data)} bytes"
+    return {
+        "name": name,
+        "mime": mime,
+        "base64": base64.b64encode(data).decode("ascii"),
+        "size": size,
+    }
+
+
+def _render(template, title, caption_html, notice, download=None, **values):
     """A page from one of the templates: the caption is HTML, everything else text."""
     return _TEMPLATES.get_template(template).render(
         title=title,
         style=Markup(_STYLE),
         caption_html=Markup(caption_html),
         notice=notice,
+        download=download,
         **values,
     )
 
 
-def table_page(title, columns, rows, caption_html="", notice=""):
+def table_page(title, columns, rows, caption_html="", notice="", download=None):
     """A table as an HTML page.
 
     Parameters
@@ -317,6 +395,10 @@ def table_page(title, columns, rows, caption_html="", notice=""):
         that uncertainty supports; the CSV keeps every digit.
     caption_html, notice : str, optional
         As for :func:`page`.
+    download : dict, optional
+        The table's file (:func:`download_link`), offered above it: Snakemake's report
+        shows an HTML page but only downloads a CSV, so the page is the report's item
+        and the file its download.
 
     Returns
     -------
@@ -324,7 +406,26 @@ def table_page(title, columns, rows, caption_html="", notice=""):
     """
     columns = [str(c) for c in columns]
     rows = with_supported_digits(columns, rows)
-    return _render("table", title, caption_html, notice, columns=columns, rows=rows)
+    return _render("table", title, caption_html, notice, download, columns=columns, rows=rows)
+
+
+def record_page(title, record_text, caption_html="", notice="", download=None):
+    """A record (a JSON file's text) shown as it is, with the file to download.
+
+    Parameters
+    ----------
+    title, record_text : str
+        Plain text (escaped here).
+    caption_html, notice : str, optional
+        As for :func:`page`.
+    download : dict, optional
+        As for :func:`table_page`.
+
+    Returns
+    -------
+    str
+    """
+    return _render("record", title, caption_html, notice, download, record=record_text)
 
 
 def figure_page(title, png_bytes, caption_html="", notice=""):
