@@ -892,10 +892,40 @@ def _correlation_lags(gamma):
     return int(stop[0]) if stop.size else gamma.size
 
 
+def _sandwich_covariance(design, residual, index, max_lag=200):
+    """Covariance of a least-squares fit whose errors are correlated along the outline or
+    the face: the sandwich ``(X'X)^-1 X' S X (X'X)^-1``, whose ``S`` holds the residual's
+    own autocovariance up to its first non-positive lag (zero beyond).
+
+    Parameters
+    ----------
+    design : numpy.ndarray
+        ``(n, k)``: the fit's columns at each point.
+    residual : numpy.ndarray
+        What the fit left there.
+    index : numpy.ndarray
+        The points' integer places along the outline (columns) or the face (rows): gaps
+        split the lags.
+    """
+    gamma = _autocovariance(residual, index, min(max_lag, residual.size // 4))
+    lags = _correlation_lags(gamma)
+    runs = np.split(np.arange(residual.size), np.flatnonzero(np.diff(index) != 1) + 1)
+    middle = gamma[0] * design.T @ design
+    for lag in range(1, lags):
+        for run in runs:
+            if run.size > lag:
+                a, b = design[run[:-lag]], design[run[lag:]]
+                middle += gamma[lag] * (a.T @ b + b.T @ a)
+    bread = np.linalg.inv(design.T @ design)
+    # the points' count over the correlation's integrated length: what is independent in
+    # them, for a degrees-of-freedom correction of the residual's variance
+    effective = residual.size * gamma[0] / max(gamma[0] + 2.0 * gamma[1:lags].sum(), 1e-300)
+    return bread @ middle @ bread, float(effective)
+
+
 def _registration_sd_mm(design, residual, columns, max_lag=200):
     """SD of the registration's vertical offset: least squares with errors correlated
-    along the outline (a sandwich, ``(X'X)^-1 X' S X (X'X)^-1``, whose ``S`` holds the
-    residual's own autocovariance up to its first non-positive lag).
+    along the outline (:func:`_sandwich_covariance`).
 
     Parameters
     ----------
@@ -906,17 +936,7 @@ def _registration_sd_mm(design, residual, columns, max_lag=200):
     columns : numpy.ndarray
         Their column indices (gaps split the lags).
     """
-    gamma = _autocovariance(residual, columns, min(max_lag, residual.size // 4))
-    lags = _correlation_lags(gamma)
-    runs = np.split(np.arange(residual.size), np.flatnonzero(np.diff(columns) != 1) + 1)
-    middle = gamma[0] * design.T @ design
-    for lag in range(1, lags):
-        for run in runs:
-            if run.size > lag:
-                a, b = design[run[:-lag]], design[run[lag:]]
-                middle += gamma[lag] * (a.T @ b + b.T @ a)
-    bread = np.linalg.inv(design.T @ design)
-    variance = (bread @ middle @ bread)[0, 0]
+    variance = _sandwich_covariance(design, residual, columns, max_lag)[0][0, 0]
     return float(np.sqrt(max(variance, 0.0)))
 
 
@@ -1264,8 +1284,9 @@ def _unread_reason(distance_mm, why, at_mm, half_window_mm):
 
 def _robust_line(heights, columns, pixel_mm):
     """``x = a z + b`` through one face's points, points more than 3 robust SDs (at least
-    a pixel) off dropped twice; its fit, the kept points' count, their residual SD and
-    the lag-1 correlation of the residuals down the face."""
+    a pixel) off dropped twice; its fit, the fit's covariance (the points' errors
+    correlated down the face: :func:`_sandwich_covariance`), the kept points' count and
+    their residual SD."""
     keep = np.ones(heights.size, dtype=bool)
     for _ in range(3):
         if keep.sum() < 10:
@@ -1276,14 +1297,19 @@ def _robust_line(heights, columns, pixel_mm):
         keep = np.abs(residual) <= max(3.0 * spread, pixel_mm)
     if keep.sum() < 10:
         return None
-    (a, b), covariance = np.polyfit(heights[keep], columns[keep], 1, cov="unscaled")
+    a, b = np.polyfit(heights[keep], columns[keep], 1)
     residual = columns[keep] - (a * heights[keep] + b)
     sd = float(np.std(residual, ddof=2))
-    rho = float(np.corrcoef(residual[:-1], residual[1:])[0, 1]) if residual.size > 3 else 0.0
-    rho = min(max(rho, 0.0), 0.95) if np.isfinite(rho) else 0.0
-    # rows' errors correlate through the smoothing: the variance of the fit grows by
-    # (1 + rho) / (1 - rho), an AR(1) chain's
-    return a, b, covariance * sd**2 * (1.0 + rho) / (1.0 - rho), int(keep.sum()), sd
+    # rows' errors correlate through the smoothing and the blur: the fit's covariance is
+    # the sandwich with the residual's own autocovariance down the face (an AR(1) chain
+    # fitted to the lag-1 correlation alone overstated it: docs/calibration/digitiser.md)
+    rows = np.rint((heights[0] - heights[keep]) / pixel_mm).astype(int)
+    design = np.column_stack([heights[keep], np.ones(int(keep.sum()))])
+    covariance, effective = _sandwich_covariance(design, residual, rows)
+    # the residual's variance is that of the points about a line fitted to them, lower
+    # than their errors' by the line's 2 parameters out of the effective count
+    covariance = covariance * effective / max(effective - 2.0, 1.0)
+    return a, b, covariance, int(keep.sum()), sd
 
 
 def _wedge_apex_mm(
