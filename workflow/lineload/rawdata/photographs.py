@@ -566,6 +566,10 @@ def _edges(smooth, scene, name, excluded=None):
     return np.where(found, z_mm, np.nan), np.where(found, at, np.nan), noise
 
 
+#: How far from the notch (mm) the wedge's apex is sought (:func:`_wedge_apex_mm`).
+APEX_SEARCH_MM = 1.0
+
+
 @dataclass
 class DigitisedTrial:
     """The readings of one trial and how well they were made.
@@ -607,6 +611,8 @@ class DigitisedTrial:
     unread : dict, optional
         Side -> list of ``(distance_mm, reason)``: each distance of the grid left
         unread on that side, and why.
+    seen : dict, optional
+        What the digitiser saw, for a diagnostic image (:func:`digitise_pair`).
     """
 
     readings: dict
@@ -622,6 +628,7 @@ class DigitisedTrial:
     reading_sds_mm: dict = None
     tip_sd_mm: float | None = None
     unread: dict = None
+    seen: dict = None
 
 
 def _roughness_mm(z_mm, window_px=25):
@@ -724,14 +731,56 @@ def digitise_pair(
     ------
     ImageError
         If an image has no edge, the wedge's tip cannot be found, or too little skin
-        beyond ``reach_mm`` is in view to register the outlines.
+        beyond ``reach_mm`` is in view to register the outlines.  Its ``seen`` holds what
+        the digitiser saw up to then (as the trial's ``seen`` does): ``scene``,
+        ``exclude_px``, ``reach_mm``, ``failed`` (0 or 1: which image), and as far as it
+        got ``rest_mm`` and ``loaded_mm`` (each column's edge, NaN where none),
+        ``notch_x_mm``, ``apex_region_mm`` (``x_lo, x_hi``: where the apex was sought),
+        ``apex_x_mm``, ``tip_x_mm``, ``why`` (each column's reason for being left out,
+        "" where kept): what :mod:`lineload.figures.diagnostic` draws.
     """
+    seen = {"scene": scene, "exclude_px": list(exclude_px), "reach_mm": reach_mm, "failed": 0}
+    try:
+        return _digitise_pair(
+            seen,
+            rest_image,
+            loaded_image,
+            scene,
+            distances_mm,
+            reach_mm,
+            tip_x_mm,
+            smoothing_px,
+            window_mm,
+            names,
+            exclude_px,
+        )
+    except ImageError as error:
+        error.seen = seen
+        raise
+
+
+def _digitise_pair(
+    seen,
+    rest_image,
+    loaded_image,
+    scene,
+    distances_mm,
+    reach_mm,
+    tip_x_mm,
+    smoothing_px,
+    window_mm,
+    names,
+    exclude_px,
+):
+    """:func:`digitise_pair`'s work; ``seen`` is filled in as it goes."""
     x = scene.column_x_mm
     excluded = excluded_mask(exclude_px, (scene.height_px, scene.width_px), smoothing_px)
     smooth_rest = _smoothed(rest_image, scene, smoothing_px, names[0])
     z_rest, _ = _outline_mm(smooth_rest, scene, names[0], excluded)
+    seen.update(rest_mm=z_rest, failed=1)
     smooth_load = _smoothed(loaded_image, scene, smoothing_px, names[1])
     z_load, contrast_load, _ = _edges(smooth_load, scene, names[1], excluded)
+    seen["loaded_mm"] = z_load
     why = np.where(np.isfinite(z_load), "", "no edge in the column")
     if excluded is not None:
         why = np.where(np.isfinite(z_load) | ~excluded.any(axis=0), why, "an excluded region")
@@ -741,6 +790,11 @@ def digitise_pair(
     notch_x_mm = _notch_mm(x, z_rest, z_load)
     apex = _wedge_apex_mm(smooth_load, scene, z_load, smoothing_px, notch_x_mm, excluded)
     apex_x_mm, apex_sd_mm = apex if apex is not None else (None, None)
+    seen.update(
+        notch_x_mm=notch_x_mm,
+        apex_region_mm=(notch_x_mm - APEX_SEARCH_MM, notch_x_mm + APEX_SEARCH_MM),
+    )
+    seen["apex_x_mm"] = apex_x_mm
     if tip_x_mm is None:
         tip_x_mm = apex_x_mm
         if tip_x_mm is None:  # no wedge seen against the background: the notch's tip
@@ -784,6 +838,7 @@ def digitise_pair(
         "no edge in the column, near the tip (glare as bright as the background?)",
         why,
     )
+    seen.update(tip_x_mm=float(tip_x_mm), why=why)
     z_load = np.where(why == "", z_load, np.nan)
     far = np.isfinite(z_load) & (away > reach_mm)
     if far.sum() < 20 or not ((x[far] < tip_x_mm).any() and (x[far] > tip_x_mm).any()):
@@ -858,6 +913,7 @@ def digitise_pair(
         reading_sds_mm=own,
         tip_sd_mm=None if apex_sd_mm is None else float(apex_sd_mm),
         unread=unread,
+        seen=seen,
     )
 
 
@@ -1320,7 +1376,7 @@ def _wedge_apex_mm(
     notch_x_mm,
     excluded=None,
     half_window_mm=1.5,
-    search_mm=1.0,
+    search_mm=APEX_SEARCH_MM,
     centre_mm=0.3,
 ):
     """x of the wedge's apex, where its two faces meet, and its standard error; None if no
