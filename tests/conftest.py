@@ -171,9 +171,15 @@ def without_failed_check(output):
 
 
 def leftovers(results):
-    """Files a refused run left under the results folder, besides the check's log."""
+    """Files a refused run left under the results folder, besides the check's log and
+    the diagnostic images (PNG) of refused photograph pairs that its lines name."""
     log = results / "logs" / "check_raw_data.log"
-    return sorted(str(p) for p in results.rglob("*") if p.is_file() and p != log)
+    said = log.read_text() if log.is_file() else ""
+    return sorted(
+        str(p)
+        for p in results.rglob("*")
+        if p.is_file() and p != log and not (p.suffix == ".png" and f" {p} (panel" in said)
+    )
 
 
 def refused_run(raw, results, config=()):

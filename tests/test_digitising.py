@@ -96,3 +96,44 @@ def test_one_subjects_rows_of_a_batch_file(together, tmp_path):
     # a raw profile file (one subject, no subject column) comes back as it is
     raw = read_columns(REPO / "data" / "raw" / "profiles" / "M3.csv", load_schema("profiles"))
     assert subject_profile(raw, "M3") is raw
+
+
+def test_a_pair_the_job_refuses_is_drawn_where_its_refusal_says(tmp_path):
+    """A pair the digitise job cannot read (the resting photograph replaced by the
+    loaded one after the check) stops the batch with a message naming the diagnostic
+    PNG, which is there and draws the same bytes twice; without a path, nothing is drawn
+    and the message is the digitiser's own."""
+    import shutil
+
+    import imageio.v3 as iio
+
+    from lineload.rawdata.photographs import ImageError
+
+    raw = tmp_path / "raw"
+    shutil.copytree(RAW, raw)
+    images = raw / "images"
+    shutil.copy(images / "M1_1mm_loaded.png", images / "M1_1mm_rest.png")
+    sheet = read_table(images / "images.csv", load_schema("images"))
+    picture = tmp_path / "logs" / "M1.png"
+    drawn = []
+    for _ in range(2):
+        with pytest.raises(ImageError) as refused:
+            digitise_batch(
+                str(raw),
+                sheet,
+                SUBJECTS,
+                SETTINGS,
+                3.0,
+                log=lambda _: None,
+                diagnostic=str(picture),
+            )
+        assert "M1_1mm_loaded.png: the wedge was not found" in str(refused.value)
+        assert str(refused.value).endswith(f"drawn in {picture} (panel 1)")
+        drawn.append(picture.read_bytes())
+        assert iio.imread(picture).shape[2] in (3, 4)
+        picture.unlink()
+    assert drawn[0] == drawn[1]
+    with pytest.raises(ImageError) as plain:
+        digitise_batch(str(raw), sheet, SUBJECTS, SETTINGS, 3.0, log=lambda _: None)
+    assert "drawn in" not in str(plain.value)
+    assert not picture.exists()

@@ -830,3 +830,58 @@ def test_a_photograph_mistake_stops_the_build_with_one_line_and_nothing_written(
 
     _, output, errors = refuse(tmp_path, change)  # no traceback, nothing but the log
     assert any(words in e and "images/images.csv, line" in e for e in errors), output
+
+
+@pytest.mark.e2e
+def test_a_refused_pair_is_drawn_into_the_checks_log_and_nothing_else_is_left(tmp_path):
+    """The raw-data check refuses a pair whose resting photograph is the loaded one: its
+    line names a PNG beside the batch check's log that draws the pair as the digitiser
+    saw it; no output is left (refused_run), the PNG is the one file beside the log."""
+    import imageio.v3 as iio
+
+    _, output, errors = refuse(tmp_path, lambda raw: photograph_mistake(raw, "rest copied over"))
+    named = [e for e in errors if "M1_1mm_loaded.png: the wedge was not found" in e]
+    assert len(named) == 1, output
+    where = named[0].rsplit(" drawn in ", 1)[1].removesuffix(" (panel 1)")
+    picture = tmp_path / "results" / "logs" / "check_profiles" / os.path.basename(where)
+    assert where == str(picture) and picture.is_file(), named
+    assert iio.imread(picture).ndim == 3
+    left = sorted(p.name for p in (tmp_path / "results").rglob("*") if p.is_file())
+    assert left == sorted(["check_raw_data.log", picture.name]), left
+
+
+@pytest.mark.e2e
+def test_an_accepted_build_writes_no_diagnostic_image(photograph_build):
+    _, results = photograph_build
+    assert (results / "logs" / "check_profiles").is_dir()
+    assert sorted((results / "logs").rglob("*.png")) == []
+
+
+@pytest.mark.e2e
+def test_a_pair_the_digitise_job_refuses_leaves_its_drawing_and_no_output(tmp_path):
+    """The digitise job meets a pair it cannot read (its resting photograph replaced by
+    the loaded one after the check, given an old time, so the check is not redone): the
+    job fails with one line naming its diagnostic PNG, a log Snakemake keeps, and its
+    outputs are not left."""
+    import shutil
+
+    raw, results = photograph_folder(tmp_path / "raw"), tmp_path / "results"
+    config = ["digitise__reach_mm=6.5"]
+    assert run_snakemake("check", raw=raw, results=results, config=config).returncode == 0
+    images = raw / "images"
+    shutil.copy(images / "M1_1mm_loaded.png", images / "M1_1mm_rest.png")
+    os.utime(images / "M1_1mm_rest.png", (1e9, 1e9))  # older than the check
+    batch = batch_of("M1", ["M1", "M2"])
+    target = results / "digitised" / f"{batch}.csv"
+    done = run_snakemake(str(target), raw=raw, results=results, config=config)
+    output = done.stdout + done.stderr
+    assert done.returncode != 0, output
+    picture = results / "logs" / "digitise" / f"{batch}.png"
+    errors = [line for line in output.splitlines() if line.startswith("Error: ")]
+    assert any(
+        "M1_1mm_loaded.png: the wedge was not found" in e
+        and e.endswith(f"drawn in {picture} (panel 1)")
+        for e in errors
+    ), output
+    assert picture.is_file()
+    assert not (results / "digitised").exists() or not any((results / "digitised").iterdir())

@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from conftest import REPO, build_outputs
+from conftest import REPO, build_outputs, run_snakemake
 
 pytestmark = pytest.mark.e2e
 
@@ -111,3 +111,52 @@ def test_readme_slurm_command_gives_the_local_bytes(cluster, tmp_path, small_bui
     assert submitted > 0, output[-3000:]  # the jobs really went through SLURM
     assert build_outputs(slurm) == expected
     print(f"default target on SLURM: {seconds:.1f} s, {submitted} SLURM jobs")
+
+
+def two_pair_photographs(folder):
+    """The photograph example's first monkey alone (data/photographs): two pairs, at 1
+    and 2 mm, with their truth, so the digitise rule runs."""
+    import pandas as pd
+
+    shutil.copytree(REPO / "data" / "photographs", folder)
+    for name in ("subjects.csv", "images/images.csv", "images/truth.csv"):
+        table = pd.read_csv(folder / name)
+        table[table["subject"] == "M1"].to_csv(folder / name, index=False)
+    for image in (folder / "images").glob("M2_*"):
+        image.unlink()
+    return folder
+
+
+def test_photographs_digitised_on_slurm_give_the_local_bytes(cluster, tmp_path):
+    """The digitise rule (never reached by the shipped data, which have no photographs)
+    through the SLURM profile: the raw-data check reads both pairs, one digitise job
+    reads them again; its readings, quality record and figures equal a local run's."""
+    from lineload.runtime.batches import batches
+
+    raw = two_pair_photographs(tmp_path / "photographs")
+    config = ("--configfile", str(REPO / "config" / "photographs.yaml"))
+    (batch,) = batches(["M1"])  # one subject: one batch, whatever its size
+    suffixes = ("csv", "json", "pdf", "png")
+    local = tmp_path / "local" / "results"
+    targets = [str(local / "digitised" / f"{batch}.{s}") for s in suffixes]
+    started = time.monotonic()
+    done = run_snakemake(*targets, *config, raw=raw, results=local)  # --configfile: last
+    assert done.returncode == 0, done.stderr[-3000:]
+    local_seconds = time.monotonic() - started
+    profile = profile_for(cluster, tmp_path / "profile")
+    slurm = tmp_path / "slurm" / "results"
+    polling = ("--seconds-between-status-checks", "1")
+    polling += ("--slurm-init-seconds-before-status-checks", "1")
+    targets = [str(slurm / "digitised" / f"{batch}.{s}") for s in suffixes]
+    output, seconds = snakemake(
+        "--profile", str(profile), *polling, *targets, *config, raw=raw, results=slurm
+    )
+    submitted = cluster_jobs(output)
+    assert submitted >= 3, output[-3000:]  # both checks and the digitise job
+    expected = build_outputs(local)
+    assert any(path.startswith("digitised/") for path in expected)
+    assert build_outputs(slurm) == expected
+    print(
+        f"two photograph pairs digitised on SLURM: {seconds:.1f} s, {submitted} SLURM jobs "
+        f"(locally {local_seconds:.1f} s)"
+    )

@@ -32,6 +32,10 @@ rule check_profiles:
     output:
         result("data", "checked", "{batch}.json"),
     log:
+        # (and, beside it, {batch}.png, only where a photograph pair is refused: the
+        # pairs as the digitiser saw them, named by the refusal; not declared, so
+        # neither Snakemake nor a refused folder's clean-up removes it, nor does an
+        # accepted batch get an empty one)
         result("logs", "check_profiles", "{batch}.log"),
     benchmark:
         result("benchmarks", "check_profiles", "{batch}.tsv")
@@ -120,6 +124,7 @@ rule digitise:
             labels={"subjects": "{batch}"},
         ),
     log:
+        # (and {batch}.png beside it where a pair is refused, as check_profiles does)
         result("logs", "digitise", "{batch}.log"),
     benchmark:
         result("benchmarks", "digitise", "{batch}.tsv")

@@ -68,7 +68,9 @@ def truth_curves(truth, subject):
     return curves
 
 
-def digitise_batch(raw_dir, images, subjects, settings, window_mm, truth=None, log=print):
+def digitise_batch(
+    raw_dir, images, subjects, settings, window_mm, truth=None, log=print, diagnostic=None
+):
     """Digitise every pair of ``subjects``, one pair at a time.
 
     Parameters
@@ -87,10 +89,18 @@ def digitise_batch(raw_dir, images, subjects, settings, window_mm, truth=None, l
         images/truth.csv, where the folder has one.
     log : callable, optional
         Called with one line per trial.
+    diagnostic : str, optional
+        Where to draw a refused pair as the digitiser saw it
+        (:mod:`lineload.figures.diagnostic`); its refusal then names it.
 
     Returns
     -------
     BatchResult
+
+    Raises
+    ------
+    lineload.rawdata.photographs.ImageError
+        If a pair cannot be read (the pair drawn into ``diagnostic``, when given).
     """
     import heapq
 
@@ -98,6 +108,7 @@ def digitise_batch(raw_dir, images, subjects, settings, window_mm, truth=None, l
 
     from lineload.rawdata.images import image_scale_px_per_mm
     from lineload.rawdata.photographs import (
+        ImageError,
         digitise_photographs,
         own_reading_sd_mm,
         profile_rows,
@@ -123,9 +134,20 @@ def digitise_batch(raw_dir, images, subjects, settings, window_mm, truth=None, l
             names = [os.path.join(raw_dir, f) for f in files]
             pictures = [read_photograph(name, name) for name in names]
             ppmm = float(scale.loc[loaded.name])
-            trial = digitise_photographs(
-                *pictures, ppmm, grid, settings, tip_x_px=loaded.get("tip_x_px"), names=names
-            )
+            try:
+                trial = digitise_photographs(
+                    *pictures, ppmm, grid, settings, tip_x_px=loaded.get("tip_x_px"), names=names
+                )
+            except ImageError as error:
+                seen = getattr(error, "seen", None)
+                if diagnostic is None or seen is None:
+                    raise
+                from lineload.figures.diagnostic import Refusals
+
+                refusals = Refusals(diagnostic)
+                message = refusals.note(pictures[seen.get("failed", 1)], seen, str(error))
+                refusals.write()
+                raise ImageError(message) from None
             result.rows += [
                 (subject, *row) for row in profile_rows(depth_mm, trial, about["magnification"])
             ]

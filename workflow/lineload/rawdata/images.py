@@ -115,6 +115,7 @@ def check_images(
     digitise=None,
     plausibility=None,
     read=None,
+    diagnose=None,
 ):
     """Check ``images/images.csv`` and the photographs it names.
 
@@ -149,6 +150,10 @@ def check_images(
         checked); None for every listed subject.  The other rows are checked as rows
         of the sheet only: the raw-data check reads each batch's photographs in the
         batch's job, and the sheet in the job that gathers them.
+    diagnose : callable, optional
+        Takes each refused pair's photograph, what the digitiser saw and the refusal,
+        and returns the refusal's line (:meth:`lineload.figures.diagnostic.Refusals.note`:
+        the check_profiles job draws them into its log folder).
 
     Returns
     -------
@@ -305,6 +310,7 @@ def check_images(
                     raw_dir,
                     depth,
                     limits["deflection_factor"],
+                    diagnose,
                 )
                 if problem:
                     found.error(sheet_shown, line, "file", problem)
@@ -343,12 +349,23 @@ def _photograph_file_problem(path, name, shown, raw_dir):
 
 
 def _digitising_problem(
-    rest_path, loaded_path, ppmm, loaded_row, settings, shown, raw_dir, depth_mm, factor
+    rest_path,
+    loaded_path,
+    ppmm,
+    loaded_row,
+    settings,
+    shown,
+    raw_dir,
+    depth_mm,
+    factor,
+    diagnose=None,
 ):
     """Why a pair cannot be read, or is no plausible indentation (one line), or None.
 
     The pair is read as its job reads it, over the same distances, and its readings held
-    to the profile files' bounds (:func:`lineload.rawdata.photographs.trial_problem`)."""
+    to the profile files' bounds (:func:`lineload.rawdata.photographs.trial_problem`).
+    ``diagnose`` (:meth:`lineload.figures.diagnostic.Refusals.note`), when given, takes
+    each refusal with the photograph and what the digitiser saw, and returns its line."""
     from lineload.rawdata.photographs import (
         ImageError,
         digitise_photographs,
@@ -370,21 +387,31 @@ def _digitising_problem(
             rest, loaded, ppmm, grid, settings, tip_x_px=loaded_row.get("tip_x_px"), names=names
         )
 
+    def refused(message, seen):
+        if diagnose is None or seen is None:
+            return message
+        return diagnose(images[seen.get("failed", 1)], seen, message)
+
     try:
         trial = read(*images)
     except ImageError as error:
+        seen = getattr(error, "seen", None)
         if "the wedge was not found" not in str(error):
-            return str(error)
+            return refused(str(error), seen)
         try:  # the resting photograph shows the notch: the two swapped
             read(*images[::-1])
         except ImageError:
-            return (
+            return refused(
                 f"{error}; is the loaded photograph the resting one (copied over it)?"
                 if "notch" in str(error)
-                else str(error)
+                else str(error),
+                seen,
             )
-        return f"{error}; the resting photograph shows it: are rest and loaded swapped?"
-    return trial_problem(trial, depth_mm, factor, names)
+        return refused(
+            f"{error}; the resting photograph shows it: are rest and loaded swapped?", seen
+        )
+    problem = trial_problem(trial, depth_mm, factor, names)
+    return refused(problem, trial.seen) if problem else None
 
 
 def _images_schema():

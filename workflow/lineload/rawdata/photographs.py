@@ -566,6 +566,10 @@ def _edges(smooth, scene, name, excluded=None):
     return np.where(found, z_mm, np.nan), np.where(found, at, np.nan), noise
 
 
+#: How far from the notch (mm) the wedge's apex is sought (:func:`_wedge_apex_mm`).
+APEX_SEARCH_MM = 1.0
+
+
 @dataclass
 class DigitisedTrial:
     """The readings of one trial and how well they were made.
@@ -607,6 +611,8 @@ class DigitisedTrial:
     unread : dict, optional
         Side -> list of ``(distance_mm, reason)``: each distance of the grid left
         unread on that side, and why.
+    seen : dict, optional
+        What the digitiser saw, for a diagnostic image (:func:`digitise_pair`).
     """
 
     readings: dict
@@ -622,6 +628,7 @@ class DigitisedTrial:
     reading_sds_mm: dict = None
     tip_sd_mm: float | None = None
     unread: dict = None
+    seen: dict = None
 
 
 def _roughness_mm(z_mm, window_px=25):
@@ -724,14 +731,56 @@ def digitise_pair(
     ------
     ImageError
         If an image has no edge, the wedge's tip cannot be found, or too little skin
-        beyond ``reach_mm`` is in view to register the outlines.
+        beyond ``reach_mm`` is in view to register the outlines.  Its ``seen`` holds what
+        the digitiser saw up to then (as the trial's ``seen`` does): ``scene``,
+        ``exclude_px``, ``reach_mm``, ``failed`` (0 or 1: which image), and as far as it
+        got ``rest_mm`` and ``loaded_mm`` (each column's edge, NaN where none),
+        ``notch_x_mm``, ``apex_region_mm`` (``x_lo, x_hi``: where the apex was sought),
+        ``apex_x_mm``, ``tip_x_mm``, ``why`` (each column's reason for being left out,
+        "" where kept): what :mod:`lineload.figures.diagnostic` draws.
     """
+    seen = {"scene": scene, "exclude_px": list(exclude_px), "reach_mm": reach_mm, "failed": 0}
+    try:
+        return _digitise_pair(
+            seen,
+            rest_image,
+            loaded_image,
+            scene,
+            distances_mm,
+            reach_mm,
+            tip_x_mm,
+            smoothing_px,
+            window_mm,
+            names,
+            exclude_px,
+        )
+    except ImageError as error:
+        error.seen = seen
+        raise
+
+
+def _digitise_pair(
+    seen,
+    rest_image,
+    loaded_image,
+    scene,
+    distances_mm,
+    reach_mm,
+    tip_x_mm,
+    smoothing_px,
+    window_mm,
+    names,
+    exclude_px,
+):
+    """:func:`digitise_pair`'s work; ``seen`` is filled in as it goes."""
     x = scene.column_x_mm
     excluded = excluded_mask(exclude_px, (scene.height_px, scene.width_px), smoothing_px)
     smooth_rest = _smoothed(rest_image, scene, smoothing_px, names[0])
     z_rest, _ = _outline_mm(smooth_rest, scene, names[0], excluded)
+    seen.update(rest_mm=z_rest, failed=1)
     smooth_load = _smoothed(loaded_image, scene, smoothing_px, names[1])
     z_load, contrast_load, _ = _edges(smooth_load, scene, names[1], excluded)
+    seen["loaded_mm"] = z_load
     why = np.where(np.isfinite(z_load), "", "no edge in the column")
     if excluded is not None:
         why = np.where(np.isfinite(z_load) | ~excluded.any(axis=0), why, "an excluded region")
@@ -741,6 +790,11 @@ def digitise_pair(
     notch_x_mm = _notch_mm(x, z_rest, z_load)
     apex = _wedge_apex_mm(smooth_load, scene, z_load, smoothing_px, notch_x_mm, excluded)
     apex_x_mm, apex_sd_mm = apex if apex is not None else (None, None)
+    seen.update(
+        notch_x_mm=notch_x_mm,
+        apex_region_mm=(notch_x_mm - APEX_SEARCH_MM, notch_x_mm + APEX_SEARCH_MM),
+    )
+    seen["apex_x_mm"] = apex_x_mm
     if tip_x_mm is None:
         tip_x_mm = apex_x_mm
         if tip_x_mm is None:  # no wedge seen against the background: the notch's tip
@@ -784,6 +838,7 @@ def digitise_pair(
         "no edge in the column, near the tip (glare as bright as the background?)",
         why,
     )
+    seen.update(tip_x_mm=float(tip_x_mm), why=why)
     z_load = np.where(why == "", z_load, np.nan)
     far = np.isfinite(z_load) & (away > reach_mm)
     if far.sum() < 20 or not ((x[far] < tip_x_mm).any() and (x[far] > tip_x_mm).any()):
@@ -858,6 +913,7 @@ def digitise_pair(
         reading_sds_mm=own,
         tip_sd_mm=None if apex_sd_mm is None else float(apex_sd_mm),
         unread=unread,
+        seen=seen,
     )
 
 
@@ -892,10 +948,40 @@ def _correlation_lags(gamma):
     return int(stop[0]) if stop.size else gamma.size
 
 
+def _sandwich_covariance(design, residual, index, max_lag=200):
+    """Covariance of a least-squares fit whose errors are correlated along the outline or
+    the face: the sandwich ``(X'X)^-1 X' S X (X'X)^-1``, whose ``S`` holds the residual's
+    own autocovariance up to its first non-positive lag (zero beyond).
+
+    Parameters
+    ----------
+    design : numpy.ndarray
+        ``(n, k)``: the fit's columns at each point.
+    residual : numpy.ndarray
+        What the fit left there.
+    index : numpy.ndarray
+        The points' integer places along the outline (columns) or the face (rows): gaps
+        split the lags.
+    """
+    gamma = _autocovariance(residual, index, min(max_lag, residual.size // 4))
+    lags = _correlation_lags(gamma)
+    runs = np.split(np.arange(residual.size), np.flatnonzero(np.diff(index) != 1) + 1)
+    middle = gamma[0] * design.T @ design
+    for lag in range(1, lags):
+        for run in runs:
+            if run.size > lag:
+                a, b = design[run[:-lag]], design[run[lag:]]
+                middle += gamma[lag] * (a.T @ b + b.T @ a)
+    bread = np.linalg.inv(design.T @ design)
+    # the points' count over the correlation's integrated length: what is independent in
+    # them, for a degrees-of-freedom correction of the residual's variance
+    effective = residual.size * gamma[0] / max(gamma[0] + 2.0 * gamma[1:lags].sum(), 1e-300)
+    return bread @ middle @ bread, float(effective)
+
+
 def _registration_sd_mm(design, residual, columns, max_lag=200):
     """SD of the registration's vertical offset: least squares with errors correlated
-    along the outline (a sandwich, ``(X'X)^-1 X' S X (X'X)^-1``, whose ``S`` holds the
-    residual's own autocovariance up to its first non-positive lag).
+    along the outline (:func:`_sandwich_covariance`).
 
     Parameters
     ----------
@@ -906,17 +992,7 @@ def _registration_sd_mm(design, residual, columns, max_lag=200):
     columns : numpy.ndarray
         Their column indices (gaps split the lags).
     """
-    gamma = _autocovariance(residual, columns, min(max_lag, residual.size // 4))
-    lags = _correlation_lags(gamma)
-    runs = np.split(np.arange(residual.size), np.flatnonzero(np.diff(columns) != 1) + 1)
-    middle = gamma[0] * design.T @ design
-    for lag in range(1, lags):
-        for run in runs:
-            if run.size > lag:
-                a, b = design[run[:-lag]], design[run[lag:]]
-                middle += gamma[lag] * (a.T @ b + b.T @ a)
-    bread = np.linalg.inv(design.T @ design)
-    variance = (bread @ middle @ bread)[0, 0]
+    variance = _sandwich_covariance(design, residual, columns, max_lag)[0][0, 0]
     return float(np.sqrt(max(variance, 0.0)))
 
 
@@ -1264,8 +1340,9 @@ def _unread_reason(distance_mm, why, at_mm, half_window_mm):
 
 def _robust_line(heights, columns, pixel_mm):
     """``x = a z + b`` through one face's points, points more than 3 robust SDs (at least
-    a pixel) off dropped twice; its fit, the kept points' count, their residual SD and
-    the lag-1 correlation of the residuals down the face."""
+    a pixel) off dropped twice; its fit, the fit's covariance (the points' errors
+    correlated down the face: :func:`_sandwich_covariance`), the kept points' count and
+    their residual SD."""
     keep = np.ones(heights.size, dtype=bool)
     for _ in range(3):
         if keep.sum() < 10:
@@ -1276,14 +1353,19 @@ def _robust_line(heights, columns, pixel_mm):
         keep = np.abs(residual) <= max(3.0 * spread, pixel_mm)
     if keep.sum() < 10:
         return None
-    (a, b), covariance = np.polyfit(heights[keep], columns[keep], 1, cov="unscaled")
+    a, b = np.polyfit(heights[keep], columns[keep], 1)
     residual = columns[keep] - (a * heights[keep] + b)
     sd = float(np.std(residual, ddof=2))
-    rho = float(np.corrcoef(residual[:-1], residual[1:])[0, 1]) if residual.size > 3 else 0.0
-    rho = min(max(rho, 0.0), 0.95) if np.isfinite(rho) else 0.0
-    # rows' errors correlate through the smoothing: the variance of the fit grows by
-    # (1 + rho) / (1 - rho), an AR(1) chain's
-    return a, b, covariance * sd**2 * (1.0 + rho) / (1.0 - rho), int(keep.sum()), sd
+    # rows' errors correlate through the smoothing and the blur: the fit's covariance is
+    # the sandwich with the residual's own autocovariance down the face (an AR(1) chain
+    # fitted to the lag-1 correlation alone overstated it: docs/calibration/digitiser.md)
+    rows = np.rint((heights[0] - heights[keep]) / pixel_mm).astype(int)
+    design = np.column_stack([heights[keep], np.ones(int(keep.sum()))])
+    covariance, effective = _sandwich_covariance(design, residual, rows)
+    # the residual's variance is that of the points about a line fitted to them, lower
+    # than their errors' by the line's 2 parameters out of the effective count
+    covariance = covariance * effective / max(effective - 2.0, 1.0)
+    return a, b, covariance, int(keep.sum()), sd
 
 
 def _wedge_apex_mm(
@@ -1294,7 +1376,7 @@ def _wedge_apex_mm(
     notch_x_mm,
     excluded=None,
     half_window_mm=1.5,
-    search_mm=1.0,
+    search_mm=APEX_SEARCH_MM,
     centre_mm=0.3,
 ):
     """x of the wedge's apex, where its two faces meet, and its standard error; None if no

@@ -3,9 +3,11 @@
 A photographed trial's readings come with three uncertainties that the fits take at
 their word (:mod:`lineload.rawdata.photographs`): each reading's own SD (the two
 outlines' edge errors averaged over its columns), the registration's SD (an offset
-shared by every reading of the trial) and, through both, each reading's total SD.  The
-wedge's tip has no stated SD of its own (the noise model's ``wedge_position_sd_mm`` is
-a prior); its error is measured here so that the prior can be set from it.
+shared by every reading of the trial) and, through both, each reading's total SD; and,
+where the wedge is seen against the background, the standard error of its apex (from
+the scatter of its faces' points about their lines; the noise model's
+``wedge_position_sd_mm`` stays a prior, which the tip's measured error here is set
+against).
 
 Each pair is rendered (:func:`lineload.rawdata.photographs.render_photograph`) from a
 finger whose resting outline is a circle and whose loaded outline is that circle
@@ -20,7 +22,9 @@ SD is set against the error the truth shows:
   the *true* tip of the columns it averaged, less the registration's error (so the tip's
   error, a separate term of the noise model, is not charged to the reading);
 * a reading's total error: the same with the registration's error kept;
-* the tip: the tip placed against the true one (pixels and um).
+* the tip: the tip placed against the true one (pixels and um);
+* the apex's stated SD: the apex seen against the true tip, as a z-score (error over
+  stated SD), where an apex was seen.
 
 A stated SD ``s`` covers an error ``e`` when ``|e| <= 1.96 s`` (nominal 95 %).
 ``docs/calibration/scripts/digitiser.py`` runs :func:`digitiser_calibration` and writes
@@ -64,6 +68,8 @@ PAIR_COLUMNS = [
     "read",
     "tip_error_px",
     "tip_error_um",
+    "apex_error_px",
+    "apex_sd_px",
     "registration_error_um",
     "registration_sd_um",
     "readings",
@@ -205,6 +211,10 @@ def _pair_errors(seed, settings):
             "read": True,
             "tip_error_px": round(tip_error / pixel_mm, 4),
             "tip_error_um": round(1000 * tip_error, 4),
+            "apex_error_px": None
+            if trial.apex_x_mm is None
+            else round((trial.apex_x_mm - pair["tip_x_mm"]) / pixel_mm, 4),
+            "apex_sd_px": None if trial.tip_sd_mm is None else round(trial.tip_sd_mm / pixel_mm, 4),
             "registration_error_um": round(1000 * registration_error, 4),
             "registration_sd_um": round(1000 * trial.registration_sd_mm, 4),
             "readings": len(readings),
@@ -261,13 +271,25 @@ def coverage_summary(pairs, readings, multiple=1.0):
         ``own_by_band`` (band label -> coverage, count); the tip's and the
         registration's error in numbers (``tip_rms_px``, ``tip_p95_px``, ``tip_rms_um``,
         ``tip_p95_um``,
-        ``registration_bias_um``, ``registration_rms_um``, ``registration_sd_median_um``).
+        ``registration_bias_um``, ``registration_rms_um``, ``registration_sd_median_um``);
+        the apex's stated SD against its error where an apex was seen: ``apex_seen``,
+        ``apex_covered`` (count), ``apex`` (coverage), ``apex_ci`` (Clopper-Pearson 95 %
+        interval of it), ``apex_z_sd`` (SD of error over stated SD; 1 when the SD is
+        right) and ``apex_sd_median_px``.
     """
+    from scipy.stats import binomtest
+
     done = [p for p in pairs if p.get("read")]
     reg_error = np.array([p["registration_error_um"] for p in done])
     reg_sd = multiple * np.array([p["registration_sd_um"] for p in done])
     tip = np.array([p["tip_error_px"] for p in done])
     tip_um = np.array([p["tip_error_um"] for p in done])
+    seen = [p for p in done if p.get("apex_sd_px") not in (None, "")]
+    apex_z = np.array([p["apex_error_px"] / (multiple * p["apex_sd_px"]) for p in seen])
+    apex_covered = int(np.sum(np.abs(apex_z) <= COVERAGE_Z))
+    apex_ci = (
+        binomtest(apex_covered, len(seen)).proportion_ci(0.95, method="exact") if seen else None
+    )
     distance, own_e, own_s, total_e, total_s = readings.T
     own = np.abs(own_e) <= COVERAGE_Z * multiple * own_s
     bands = {}
@@ -294,5 +316,13 @@ def coverage_summary(pairs, readings, multiple=1.0):
         "registration_rms_um": float(np.sqrt(np.mean(reg_error**2))),
         "registration_sd_median_um": float(np.median(reg_sd)),
         "own_rms_um": float(1000 * np.sqrt(np.mean(own_e**2))),
+        "apex_seen": len(seen),
+        "apex_covered": apex_covered,
+        "apex": apex_covered / len(seen) if seen else float("nan"),
+        "apex_ci": (apex_ci.low, apex_ci.high) if seen else (float("nan"), float("nan")),
+        "apex_z_sd": float(np.std(apex_z, ddof=1)) if len(seen) > 1 else float("nan"),
+        "apex_sd_median_px": float(np.median([multiple * p["apex_sd_px"] for p in seen]))
+        if seen
+        else float("nan"),
         "own_sd_rms_um": float(1000 * multiple * np.sqrt(np.mean(own_s**2))),
     }
