@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 from lineload.io import config_defaults
-from lineload.rawdata.photographs import _registration_sd_mm, _robust_line, _sample
+from lineload.rawdata.photographs.apex import _robust_line
+from lineload.rawdata.photographs.digitise import _sample
+from lineload.rawdata.photographs.uncertainty import _registration_sd_mm
 from lineload.simulation.digitiser import coverage_summary, digitiser_calibration
 
 #: Pairs rendered here; the committed calibration (docs/calibration/scripts/digitiser.py)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from lineload.rawdata import photographs
-from lineload.rawdata.photographs import ImageError, Scene, digitise_photographs
+from lineload.rawdata.photographs import ImageError, Scene, apex, digitise_photographs, edges
 from lineload.rawdata.readings import reading_distances_mm
 from lineload.simulation.hard_photographs import HardCase, render_pair, true_deflection_mm
 
@@ -57,7 +57,7 @@ def errors_um(case, trial, within_mm=3.0):
 
 def smoothed(image):
     scene = Scene(PPMM, 0.0, 0.0, image.shape[1], image.shape[0])
-    return photographs._smoothed(image, scene, SETTINGS["smoothing_px"], "loaded"), scene
+    return edges._smoothed(image, scene, SETTINGS["smoothing_px"], "loaded"), scene
 
 
 @pytest.mark.parametrize("bar", ["top-left", "top-right"])
@@ -67,7 +67,7 @@ def test_a_scale_bar_the_darkest_column_rule_takes_for_the_wedge_is_ignored(bar)
     case = small_case(bar=bar, bar_kind="ruler")
     trial, tip_column, loaded = read(case)
     smooth, scene = smoothed(loaded)
-    z_mm, _, _ = photographs._edges(smooth, scene, "loaded")
+    z_mm, _, _ = edges._edges(smooth, scene, "loaded")
     above_skin = int(-np.nanmax(z_mm) * PPMM - 4 * SETTINGS["smoothing_px"])
     darkest = int(np.argmin(smooth[2:above_skin].mean(axis=0)))
     assert abs(darkest - tip_column) > 200  # the old rule's wedge: the ruler's corner
@@ -102,7 +102,7 @@ def test_a_steep_notch_side_is_read_where_an_unsloped_contrast_rule_drops_it():
     case = HardCase(**{**case.__dict__, "height_px": 240})
     trial, _, loaded = read(case)
     smooth, scene = smoothed(loaded)
-    _, fall, _ = photographs._edges(smooth, scene, "loaded")
+    _, fall, _ = edges._edges(smooth, scene, "loaded")
     away = np.abs(scene.column_x_mm - trial.tip_x_mm)
     reference = np.nanmedian(fall[(away > 1) & (away < 3)])
     near = (away < 1) & (away > 0.1)
@@ -141,9 +141,9 @@ def test_a_pair_without_skin_is_refused_with_the_measured_contrast():
 
 
 def test_a_failing_value_never_prints_as_its_threshold():
-    assert photographs._shown(7.9996, 8.0) != "8"
-    assert float(photographs._shown(7.9996, 8.0)) < 8.0
-    assert photographs._shown(3.21, 8.0) == "3.21"
+    assert edges._shown(7.9996, 8.0) != "8"
+    assert float(edges._shown(7.9996, 8.0)) < 8.0
+    assert edges._shown(3.21, 8.0) == "3.21"
 
 
 def test_the_sheets_tip_is_checked_against_the_apex_and_the_apex_error_is_measured():
@@ -197,6 +197,6 @@ def test_a_ruler_crossing_the_wedges_face_is_not_taken_for_its_middle():
     trial, tip_column, loaded = read(case)
     assert trial.tip_x_mm * PPMM - 0.5 == pytest.approx(tip_column, abs=0.5)
     smooth, scene = smoothed(loaded)
-    z_mm, _, _ = photographs._edges(smooth, scene, "loaded")
-    wide = photographs._wedge_apex_mm(smooth, scene, z_mm, 1.5, trial.tip_x_mm, centre_mm=1.0)
+    z_mm, _, _ = edges._edges(smooth, scene, "loaded")
+    wide = apex._wedge_apex_mm(smooth, scene, z_mm, 1.5, trial.tip_x_mm, centre_mm=1.0)
     assert abs(wide[0] * PPMM - 0.5 - tip_column) > 10

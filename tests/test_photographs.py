@@ -12,13 +12,12 @@ import pytest
 from conftest import REPO, batch_of, refused_run, run_snakemake
 from lineload.fitting.batch import fit_waterbed
 from lineload.rawdata.photographs import (
-    Camera,
     ImageError,
     Scene,
     digitise_pair,
-    render_photograph,
     skin_outline_mm,
 )
+from lineload.simulation.photograph_render import Camera, render_photograph
 from lineload.simulation.synthetic import reading_distances_mm, true_deflection_mm
 
 #: The field of view of the test photographs: 80 pixels per tissue mm (12.5 um a pixel),
@@ -204,7 +203,7 @@ def test_colour_photographs_are_read_as_grey():
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.uint16])
 def test_a_grey_photograph_saved_in_colour_keeps_every_level(dtype):
-    from lineload.rawdata.photographs import _as_float
+    from lineload.rawdata.photographs.files import _as_float
 
     # every level, saved as RGB and as RGBA (alpha ignored): the grey read back is each
     # level over full scale, to the rounding of the weights' sum (1 to within 2e-16).

@@ -24,7 +24,9 @@ images
 paths
     Links leading out of the raw folder; names that nearly match the contract's.
 photographs
-    Reading a skin outline from a pair of photographs (before and under the wedge).
+    A subpackage: reading a skin outline from a pair of photographs (before and under
+    the wedge): the files, the edges, glare, the wedge's apex, the stated
+    uncertainties and the pair read into readings, one module each.
 digitising
     A batch of photographed subjects read pair by pair, as rule ``digitise`` does.
 readings

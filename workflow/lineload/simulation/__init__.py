@@ -18,6 +18,9 @@ dataset
     The files of the raw-data folder, the tables of true parameters, the built-in verdicts.
 notices
     The notices that mark a generated folder as synthetic.
+photograph_render
+    Side views of a finger as a camera takes them (the example's and the digitiser
+    calibration's renderer).
 photograph_example
     The photograph example (two fingers photographed at rest and loaded).
 coverage

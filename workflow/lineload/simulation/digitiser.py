@@ -9,7 +9,7 @@ the scatter of its faces' points about their lines; the noise model's
 ``wedge_position_sd_mm`` stays a prior, which the tip's measured error here is set
 against).
 
-Each pair is rendered (:func:`lineload.rawdata.photographs.render_photograph`) from a
+Each pair is rendered (:func:`lineload.simulation.photograph_render.render_photograph`) from a
 finger whose resting outline is a circle and whose loaded outline is that circle
 lowered by a known deflection, each side its own, with a known shift between the two
 shots; scale, field of view, blur, sensor noise, lighting, texture, glare, levels and
@@ -82,7 +82,7 @@ PAIR_COLUMNS = [
 
 def _scene_and_camera(rng):
     """A field of view and a camera drawn for one pair (ranges in the module's text)."""
-    from lineload.rawdata.photographs import Camera
+    from lineload.simulation.photograph_render import Camera
 
     camera = Camera(
         blur_px=rng.uniform(0.7, 2.5),
@@ -113,7 +113,8 @@ def rendered_pair(seed):
         ``deflection`` (side -> callable of the distance from the true tip, mm) and
         ``outlines_mm`` (the true resting and loaded outlines, callables of x).
     """
-    from lineload.rawdata.photographs import Scene, render_photograph
+    from lineload.rawdata.photographs import Scene
+    from lineload.simulation.photograph_render import render_photograph
 
     rng = np.random.default_rng([2611, seed])
     ppmm, camera = _scene_and_camera(rng)

@@ -1,7 +1,7 @@
 """Hard photographs: side views of a fingertip as a lab's bench takes them, for testing.
 
 A second renderer, written apart from
-:func:`lineload.rawdata.photographs.render_photograph` so that the digitiser is not tested
+:func:`lineload.simulation.photograph_render.render_photograph` so that the digitiser is not tested
 only on pictures made the way it was built.  What differs from that renderer:
 
 * the profile: each side of the wedge has its own membrane length ``L``; the shape is the

@@ -2,7 +2,7 @@
 
 Each trial is rendered from the same true profiles as the readings
 (:mod:`lineload.simulation.subjects`) with what a camera adds
-(:class:`lineload.rawdata.photographs.Camera`); ``make_synthetic_data.py
+(:class:`lineload.simulation.photograph_render.Camera`); ``make_synthetic_data.py
 --photographs`` writes what :func:`photograph_dataset` returns.
 """
 
@@ -77,8 +77,8 @@ def photograph_dataset(seed=DEFAULT_SEED, camera=None):
 
     Two monkeys of the reconstruction (:data:`PHOTOGRAPH_SUBJECTS`) at two depths, each
     trial a resting and a loaded side view rendered from the true profiles with what a
-    camera adds (:class:`lineload.rawdata.photographs.Camera`, its defaults unless given), the
-    loaded shot moved a little against the resting one, seeded per trial.
+    camera adds (:class:`lineload.simulation.photograph_render.Camera`, its defaults unless
+    given), the loaded shot moved a little against the resting one, seeded per trial.
 
     Returns
     -------
@@ -91,7 +91,7 @@ def photograph_dataset(seed=DEFAULT_SEED, camera=None):
 
     import imageio.v3 as iio
 
-    from lineload.rawdata.photographs import Camera, render_photograph
+    from lineload.simulation.photograph_render import Camera, render_photograph
 
     camera = camera or Camera()
     scene = photograph_scene()
