@@ -14,7 +14,7 @@ import re
 import numpy as np
 import pytest
 
-from conftest import run_snakemake
+from conftest import shared_build
 from lineload.elastic import materials, solver
 from lineload.elastic import mesh as meshing
 from lineload.elastic.geometry import SPECIES
@@ -93,11 +93,8 @@ def write_finite_element_dataset(raw_dir, seed=11):
 
 @pytest.fixture(scope="module")
 def finite_element_build(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("finite_element")
-    raw = write_finite_element_dataset(folder / "raw")
-    results = folder / "results"
-    process = run_snakemake(raw=raw, results=results)
-    assert process.returncode == 0, process.stdout[-3000:] + process.stderr[-3000:]
+    """One build for the session, whichever worker asks first (its tests read only)."""
+    _, results = shared_build(tmp_path_factory, "finite_element", write_finite_element_dataset)
     return results
 
 
