@@ -583,6 +583,19 @@ def _force_lookup(forces):
     }
 
 
+def _subject_arrays(subject, rows, lookup):
+    """One subject's fit rows in order of depth, with their depth, exact-arc L, L's SD
+    (from its interval) and force (NaN where none): ``(rows, depth, L, L_sd, force)``."""
+    rows = rows.sort_values("depth_mm", kind="stable")
+    depth = rows["depth_mm"].to_numpy(float)
+    L_mm = rows[f"{WATERBED_VARIANT}_L_mm"].to_numpy(float)
+    L_sd = sd_from_interval(
+        rows[f"{WATERBED_VARIANT}_L_ci_low_mm"], rows[f"{WATERBED_VARIANT}_L_ci_high_mm"]
+    )
+    force = np.array([lookup.get(trial_key(subject, d), math.nan) for d in depth])
+    return rows, depth, L_mm, L_sd, force
+
+
 def force_groups(fits, forces):
     """Each subject's trials that a membrane fit can use: forces at two or more depths.
 
@@ -603,13 +616,7 @@ def force_groups(fits, forces):
     lookup = _force_lookup(forces)
     groups = {}
     for subject, rows in fits.groupby("subject", sort=False):
-        rows = rows.sort_values("depth_mm", kind="stable")
-        depth = rows["depth_mm"].to_numpy(float)
-        L_mm = rows[f"{WATERBED_VARIANT}_L_mm"].to_numpy(float)
-        L_sd = sd_from_interval(
-            rows[f"{WATERBED_VARIANT}_L_ci_low_mm"], rows[f"{WATERBED_VARIANT}_L_ci_high_mm"]
-        )
-        force = np.array([lookup.get(trial_key(subject, d), math.nan) for d in depth])
+        _, depth, L_mm, L_sd, force = _subject_arrays(subject, rows, lookup)
         usable = np.isfinite(force) & np.isfinite(arc_load_angle_rad(depth, L_mm))
         usable &= np.isfinite(L_sd)
         if np.unique(depth[usable]).size >= 2:
@@ -657,13 +664,7 @@ def mechanics_tables(fits, forces=None, contact_length_mm=None, force_sd_N=None)
     force_sd_N, sd_dof, sd_source = pooled_force_sd(list(groups.values()), prior_sd_N)
     for subject, rows in fits.groupby("subject", sort=False):
         subject = str(subject)
-        rows = rows.sort_values("depth_mm", kind="stable")
-        depth = rows["depth_mm"].to_numpy(float)
-        L_mm = rows[f"{WATERBED_VARIANT}_L_mm"].to_numpy(float)
-        L_sd = sd_from_interval(
-            rows[f"{WATERBED_VARIANT}_L_ci_low_mm"], rows[f"{WATERBED_VARIANT}_L_ci_high_mm"]
-        )
-        force = np.array([lookup.get(trial_key(subject, d), math.nan) for d in depth])
+        rows, depth, L_mm, L_sd, force = _subject_arrays(subject, rows, lookup)
         length = lengths.get(subject, math.nan)
         angle = arc_load_angle_rad(depth, L_mm)
         strain = arc_strain(depth, L_mm)

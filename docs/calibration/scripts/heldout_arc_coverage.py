@@ -109,9 +109,8 @@ def read_trial(rng, x, depth_mm, L_mm, noise=ERRORS):
     return sides
 
 
-def one_dataset(seed, noise=ERRORS, priors=None):
-    """Coverage rows of one dataset: ``(truth, L, low, high, prior_share)`` per trial;
-    ``priors`` (by name) stated instead of the sizes the data were made with."""
+def draw_dataset(seed, noise=ERRORS):
+    """The reading grid and one dataset's trials, ``(depth, L, left, right)`` each."""
     rng = np.random.default_rng(seed)
     x = reading_grid_mm()
     trials = []
@@ -120,8 +119,20 @@ def one_dataset(seed, noise=ERRORS, priors=None):
             L_mm = float(rng.uniform(*L_RANGE_MM))
             left, right = read_trial(rng, x, depth_mm, L_mm, noise)
             trials.append((depth_mm, L_mm, left, right))
+    return x, trials
+
+
+def measured_noise(x, trials):
+    """The noise model measured from the trials' left-right differences."""
     differences = [trial_differences(x, left, right, WINDOW_MM) for _, _, left, right in trials]
-    measured = estimate_noise(differences).model
+    return estimate_noise(differences).model
+
+
+def one_dataset(seed, noise=ERRORS, priors=None):
+    """Coverage rows of one dataset: ``(truth, L, low, high, prior_share)`` per trial;
+    ``priors`` (by name) stated instead of the sizes the data were made with."""
+    x, trials = draw_dataset(seed, noise)
+    measured = measured_noise(x, trials)
     priors = priors or {name: getattr(noise, name) for name in PRIORS}
     stated = measured.with_priors(**{name: priors[name] for name in PRIORS})
     fits = fit_windowed(
@@ -149,15 +160,7 @@ def component_estimates(n_datasets, noise, seed=SEED):
     :func:`estimate_noise`."""
     rows = []
     for k in range(n_datasets):
-        rng = np.random.default_rng((seed, k))
-        x = reading_grid_mm()
-        differences = []
-        for depth_mm in DEPTHS_MM:
-            for _ in range(TRIALS_PER_DEPTH):
-                L_mm = float(rng.uniform(*L_RANGE_MM))
-                left, right = read_trial(rng, x, depth_mm, L_mm, noise)
-                differences.append(trial_differences(x, left, right, WINDOW_MM))
-        model = estimate_noise(differences).model
+        model = measured_noise(*draw_dataset((seed, k), noise))
         truth, _, low, high, _ = one_dataset((seed, k), noise).T
         covered = float(np.mean((low <= truth) & (truth <= high)))
         rows.append((model.side_offset_sd_mm, model.rotation_sd, covered))
