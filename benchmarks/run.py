@@ -24,13 +24,16 @@ Measured (medians of the repeats, wall-clock seconds, `--cores 2`):
   `--photograph-cores` (default 1 and 2), wall-clock and the jobs' CPU seconds;
 - what no workflow can go below: Snakemake's own start-up (`snakemake --version`), a rerun of
   a one-rule workflow with one param (which makes Snakemake import pandas to compare it),
-  and the time the jobs of the last clean build took (from their benchmark files).
+  plain and with its Snakefile freezing the start-up's objects (`gc.freeze()`) as this
+  workflow's does, and the time the jobs of the last clean build took (from their
+  benchmark files).
 
 With ``--against CHECKOUT`` (another checkout of the project, e.g. an older commit in a
 temporary ``git worktree``) only the clean build (with the import baseline before each),
 the rerun with nothing changed and the ``fits`` target at each scale are measured,
 for both checkouts in turn (this one, that one, this one, ...),
-with the one-rule floor before each rerun, so that a change in the machine's load falls
+with the one-rule floors (plain, and freezing the start-up's objects as this workflow's
+Snakefile does) before each rerun, so that a change in the machine's load falls
 on all alike; each runs its own code
 (``PYTHONPATH`` is set to its ``workflow/``).  ``--python`` runs Snakemake with another
 interpreter (e.g. a venv of ``requirements.txt`` alone, as a user has it).
@@ -239,12 +242,16 @@ def photograph_scale(pairs, cores, python, work):
     return lines
 
 
-def make_one_rule_workflow(folder, python=sys.executable):
+def make_one_rule_workflow(folder, python=sys.executable, freeze=False):
     """A workflow of one rule with one param (which makes Snakemake import pandas to
-    compare it), built once: its rerun is what no workflow goes below."""
+    compare it), built once: its rerun is what no workflow goes below.
+
+    With ``freeze``, its Snakefile first freezes the objects of Snakemake's start-up
+    (``gc.freeze()``), as this workflow's Snakefile does: the floor to hold a rerun of
+    this workflow against, since the freeze saves a one-rule workflow as much."""
     folder.mkdir()
     (folder / "Snakefile").write_text(
-        'rule all:\n    input: "a.txt"\n\n'
+        ("import gc\ngc.freeze()\n\n" if freeze else "") + 'rule all:\n    input: "a.txt"\n\n'
         'rule a:\n    output: "a.txt"\n    params: n=1\n'
         '    shell: "echo {params.n} > {output}"\n'
     )
@@ -305,25 +312,33 @@ def side_by_side(against, repeats, scales, python, work):
         )
     )
     one_rule = make_one_rule_workflow(work / "one-rule", python)
-    floor = []
+    frozen = make_one_rule_workflow(work / "one-rule-frozen", python, freeze=True)
+    floors = {"": [], ", its Snakefile freezing the start-up's objects": []}
+
+    def measure_floors(name):
+        for folder, values in zip((one_rule, frozen), floors.values(), strict=True):
+            values.append(run([python, "-m", "snakemake", "--cores", "2"], cwd=folder))
+
     alternate(
         "rerun, nothing changed (shipped data)",
-        # the floor between the two, so that it sees the same load
-        lambda name: floor.append(run([python, "-m", "snakemake", "--cores", "2"], cwd=one_rule)),
+        # the floors between the two, so that they see the same load
+        measure_floors,
         lambda name: snakemake(raw=raw, results=work / f"results-{name}", python=python),
         max(repeats, 5),
         cpu=True,
     )
-    for what, index in (("", 0), (", CPU seconds", 3)):
-        values = [measured[index] for measured in floor]
-        rows.append(
-            (
-                f"floor: rerun of a one-rule workflow with one param, nothing changed{what}",
-                statistics.median(values),
-                float("nan"),
-                {"floor": values},
+    for kind, floor in floors.items():
+        for what, index in (("", 0), (", CPU seconds", 3)):
+            values = [measured[index] for measured in floor]
+            rows.append(
+                (
+                    f"floor: rerun of a one-rule workflow with one param{kind}, "
+                    f"nothing changed{what}",
+                    statistics.median(values),
+                    float("nan"),
+                    {"floor": values},
+                )
             )
-        )
     for n in scales:
         scale_raw = work / f"raw{n}"
         make_scale_data(scale_raw, n)
@@ -526,19 +541,18 @@ def main():
             max(args.repeats, 5), lambda: run([sys.executable, "-m", "snakemake", "--version"])
         )
         rows.append(("floor: `snakemake --version`", version, "", "Snakemake's start-up"))
-        one_rule = make_one_rule_workflow(work / "one-rule")
-        trivial, _ = median_of(
-            max(args.repeats, 5),
-            lambda: run([sys.executable, "-m", "snakemake", "--cores", "2"], cwd=one_rule),
-        )
-        rows.append(
-            (
-                "floor: rerun of a one-rule workflow, nothing changed",
-                trivial,
-                "",
-                "with one param, so Snakemake imports pandas to compare it",
+        for freeze, note in (
+            (False, "with one param, so Snakemake imports pandas to compare it"),
+            (True, "the same, its Snakefile freezing the start-up's objects as ours does"),
+        ):
+            one_rule = make_one_rule_workflow(work / f"one-rule-{freeze}", freeze=freeze)
+            trivial, _ = median_of(
+                max(args.repeats, 5),
+                lambda one_rule=one_rule: run(
+                    [sys.executable, "-m", "snakemake", "--cores", "2"], cwd=one_rule
+                ),
             )
-        )
+            rows.append(("floor: rerun of a one-rule workflow, nothing changed", trivial, "", note))
         rows.append(
             (
                 "figure jobs of the last clean build, summed",

@@ -1,5 +1,6 @@
 # Config and subject sheet, validated when Snakemake starts; the raw files listed (not
 # read: rule check_raw_data checks them); batches; input functions.
+import functools
 import os
 import sys
 from pathlib import Path
@@ -131,11 +132,18 @@ def profile_files(wildcards):
 def code(script, modules=()):
     """The package files a rule's script runs (Snakemake sees the script, not its imports)."""
     return [
-        os.path.relpath(path)
+        relative_path(path)
         for path in codedeps.script_dependencies(
             WORKFLOW_DIR / "scripts" / script, modules
         )
     ]
+
+
+@functools.cache
+def relative_path(path):
+    """A path relative to the working folder, worked out once a path (the rules share
+    most of their package files)."""
+    return os.path.relpath(path)
 
 
 def crate_files(wildcards):

@@ -60,9 +60,15 @@ def module_files(module, package_dir=PACKAGE_DIR):
         Existing files, packages' ``__init__.py`` first; empty if the name is
         not a module of this package.
     """
+    return [Path(name) for name in _module_files(module, str(package_dir))]
+
+
+@cache
+def _module_files(module, package_dir):
+    """:func:`module_files` as paths (str), once a process per name (the layout is too)."""
     parts = module.split(".")
     if parts[0] != PACKAGE:
-        return []
+        return ()
     folders, sources = _layout(package_dir)
     found, prefix = [], ""
     for part in parts[1:]:
@@ -72,18 +78,23 @@ def module_files(module, package_dir=PACKAGE_DIR):
             prefix = f"{prefix}{part}/"
         elif f"{prefix}{part}.py" in sources:
             found.append(f"{prefix}{part}.py")
-            return [package_dir / name for name in found]
+            return _paths(found, package_dir)
         else:
-            return []
+            return ()
     if f"{prefix}__init__.py" in sources:
         found.append(f"{prefix}__init__.py")
-    return [package_dir / name for name in found]
+    return _paths(found, package_dir)
+
+
+def _paths(names, package_dir):
+    """Paths (str) of files named relative (POSIX) to the package's folder."""
+    return tuple(os.path.join(package_dir, *name.split("/")) for name in names)
 
 
 def _module_name(path, package_dir):
     """Dotted name of a file of this package (``figures/__init__.py`` -> ``lineload.figures``)."""
-    relative = path.relative_to(package_dir).with_suffix("")
-    parts = [PACKAGE, *relative.parts]
+    relative = os.path.splitext(os.path.relpath(path, package_dir))[0]
+    parts = [PACKAGE, *relative.split(os.sep)]
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
@@ -117,10 +128,12 @@ def _import_statements(text):
 
 def _imported_modules(path, package_dir):
     """Dotted names of this package's modules that a file imports (candidates, unchecked)."""
-    statements = _import_statements(path.read_text(encoding="utf-8"))
-    inside = package_dir in path.resolve().parents
-    here = _module_name(path.resolve(), package_dir) if inside else None
-    is_package = path.name == "__init__.py"
+    with open(path, encoding="utf-8") as handle:
+        statements = _import_statements(handle.read())
+    resolved = os.path.realpath(path)
+    inside = resolved.startswith(os.path.join(package_dir, ""))
+    here = _module_name(resolved, package_dir) if inside else None
+    is_package = os.path.basename(path) == "__init__.py"
     for node in statements:
         if isinstance(node, ast.Import):
             for alias in node.names:
@@ -144,23 +157,23 @@ def _imported_modules(path, package_dir):
 @cache
 def _direct(path, stamp, package_dir):
     """This package's files a file imports directly (``stamp`` keys the cache to its version)."""
-    files = []
+    files = {}
     for module in _imported_modules(path, package_dir):
-        files.extend(f for f in module_files(module, package_dir) if f not in files)
+        files.update(dict.fromkeys(_module_files(module, package_dir)))
     return tuple(files)
 
 
 def _closure(path, package_dir):
     """Every file of this package reached from ``path`` by imports."""
-    found, queue = {}, [Path(path)]
+    found, queue = {}, [path]
     while queue:
         current = queue.pop()
-        status = current.stat()
+        status = os.stat(current)
         for file in _direct(current, (status.st_mtime_ns, status.st_size), package_dir):
             if file not in found:
                 found[file] = None
                 queue.append(file)
-    return tuple(found)
+    return found
 
 
 def script_dependencies(script, modules=(), package_dir=PACKAGE_DIR):
@@ -181,10 +194,10 @@ def script_dependencies(script, modules=(), package_dir=PACKAGE_DIR):
     list of str
         Paths of the package's source files, sorted, without the script itself.
     """
-    package_dir = Path(package_dir).resolve()
-    files = set(_closure(Path(script).resolve(), package_dir))
+    package_dir = str(Path(package_dir).resolve())
+    files = set(_closure(str(Path(script).resolve()), package_dir))
     for module in modules:
-        for file in module_files(module, package_dir):
+        for file in _module_files(module, package_dir):
             files.add(file)
             files.update(_closure(file, package_dir))
-    return sorted(str(f) for f in files)
+    return sorted(files)
