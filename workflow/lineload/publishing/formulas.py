@@ -71,7 +71,8 @@ FORMULAS = (
     (r"F = 2lN sin θ₀", r"F = 2 l N sin theta_0"),
     (r"N = Eε", r"N = E epsilon"),
     (rf"1/({_NUMBER}) = ({_NUMBER})", r"1 \/ \1 = \2"),
-    (rf"force_sd_N² = \(({_NUMBER}) N\)²", r'"force_sd_N"^2 = (\1 "N")^2'),
+    (r"\bs²(?= plus the part)", r"s^2"),
+    (rf"force_sd_N = ({_NUMBER}) N", r'"force_sd_N" = \1 "N"'),
     (r"N₀/E", r"N_0 \/ E"),
     # C12
     (r"D = SSE\(homogeneous\) − SSE\(layered\)", r'D = "SSE"_"homogeneous" - "SSE"_"layered"'),
