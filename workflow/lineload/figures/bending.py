@@ -17,7 +17,13 @@ from collections import ChainMap
 import numpy as np
 from matplotlib.lines import Line2D
 
-from lineload.figures.data import data_handle, deflection_limits, draw_fitted_trial, fit_row
+from lineload.figures.data import (
+    data_handle,
+    deflection_limits,
+    draw_fitted_trial,
+    example_per_species,
+    fit_row,
+)
 from lineload.figures.estimates import draw_estimates_by_depth
 from lineload.figures.style import (
     DEFLECTION_LABEL,
@@ -31,7 +37,6 @@ from lineload.figures.style import (
     new_figure,
     panel_title,
     styled,
-    subject_table,
 )
 from lineload.fitting.families import FAMILIES
 
@@ -46,19 +51,6 @@ OTHER_FAMILIES = ("boussinesq", "waterbed", "arc")
 
 def _bending_row(bending, subject, depth_mm):
     return fit_row(bending, subject, depth_mm) if bending is not None and len(bending) else None
-
-
-def _example_trials(bending, subjects):
-    """One trial per species, in sheet order: its first subject at its deepest depth."""
-    table = subject_table(subjects)
-    chosen = []
-    for species in ("monkey", "human"):
-        for subject in table.index[table["species"] == species]:
-            rows = bending[(bending["subject"] == subject) & np.isfinite(bending["bending_L_mm"])]
-            if len(rows):
-                chosen.append((subject, species, float(rows["depth_mm"].max())))
-                break
-    return chosen, table
 
 
 @styled
@@ -84,7 +76,7 @@ def figure_bending_examples(averaged, fits, bending, subjects, fit_window_mm, no
     -------
     matplotlib.figure.Figure
     """
-    chosen, table = _example_trials(bending, subjects)
+    chosen, table = example_per_species(bending[np.isfinite(bending["bending_L_mm"])], subjects)
     if not chosen:
         return message_figure("No trial of this dataset has a bending fit.", notice)
     n = len(chosen)

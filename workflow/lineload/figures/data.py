@@ -52,6 +52,7 @@ __all__ = [
     "data_handle",
     "deflection_limits",
     "draw_fitted_trial",
+    "example_per_species",
     "figure_digitised",
     "figure_examples",
     "figure_outlines",
@@ -98,6 +99,42 @@ def fit_row(fits, subject, depth_mm):
     """
     rows = fits[(fits["subject"] == subject) & np.isclose(fits["depth_mm"].astype(float), depth_mm)]
     return None if rows.empty else rows.iloc[0]
+
+
+def example_per_species(fitted, subjects, prefer_depth_mm=None):
+    """One fitted trial per species: the species' first subject (sheet order) with a row
+    in ``fitted``, at ``prefer_depth_mm`` if fitted there, else at its deepest depth.
+
+    Parameters
+    ----------
+    fitted : pandas.DataFrame
+        The trials that have the fit to be drawn (``subject``, ``depth_mm``).
+    subjects : pandas.DataFrame
+        ``subject``, ``species`` and optionally ``label``.
+    prefer_depth_mm : float, optional
+        The depth to show where the subject was fitted there.
+
+    Returns
+    -------
+    tuple
+        ``(chosen, table)``: ``(subject, species, depth_mm)`` for monkeys then humans
+        (a species without a fitted trial left out), and the subject table.
+    """
+    table = subject_table(subjects)
+    chosen = []
+    for species in ("monkey", "human"):
+        for subject in table.index[table["species"] == species]:
+            depths = fitted.loc[fitted["subject"] == subject, "depth_mm"].astype(float)
+            if len(depths):
+                preferred = (
+                    np.isclose(depths, prefer_depth_mm)
+                    if prefer_depth_mm is not None
+                    else np.zeros(len(depths), bool)
+                )
+                depth_mm = float(depths[preferred].iloc[0] if preferred.any() else depths.max())
+                chosen.append((subject, species, depth_mm))
+                break
+    return chosen, table
 
 
 #: Deflection of a fitted model at given distances, its parameters read from a fit-table

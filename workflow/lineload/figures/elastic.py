@@ -18,6 +18,7 @@ import numpy as np
 from matplotlib import ticker
 from matplotlib.lines import Line2D
 
+from lineload.figures.data import example_per_species
 from lineload.figures.estimates import draw_estimates_by_depth
 from lineload.figures.style import (
     DEFLECTION_LABEL,
@@ -30,7 +31,6 @@ from lineload.figures.style import (
     new_figure,
     panel_title,
     styled,
-    subject_table,
 )
 from lineload.fitting.elastic import find_block, fitted_curve_mm, library_blocks
 
@@ -49,22 +49,6 @@ def _fitted(elastic):
     if elastic is None or not len(elastic):
         return elastic
     return elastic[np.isfinite(elastic["elastic_layered_modulus_ratio"].astype(float))]
-
-
-def _example_trials(elastic, subjects):
-    """One fitted trial per species: its first subject, at 1 mm if fitted there, else deepest."""
-    table = subject_table(subjects)
-    chosen = []
-    for species in ("monkey", "human"):
-        for subject in table.index[table["species"] == species]:
-            rows = elastic[elastic["subject"] == subject]
-            if len(rows):
-                depths = rows["depth_mm"].astype(float)
-                preferred = np.isclose(depths, EXAMPLE_DEPTH_MM)
-                depth_mm = float(depths[preferred].iloc[0] if preferred.any() else depths.max())
-                chosen.append((subject, species, depth_mm))
-                break
-    return chosen, table
 
 
 @styled
@@ -94,7 +78,7 @@ def figure_elastic_examples(averaged, elastic, elastic_library, subjects, fit_wi
     fitted = _fitted(elastic)
     if fitted is None or not len(fitted):
         return message_figure("No trial of this dataset has an elastic fit.", notice)
-    chosen, table = _example_trials(fitted, subjects)
+    chosen, table = example_per_species(fitted, subjects, EXAMPLE_DEPTH_MM)
     blocks = library_blocks(elastic_library)
     fig = new_figure(SINGLE_COLUMN_MM if len(chosen) == 1 else DOUBLE_COLUMN_MM, 75.0)
     axes = fig.subplots(1, len(chosen), squeeze=False)[0]
