@@ -129,8 +129,9 @@ def measured_noise(x, trials):
 
 
 def one_dataset(seed, noise=ERRORS, priors=None):
-    """Coverage rows of one dataset: ``(truth, L, low, high, prior_share)`` per trial;
-    ``priors`` (by name) stated instead of the sizes the data were made with."""
+    """Coverage rows of one dataset, ``(truth, L, low, high, prior_share)`` per trial, and
+    the noise model measured from it; ``priors`` (by name) stated instead of the sizes the
+    data were made with."""
     x, trials = draw_dataset(seed, noise)
     measured = measured_noise(x, trials)
     priors = priors or {name: getattr(noise, name) for name in PRIORS}
@@ -143,7 +144,7 @@ def one_dataset(seed, noise=ERRORS, priors=None):
         ("arc",),
         noise=stated,
     )["arc"]
-    return np.column_stack(
+    rows = np.column_stack(
         [
             [L for _, L, *_ in trials],
             fits.params["L_mm"],
@@ -152,19 +153,17 @@ def one_dataset(seed, noise=ERRORS, priors=None):
             fits.prior_share,
         ]
     )
+    return rows, measured
 
 
-def component_estimates(n_datasets, noise, seed=SEED):
+def component_estimates(rows, models):
     """Each dataset's measured per-side offset SD (mm), rotation SD and the coverage of
-    its L intervals, as ``(n, 3)``: the trials of :func:`one_dataset`, their differences,
-    :func:`estimate_noise`."""
-    rows = []
-    for k in range(n_datasets):
-        model = measured_noise(*draw_dataset((seed, k), noise))
-        truth, _, low, high, _ = one_dataset((seed, k), noise).T
-        covered = float(np.mean((low <= truth) & (truth <= high)))
-        rows.append((model.side_offset_sd_mm, model.rotation_sd, covered))
-    return np.array(rows)
+    its L intervals, as ``(n, 3)``, from what :func:`study` returns."""
+    truth, _, low, high, _ = rows.reshape(len(models), -1, rows.shape[1]).transpose(2, 0, 1)
+    covered = np.mean((low <= truth) & (truth <= high), axis=1)
+    return np.array(
+        [(m.side_offset_sd_mm, m.rotation_sd, c) for m, c in zip(models, covered, strict=True)]
+    )
 
 
 def offset_explained(depths_mm=DEPTHS_MM, spans_mm=L_RANGE_MM):
@@ -186,8 +185,9 @@ def offset_explained(depths_mm=DEPTHS_MM, spans_mm=L_RANGE_MM):
 
 
 def study(n_datasets, noise=ERRORS, seed=SEED, priors=None):
-    """All datasets' rows stacked."""
-    return np.vstack([one_dataset((seed, k), noise, priors) for k in range(n_datasets)])
+    """All datasets' rows stacked, and each dataset's measured noise model."""
+    done = [one_dataset((seed, k), noise, priors) for k in range(n_datasets)]
+    return np.vstack([rows for rows, _ in done]), [model for _, model in done]
 
 
 def summary(rows):
@@ -286,10 +286,11 @@ if __name__ == "__main__":
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 25
     defaults = config_defaults("noise")
     results = {
-        "as the data have them": summary(study(n)),
-        "the config's defaults (smaller than these data's)": summary(study(n, priors=defaults)),
+        "as the data have them": summary(study(n)[0]),
+        "the config's defaults (smaller than these data's)": summary(study(n, priors=defaults)[0]),
     }
-    others = {label: summary(study(n, noise=world)) for label, world in OTHER_WORLDS.items()}
+    studied = {label: study(n, noise=world) for label, world in OTHER_WORLDS.items()}
+    others = {label: summary(rows) for label, (rows, _) in studied.items()}
     world = OTHER_WORLDS[OFFSET_WORLD]
     mean_offset = {
         **{name: getattr(world, name) for name in PRIORS},
@@ -298,9 +299,9 @@ if __name__ == "__main__":
         ),
     }
     others[OFFSET_WORLD + ", the shared-offset prior stated for the mean"] = summary(
-        study(n, noise=world, priors=mean_offset)
+        study(n, noise=world, priors=mean_offset)[0]
     )
-    components = component_estimates(n, OTHER_WORLDS[OFFSET_WORLD])
+    components = component_estimates(*studied[OFFSET_WORLD])
     text = markdown(results, n, others, components)
     Path(__file__).resolve().parents[1].joinpath("heldout_arc.md").write_text(text)
     print(text)
