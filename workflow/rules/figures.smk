@@ -80,8 +80,9 @@ FIGURE_FILES = [f for group in registry.GROUPS for f in GROUP_FILES[group]]
 #   figure_schematics  Figures 3-5: the waterbed model, material point, free body (eq. 19)
 #   figure_fits        Figures 2, 6 and 7: averaged profiles against the fitted models
 #   figure_supplements residuals, parabola against arc, sensitivity, coordinates
-#   figure_bending     the bending skin beside the other families; its bending lengths
-#   figure_elastic     the elastic finger's fits, one subject per species; its modulus ratios
+#   figure_families    the later model families: the bending skin beside the other
+#                      families and its bending lengths; the elastic finger's fits and
+#                      its modulus ratios (one job: one matplotlib start-up for both)
 #   figure_calibration coverage when the priors are wrong (the committed calibration)
 for group in registry.GROUPS:
 

@@ -34,8 +34,11 @@ __all__ = [
 #: Kinds of figure argument: a results table a job reads, the subject sheet, a setting.
 KINDS = ("file", "dataset", "setting")
 
-#: The jobs that draw figures, each a group of figures drawn in one process.
-GROUPS = ("outlines", "schematics", "fits", "supplements", "bending", "elastic", "calibration")
+#: The jobs that draw figures, each a group of figures drawn in one process.  A group
+#: costs a process and matplotlib's start-up (about 0.8 s of CPU): the later model
+#: families (the bending skin, the elastic finger) share one, whose figures are redrawn
+#: when either family's table changes.
+GROUPS = ("outlines", "schematics", "fits", "supplements", "families", "calibration")
 
 #: Report categories of the figures.
 CATEGORIES = ("Paper figures", "Supplement")
@@ -312,7 +315,7 @@ FIGURES = (
     ),
     Figure(
         "supplement_bending",
-        "bending",
+        "families",
         "bending",
         "figure_bending_examples",
         ("averaged", "fits", "bending", "subjects", "fit_window_mm", "notice"),
@@ -321,7 +324,7 @@ FIGURES = (
     ),
     Figure(
         "supplement_bending_lengths",
-        "bending",
+        "families",
         "bending",
         "figure_bending_lengths",
         ("bending", "averaged", "subjects", "notice"),
@@ -330,7 +333,7 @@ FIGURES = (
     ),
     Figure(
         "supplement_elastic",
-        "elastic",
+        "families",
         "elastic",
         "figure_elastic_examples",
         ("averaged", "elastic", "elastic_library", "subjects", "fit_window_mm", "notice"),
@@ -339,7 +342,7 @@ FIGURES = (
     ),
     Figure(
         "supplement_elastic_ratios",
-        "elastic",
+        "families",
         "elastic",
         "figure_elastic_ratios",
         ("elastic", "subjects", "notice"),

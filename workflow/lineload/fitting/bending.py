@@ -37,7 +37,7 @@ import numpy as np
 
 from lineload.bending import bending_deflection_mm
 from lineload.fitting.goodness import FitResult, goodness_of_fit
-from lineload.fitting.optimize import CHI2_1DOF_95
+from lineload.fitting.optimize import CHI2_1DOF_95, find_roots
 from lineload.fitting.windows import in_fit_window, window_covariance
 from lineload.trials import DEPTH_DECIMALS
 
@@ -61,6 +61,18 @@ _L_SPAN = 1000.0
 
 #: Steps of the profile's grid, in log units of the profiled parameter.
 _GRID = 48
+
+#: Most steps out from the minimum to an interval's end (0.01 doubling: the last is
+#: 0.01 * 2**39, past any range's end).
+_MAX_STEPS_OUT = 40
+
+#: Steps out taken first (to 0.15 in log units: most ends lie within); the rest only
+#: where no end was found among them.
+_FIRST_STEPS = 4
+
+#: Relative width at which an end's bracket stops (log units): far below what the
+#: tables print.
+_ROOT_RTOL = 1e-10
 
 
 class _Problem:
@@ -101,32 +113,55 @@ class _Problem:
             columns.append((self.curve(np.log(up)) - self.curve(np.log(down))) / (2.0 * step))
         return np.column_stack(columns)
 
-    def _with(self, j, value, other_values):
-        pair = [None, None]
-        pair[j], pair[1 - j] = value, other_values
-        return self.sse_many(*pair)
+    def best_other(self, j, values):
+        """Sums of squares minimised over the other parameter, with ``theta_j`` at each value.
 
-    def best_other(self, j, value):
-        """Sum of squares minimised over the other parameter, with ``theta_j = value``.
+        For each value: a grid over the other parameter's whole range, a finer one
+        around its best point, then the vertex of the parabola through the best three:
+        the minimum's value is what matters, and its error is second order in the
+        position's.  Every value is done at once (one evaluation of the curves per
+        stage), which is what makes the profile intervals cheap.
 
-        A grid over the other parameter's whole range, a finer one around its best
-        point, then the vertex of the parabola through the best three: the minimum's
-        value is what matters, and its error is second order in the position's.
+        Parameters
+        ----------
+        j : {0, 1}
+            The parameter held: 0 for ``ln L``, 1 for ``ln l_b``.
+        values : array_like
+            Its values (log units), 1-D.
+
+        Returns
+        -------
+        numpy.ndarray
+            The least sum of squares at each value.
         """
+        values = np.atleast_1d(np.asarray(values, dtype=float))
         other = 1 - j
+        rows = np.arange(values.size)
+
+        def sse(held, free):  # held (m, 1), free (m, k) -> (m, k)
+            pair = [None, None]
+            pair[j], pair[other] = held, free
+            return self.sse_many(*pair)
+
+        held = values[:, None]
         grid = np.linspace(self.low[other], self.high[other], _GRID)
-        values = self._with(j, value, grid)
-        i = int(np.argmin(values))
-        fine = np.linspace(grid[max(i - 1, 0)], grid[min(i + 1, _GRID - 1)], _GRID // 2 + 1)
-        fine_values = self._with(j, value, fine)
-        k = int(np.argmin(fine_values))
-        best = float(fine_values[k])
-        if 0 < k < fine.size - 1:
-            f0, f1, f2 = fine_values[k - 1 : k + 2]
-            curvature = f0 - 2 * f1 + f2
-            if curvature > 0:
-                vertex = fine[k] + 0.5 * (fine[1] - fine[0]) * (f0 - f2) / curvature
-                best = min(best, float(self._with(j, value, np.array([vertex]))[0]))
+        i = np.argmin(sse(held, grid[None, :]), axis=1)
+        share = np.linspace(0.0, 1.0, _GRID // 2 + 1)
+        start, stop = grid[np.maximum(i - 1, 0)], grid[np.minimum(i + 1, _GRID - 1)]
+        fine = start[:, None] + (stop - start)[:, None] * share[None, :]
+        fine_values = sse(held, fine)
+        k = np.argmin(fine_values, axis=1)
+        best = fine_values[rows, k]
+        interior = (k > 0) & (k < share.size - 1)
+        kk = np.clip(k, 1, share.size - 2)
+        f0, f1, f2 = (fine_values[rows, kk + d] for d in (-1, 0, 1))
+        curvature = f0 - 2 * f1 + f2
+        use = interior & (curvature > 0)
+        if np.any(use):
+            step = fine[use, 1] - fine[use, 0]
+            vertex = fine[use, kk[use]] + 0.5 * step * (f0 - f2)[use] / curvature[use]
+            at_vertex = sse(held[use], vertex[:, None])[:, 0]
+            best[use] = np.minimum(best[use], at_vertex)
         return best
 
 
@@ -171,33 +206,60 @@ def _threshold(problem, theta, j, covariance_mm2):
 
 
 def _profile_interval(problem, theta, j, covariance_mm2):
-    """Ends of the profile interval of parameter ``j`` (log units) and whether each is a bound."""
-    from scipy.optimize import brentq  # here: the registry imports this module
+    """Ends of the profile interval of parameter ``j`` (log units) and whether each is a bound.
 
+    Each end is stepped out to from the minimum by steps doubling from 0.01 (the
+    first four evaluated at once, then the rest to the range's end) until the profiled
+    sum of squares crosses its limit, then found between the last step inside and the first outside
+    by :func:`lineload.fitting.optimize.find_roots`, both ends together.  An end that
+    reaches the parameter's range without crossing is that bound.
+    """
     sse_min = problem.sse(theta)
     limit = sse_min + _threshold(problem, theta, j, covariance_mm2)
+    bounds = (problem.low[j], problem.high[j])
     if not np.isfinite(limit):
-        return (problem.low[j], problem.high[j]), (True, True)
-
-    def excess(t):
-        return problem.best_other(j, t) - limit
-
-    ends, at_bound = [], []
+        return bounds, (True, True)
     # the grid's minimum over the other parameter may lie a rounding above SSE_min: no
     # interval then (a noiseless profile), rather than a bracket without a sign change
-    starts_inside = excess(theta[j]) < 0
-    for direction, bound in ((-1.0, problem.low[j]), (1.0, problem.high[j])):
-        inner, step = theta[j], 0.01
-        end, hit = (bound, True) if starts_inside else (theta[j], False)
-        while starts_inside and abs(inner - bound) > 1e-12:
-            outer = float(np.clip(inner + direction * step, min(inner, bound), max(inner, bound)))
-            if excess(outer) > 0:
-                end = brentq(excess, min(inner, outer), max(inner, outer), xtol=1e-10)
-                hit = False
-                break
-            inner, step = outer, step * 2.0
-        ends.append(end)
-        at_bound.append(hit)
+    centre = problem.best_other(j, theta[j])[0] - limit
+    if centre >= 0:
+        return (theta[j], theta[j]), (False, False)
+    offsets = 0.01 * (2.0 ** np.arange(_MAX_STEPS_OUT) - 1.0)[1:]
+    ends, at_bound, inside, outside, inner_excess, outer_excess = [], [], [], [], [], []
+    for direction, bound in zip((-1.0, 1.0), bounds, strict=True):
+        steps = theta[j] + direction * offsets
+        steps = steps[direction * (steps - bound) < 0]  # short of the bound ...
+        steps = np.append(steps, bound)  # ... which is the last step
+        # the first few steps, then the rest if the end lies farther out
+        excess = problem.best_other(j, steps[:_FIRST_STEPS]) - limit
+        if not np.any(excess > 0) and steps.size > _FIRST_STEPS:
+            rest = problem.best_other(j, steps[_FIRST_STEPS:]) - limit
+            excess = np.concatenate([excess, rest])
+        crossed = np.flatnonzero(excess > 0)
+        if crossed.size == 0:
+            ends.append(bound)
+            at_bound.append(True)
+            continue
+        first = crossed[0]
+        ends.append(np.nan)
+        at_bound.append(False)
+        inside.append(theta[j] if first == 0 else steps[first - 1])
+        inner_excess.append(centre if first == 0 else excess[first - 1])
+        outside.append(steps[first])
+        outer_excess.append(excess[first])
+    open_ends = [k for k, end in enumerate(ends) if np.isnan(end)]
+    if open_ends:
+        inside, outside = np.array(inside), np.array(outside)
+        roots = find_roots(
+            lambda values, which: problem.best_other(j, values) - limit,
+            inside,
+            outside,
+            np.array(inner_excess),
+            np.array(outer_excess),
+            rtol=_ROOT_RTOL,
+        )
+        for k, root in zip(open_ends, roots, strict=True):
+            ends[k] = float(root)
     return tuple(ends), tuple(at_bound)
 
 
