@@ -31,6 +31,27 @@ def test_window_range_is_the_smallest_and_largest_L_over_the_windows():
     )
 
 
+def test_the_fit_window_among_the_others_is_not_fitted_twice_and_changes_nothing():
+    """A configured window equal to the fit window is skipped: the noise changes only the
+    intervals, never the least-squares L, so the main fit's L is the refit's."""
+    from lineload.noise import NoiseModel
+
+    noise = NoiseModel(reading_sd_mm=0.005, tracing_sd_mm=0.003, tracing_length_mm=0.5)
+    rng = np.random.default_rng(7)
+    profiles = [arc_deflection_mm(DISTANCE_MM, 1.5, L) for L in (9.0, 12.0, 15.0)]
+    profiles = [w + rng.normal(0.0, 0.005, w.size) for w in profiles]
+    xs, depths = [DISTANCE_MM] * 3, [1.5] * 3
+    with_noise = fit_windowed(xs, profiles, depths, 3.0, ("waterbed", "shifted", "arc"), noise)
+    plain = fit_windowed(xs, profiles, depths, 3.0, ("waterbed", "shifted", "arc"))
+    for model in ("waterbed", "shifted", "arc"):
+        assert np.array_equal(with_noise[model].params["L_mm"], plain[model].params["L_mm"])
+    rows = fit_trials(xs, profiles, depths, 3.0, noise=[noise] * 3, other_windows_mm=(2.0,))
+    again = fit_trials(
+        xs, profiles, depths, 3.0, noise=[noise] * 3, other_windows_mm=(2.0, 3.0, 3.0)
+    )
+    assert rows == again
+
+
 def _fit_row(window_min_mm, window_max_mm):
     row = dict.fromkeys(FIT_COLUMNS, np.nan)
     row.update(subject="A", species="human", depth_mm=1.0, fit_window_mm=3.0, n_points=20)

@@ -573,6 +573,8 @@ def fit_trials(
     spread = {model: [fits[model].params["L_mm"]] for model in WINDOW_MODELS}
     for other in other_windows_mm:
         other = np.inf if other is None else float(other)
+        if np.all(np.asarray(window_mm, dtype=float) == other):
+            continue  # the fit window itself (the same L: the fits are least squares)
         refit = fit_windowed(distance_mm, deflection_mm, depth_mm, other, WINDOW_MODELS)
         for model in WINDOW_MODELS:
             spread[model].append(refit[model].params["L_mm"])
