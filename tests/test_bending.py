@@ -229,3 +229,39 @@ def test_the_batch_fits_each_trial_on_its_window_like_the_single_fit():
         assert row["bending_length_mm"] == pytest.approx(0.2, rel=1e-5)
     few = fit_bending_trials([x[:3]], [profiles[0][:3]], [0.5], 3.0)[0]
     assert few["n_points"] == 3 and np.isnan(few["bending_L_mm"])
+
+
+def test_the_polish_finds_the_minimum_scipys_least_squares_finds():
+    """The fit's own Levenberg-Marquardt (which spares the jobs scipy.optimize's import)
+    ends where scipy's bounded least squares ends, from the same start: the same sum of
+    squares to 1e-12 of itself, inside the ranges and at a range's end alike."""
+    from scipy.optimize import least_squares
+
+    from lineload.fitting.bending import _polish, _Problem
+
+    x = reading_grid_mm(3.0)
+    rng = np.random.default_rng(13)
+    ends = 0
+    for k in range(30):
+        depth = rng.uniform(0.5, 2.0)
+        lb = np.exp(rng.uniform(np.log(0.01), np.log(0.5)))
+        if k % 2:  # the paper's parabola: the fit ends at the bending length's lower end
+            y = waterbed_deflection_mm(x, depth, rng.uniform(9, 16))
+        else:
+            y = bending_deflection_mm(x, depth, rng.uniform(9, 16), lb)
+        y = y + rng.normal(0.0, 0.005, x.size)
+        problem = _Problem(x, y, depth, "clamped", ((x.max(), 1000 * x.max()), (1e-4, 10.0)))
+        start = np.log([rng.uniform(8, 18), rng.uniform(0.01, 1.0)])
+        ours = _polish(problem, start)
+        theirs = least_squares(
+            problem.residual,
+            start,
+            bounds=(problem.low, problem.high),
+            xtol=1e-13,
+            ftol=1e-14,
+            gtol=1e-14,
+        ).x
+        assert problem.sse(ours) <= problem.sse(theirs) * (1 + 1e-12)
+        assert np.all(ours >= problem.low) and np.all(ours <= problem.high)
+        ends += bool(np.isclose(ours[1], problem.low[1]))
+    assert ends > 0  # some fits end at the bending length's lower end
