@@ -97,6 +97,39 @@ NOTICE = config["data_notice"] = startup.notice_text(
     config["data_notice"], RAW_FILES["notice"]
 )
 
+# Which ready job starts first when the cores are few (Snakemake's `priority:`): the
+# chain to the supplementary figures, the longest job of a build, first; then the chain
+# to the claims and to the figures of the later model families; the figures nothing but
+# the article waits for (priority 0) fill the gaps.  On two cores a clean build ends
+# about when the supplements do (docs/speed-and-clusters.md measures it).
+PRIORITY = {
+    **dict.fromkeys(
+        (
+            "prepare_profiles",
+            "noise",
+            "fit_models",
+            "fits_table",
+            "mechanics",
+            "fit_sensitivity",
+            "sensitivity_tables",
+            "figure_supplements",
+        ),
+        2,
+    ),
+    **dict.fromkeys(
+        (
+            "fit_bending",
+            "bending_table",
+            "elastic_fits",
+            "fit_tables",
+            "claims_table",
+            "figure_families",
+            "figure_fits",
+        ),
+        1,
+    ),
+}
+
 
 def result(*parts):
     """Path of an output under the results folder."""

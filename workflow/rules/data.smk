@@ -155,6 +155,7 @@ rule prepare_profiles:
         result("logs", "prepare_profiles", "{batch}.log"),
     benchmark:
         result("benchmarks", "prepare_profiles", "{batch}.tsv")
+    priority: PRIORITY["prepare_profiles"]
     conda:
         ENVIRONMENT
     params:

@@ -97,8 +97,7 @@ for group in registry.GROUPS:
             result("logs", f"figure_{group}.log"),
         benchmark:
             result("benchmarks", f"figure_{group}.tsv")
-        # the supplements (the longest group) start first when several jobs are ready
-        priority: 1 if group == "supplements" else 0
+        priority: PRIORITY.get(f"figure_{group}", 0)
         conda:
             ENVIRONMENT
         params:

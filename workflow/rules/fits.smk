@@ -15,6 +15,7 @@ rule noise:
         result("logs", "noise.log"),
     benchmark:
         result("benchmarks", "noise.tsv")
+    priority: PRIORITY["noise"]
     conda:
         ENVIRONMENT
     params:
@@ -37,6 +38,7 @@ rule fit_models:
         result("logs", "fit_models", "{batch}.log"),
     benchmark:
         result("benchmarks", "fit_models", "{batch}.tsv")
+    priority: PRIORITY["fit_models"]
     conda:
         ENVIRONMENT
     params:
@@ -58,6 +60,7 @@ rule fits_table:
         result("logs", "fits_table.log"),
     benchmark:
         result("benchmarks", "fits_table.tsv")
+    priority: PRIORITY["fits_table"]
     conda:
         ENVIRONMENT
     script:
@@ -78,6 +81,7 @@ rule fit_bending:
         result("logs", "fit_bending", "{batch}.log"),
     benchmark:
         result("benchmarks", "fit_bending", "{batch}.tsv")
+    priority: PRIORITY["fit_bending"]
     conda:
         ENVIRONMENT
     params:
@@ -99,6 +103,7 @@ rule bending_table:
         result("logs", "bending_table.log"),
     benchmark:
         result("benchmarks", "bending_table.tsv")
+    priority: PRIORITY["bending_table"]
     conda:
         ENVIRONMENT
     script:
@@ -121,6 +126,7 @@ rule elastic_fits:
         result("logs", "elastic_fits.log"),
     benchmark:
         result("benchmarks", "elastic_fits.tsv")
+    priority: PRIORITY["elastic_fits"]
     conda:
         ENVIRONMENT
     params:
@@ -142,7 +148,7 @@ rule fit_sensitivity:
         result("logs", "fit_sensitivity", "{batch}.log"),
     benchmark:
         result("benchmarks", "fit_sensitivity", "{batch}.tsv")
-    priority: 1
+    priority: PRIORITY["fit_sensitivity"]
     conda:
         ENVIRONMENT
     params:
@@ -168,7 +174,7 @@ rule sensitivity_tables:
         result("logs", "sensitivity_tables.log"),
     benchmark:
         result("benchmarks", "sensitivity_tables.tsv")
-    priority: 1
+    priority: PRIORITY["sensitivity_tables"]
     conda:
         ENVIRONMENT
     params:

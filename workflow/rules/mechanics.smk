@@ -15,6 +15,7 @@ rule mechanics:
         result("logs", "mechanics.log"),
     benchmark:
         result("benchmarks", "mechanics.tsv")
+    priority: PRIORITY["mechanics"]
     conda:
         ENVIRONMENT
     params:

@@ -16,6 +16,7 @@ rule fit_tables:
         result("logs", "fit_tables.log"),
     benchmark:
         result("benchmarks", "fit_tables.tsv")
+    priority: PRIORITY["fit_tables"]
     conda:
         ENVIRONMENT
     params:
@@ -46,6 +47,7 @@ rule claims_table:
         result("logs", "claims_table.log"),
     benchmark:
         result("benchmarks", "claims_table.tsv")
+    priority: PRIORITY["claims_table"]
     conda:
         ENVIRONMENT
     params:
