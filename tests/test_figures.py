@@ -957,8 +957,12 @@ def test_registry_lists_each_figure_once_in_its_group():
             "supplement_sensitivity",
             "supplement_mechanics",
         ],
-        "bending": ["supplement_bending", "supplement_bending_lengths"],  # Figures 14-15
-        "elastic": ["supplement_elastic", "supplement_elastic_ratios"],  # Figures 16-17
+        "families": [  # the later model families in one job: Figures 14-17
+            "supplement_bending",
+            "supplement_bending_lengths",
+            "supplement_elastic",
+            "supplement_elastic_ratios",
+        ],
         "calibration": ["supplement_coverage"],  # Figure 8
     }
     # the paper's figures in its order, then the supplements
