@@ -9,5 +9,5 @@ cd "$(dirname "$0")/.."
 out=${1:-docs}
 mkdir -p "$out"
 PYTHONHASHSEED=0 snakemake claims_table fit_tables figure_outlines figure_schematics figure_fits \
-    figure_supplements figure_bending figure_elastic figure_calibration --rulegraph >"$out/rulegraph.dot"
+    figure_supplements figure_families figure_calibration --rulegraph >"$out/rulegraph.dot"
 graphviz-pure -Tpng -o "$out/rulegraph.png" "$out/rulegraph.dot" 2>/dev/null
