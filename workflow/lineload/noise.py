@@ -35,9 +35,24 @@ trial as fixed effects, so none of them is mistaken for correlated noise, and
 the reading and tracing parts as the covariance ``2 (reading^2 I + tracing^2 K)``.
 The profile's slope is taken from the left-right mean (a model-free local fit): the mean's
 errors are independent of the difference's when both sides are read alike.
-The spread of the trials' fitted offsets, beyond what their own noise
-explains, measures the side offsets.  The model under test never enters, so the
-misfit that some claims are about cannot leak into the noise.
+The model under test never enters, so the misfit that some claims are about
+cannot leak into the noise.  What is measured: the reading error, the tracing
+error and its length (:data:`MEASURED`).
+
+The side offsets and the rotation are in the differences but not measured from
+them.  Their traces there, a constant and a line, are nearly reproduced by the
+other per-trial terms the fit must leave free: on a membrane-shaped profile the
+slope ``w'(x)`` is nearly a line near the wedge, so a slope, a parabola and a
+multiple of ``w'`` together reproduce all but a few parts in a hundred thousand
+of a constant (:func:`constant_explained`), and the spread of the trials' offsets
+is a small difference of large numbers: on held-out data with side offsets of
+SD 4 um it came out anywhere from 0 to 20 um (docs/calibration/heldout_arc.md).
+A rotation cancels in the left-right mean where both sides were read; a side
+offset does not, and the mean carries half its variance, a constant like the
+shared offset's.  So the shared-offset prior stands for the mean's whole
+constant error (the registration's offset and half the side offsets' variance,
+:attr:`NoiseModel.mean_offset_sd_mm`), and where one side alone was read the
+shared tilt's prior stands for the rotation (:func:`noise_rows`).
 
 What the differences cancel cannot be measured from these data: the shared
 offset, the shared tilt and the depth error are priors (config, with their
@@ -67,8 +82,10 @@ __all__ = [
     "PRIORS",
     "PRIOR_BASIS",
     "TRIAL_PRIORS",
+    "UNMEASURED",
     "NoiseEstimate",
     "NoiseModel",
+    "constant_explained",
     "draw_side_errors_mm",
     "estimate_noise",
     "exponential_kernel",
@@ -83,7 +100,20 @@ __all__ = [
 ]
 
 #: Parameters measured from the left-right differences, in the order of the fit.
-MEASURED = ("reading_sd_mm", "tracing_sd_mm", "tracing_length_mm", "side_offset_sd_mm")
+MEASURED = ("reading_sd_mm", "tracing_sd_mm", "tracing_length_mm")
+#: Per-side errors the differences hold but cannot measure (see the module's
+#: description), and what the noise table says of each: the prior that stands for it.
+UNMEASURED = {
+    "side_offset_sd_mm": "not measured: in the left-right differences a side offset is "
+    "a constant, which the slope, parabola and wedge terms each trial's difference must "
+    "leave free reproduce on membrane-shaped profiles; the left-right mean carries half "
+    "its variance, a constant like the shared offset, and the prior "
+    "noise.shared_offset_sd_mm stands for both (the mean's whole constant error)",
+    "rotation_sd": "not measured: in the left-right differences a rotation is a line, "
+    "which the offset, parabola and wedge terms reproduce as they do a constant; it "
+    "cancels in the left-right mean, and where one side alone was read the prior "
+    "noise.shared_tilt_sd (the outlines superimposed to a slope) stands for it",
+}
 #: Parameters the differences cannot see: priors from the config.
 PRIORS = ("shared_offset_sd_mm", "shared_tilt_sd", "depth_sd_mm", "wedge_position_sd_mm")
 #: What each prior rests on, for the noise table's source column: none is a measurement
@@ -91,8 +121,10 @@ PRIORS = ("shared_offset_sd_mm", "shared_tilt_sd", "depth_sd_mm", "wedge_positio
 #: so its calibration cannot test them (the fit tables give each interval's share of
 #: variance from them, ``*_prior_share``).
 PRIOR_BASIS = {
-    "shared_offset_sd_mm": "assumed default: the outlines registered to about 0.1 mm "
-    "on the 20x print",
+    "shared_offset_sd_mm": "assumed default for the whole constant error of the left-right "
+    "mean: the two outlines superimposed, and each side's trace placed, to about 0.1 mm on "
+    "the 20x print (5 um in tissue each; the mean keeps the first whole and half the "
+    "variance of the other two, 6.1 um)",
     "shared_tilt_sd": "assumed default: the outlines superimposed to a slope of 0.1 mm "
     "over 10 cm of the 20x print",
     "depth_sd_mm": "assumed default: a positioner read to about 10 um",
@@ -145,10 +177,15 @@ class NoiseModel:
 
     Attributes
     ----------
-    reading_sd_mm, tracing_sd_mm, tracing_length_mm, side_offset_sd_mm : float
+    reading_sd_mm, tracing_sd_mm, tracing_length_mm : float
         Measured per side (mm; the length in mm along the outline).
+    side_offset_sd_mm : float
+        Offset of one side's whole trace (mm): made by the simulations, not measured
+        (:data:`UNMEASURED`); a fit's model has it at zero and its share of the mean's
+        constant error in ``shared_offset_sd_mm``.
     rotation_sd : float
-        Rotation of the photograph (rad); cancels in the left-right mean.
+        Rotation of the photograph (rad); cancels in the left-right mean; not
+        measured, like the side offset.
     wedge_position_sd_mm : float
         Prior: misplacement of the wedge along the outline (mm); cancels in the
         mean to first order, and cannot be told apart from an asymmetry of the
@@ -215,6 +252,19 @@ class NoiseModel:
         covariance += self.shared_tilt_sd**2 * np.outer(x, x)
         covariance += self.depth_sd_mm**2 * np.outer(scale, scale)
         return covariance
+
+    @property
+    def mean_offset_sd_mm(self):
+        """SD of the constant error of the left-right mean where both sides were read:
+        the shared offset and half the variance of the side offsets,
+        ``sqrt(shared**2 + side**2 / 2)``."""
+        return math.hypot(self.shared_offset_sd_mm, self.side_offset_sd_mm / math.sqrt(2))
+
+    def as_stated(self):
+        """The model a lab that knew these sizes would give the fit: the side offsets,
+        which the differences do not measure, folded into the shared-offset prior
+        (:attr:`mean_offset_sd_mm`), and themselves at zero."""
+        return replace(self, shared_offset_sd_mm=self.mean_offset_sd_mm, side_offset_sd_mm=0.0)
 
     def priors_only(self):
         """A copy with every measured part (and the rotation) at zero: its
@@ -519,33 +569,47 @@ def estimate_noise(trials, max_trials=400):
             best = result
     theta = best.x
     se_log = _log_parameter_se(objective, theta, bounds)
-    _, effects, effect_covariance, _ = _restricted_terms(theta, d, design, grids, group)
     reading, tracing, length = np.exp(theta)
-    # side offsets: the spread of the trials' offsets beyond their own noise.  The
-    # difference of two side offsets has twice their variance.
-    offsets = effects[:, 0]
-    excess = (np.mean(offsets**2) - np.mean(effect_covariance[:, 0, 0])) / 2.0
-    side_offset = math.sqrt(max(excess, 0.0))
-    # its SE: a sample variance of T offsets (delta method on the square root)
-    variance_se = np.std(offsets**2, ddof=1) / math.sqrt(offsets.size) / 2.0
-    side_offset_se = variance_se / (2 * side_offset) if side_offset > 0 else math.nan
-    # rotation the same way, from the slope term (the wedge position is a prior: see
-    # the module's description)
-    rotation_var = (np.mean(effects[:, 1] ** 2) - np.mean(effect_covariance[:, 1, 1])) / 4.0
+    # the side offsets and the rotation are left at zero: the per-trial terms reproduce
+    # their traces (:data:`UNMEASURED`), so the spread of the trials' offsets and slopes
+    # would be a chance value
     model = NoiseModel(
-        reading_sd_mm=float(reading),
-        tracing_sd_mm=float(tracing),
-        tracing_length_mm=float(length),
-        side_offset_sd_mm=float(side_offset),
-        rotation_sd=float(math.sqrt(max(rotation_var, 0.0))),
+        reading_sd_mm=float(reading), tracing_sd_mm=float(tracing), tracing_length_mm=float(length)
     )
     se = {
         "reading_sd_mm": float(reading * se_log[0]),
         "tracing_sd_mm": float(tracing * se_log[1]),
         "tracing_length_mm": float(length * se_log[2]),
-        "side_offset_sd_mm": float(side_offset_se),
     }
     return NoiseEstimate(model, se, len(usable), n_differences)
+
+
+def constant_explained(distance_mm, slope):
+    """The share of a constant that a trial's other difference terms reproduce.
+
+    A side offset adds a constant to one trial's left-right difference; the noise fit
+    leaves a slope, a parabola and a multiple of the profile's slope free in each trial
+    (:func:`estimate_noise`).  The share of the constant's sum of squares in their span
+    is what those terms can take of it: near 1, a constant is not told from them, and
+    the trials' offsets say nothing of the side offsets' size.
+
+    Parameters
+    ----------
+    distance_mm : array_like
+        A trial's distances read on both sides (mm).
+    slope : array_like
+        The profile's slope there (the wedge-position term).
+
+    Returns
+    -------
+    float
+        Between 0 and 1.
+    """
+    x = np.asarray(distance_mm, dtype=float)
+    terms = np.column_stack([x, x**2, np.asarray(slope, dtype=float)])
+    ones = np.ones_like(x)
+    left = ones - terms @ np.linalg.lstsq(terms, ones, rcond=None)[0]
+    return float(1.0 - left @ left / x.size)
 
 
 def _log_parameter_se(objective, theta, bounds, step=1e-3):
@@ -597,7 +661,10 @@ def noise_rows(estimate, priors, overrides=None):
         What the left-right differences measured.
     priors : dict
         ``shared_offset_sd_mm``, ``shared_tilt_sd``, ``depth_sd_mm`` and
-        ``wedge_position_sd_mm`` (config).
+        ``wedge_position_sd_mm`` (config).  The side offset's row is zero (the
+        shared-offset prior holds its share of the mean); the rotation's is the
+        shared tilt's prior, which stands for it where one side alone was read
+        (:data:`UNMEASURED`).
     overrides : dict, optional
         Measured parameters replaced by a configured value (not None).
 
@@ -614,6 +681,9 @@ def noise_rows(estimate, priors, overrides=None):
             value, se = priors[name], math.nan
         elif name in overrides:
             value, se, source = overrides[name], math.nan, f"set: config noise.{name}"
+        elif name in UNMEASURED:
+            value = priors["shared_tilt_sd"] if name == "rotation_sd" else 0.0
+            se, source = math.nan, UNMEASURED[name]
         else:
             se = estimate.se.get(name, math.nan)
             source = "measured: left-right differences"

@@ -130,8 +130,10 @@ def _difference_covariance_mm2(x_mm, settings):
     """Covariance of left minus right at distances both sides read, from noise alone.
 
     The two sides' own errors are independent, so the difference has twice one
-    side's covariance (reading, tracing and side offset); without a noise model,
-    twice ``noise_mm**2`` on the diagonal.
+    side's covariance (reading and tracing: the side offsets are not measured, so an
+    offset between the two traces counts as a difference between the sides, which
+    makes "nearly the same" harder to show, not easier); without a noise model, twice
+    ``noise_mm**2`` on the diagonal.
     """
     if settings.noise_model is not None and settings.noise_mm is None:
         return 2.0 * settings.noise_model.side_covariance_mm2(x_mm)
@@ -149,7 +151,8 @@ def claim_c2(fits, averaged, settings):
         "trial, over the distances read on both sides (left_source and right_source both "
         "'measured'): the mean square of left - right beyond what the noise gives, D = "
         "mean(d²) − trace(C)/n, with C the covariance of the difference under noise alone "
-        "(twice one side's: reading, tracing and side offset; the noise table), and its "
+        "(twice one side's: reading and tracing, the noise table; an offset of one side's "
+        "trace is not measured and counts in D), and its "
         "standard error SE. The sides are nearly the same if their true RMS difference is "
         f"below {_pct(margin, 0)} of the depth W₀. Equivalent if D + z(1 - {alpha:g}) SE < "
         f"({margin:g} W₀)²; different if D - z(1 - {alpha:g}/(2 x trials)) SE > ({margin:g} "

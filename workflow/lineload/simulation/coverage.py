@@ -8,7 +8,9 @@ the shipped reading grid with every error of :mod:`lineload.noise`: independent
 and correlated reading errors and an offset per side, a rotation, a shared offset
 and tilt, a depth error and a misplaced wedge, rounded as the enlargement rounds.
 The workflow's own steps follow: the noise is measured from the dataset's
-left-right differences (the priors at their true sizes), and the same model is
+left-right differences (the priors at their true sizes, the shared offset's stated
+as the mean's whole constant error, side offsets included:
+:meth:`lineload.noise.NoiseModel.as_stated`), and the same model is
 fitted by generalised least squares.  An interval covers when it holds the
 parameter the data were made with.
 
@@ -285,8 +287,10 @@ def _covered(trials, model, window_mm, noise, scenario_name):
         trial_differences(t["distance_mm"], t["left_mm"], t["right_mm"], window_mm) for t in trials
     ]
     measured = estimate_noise(differences).model
+    # stated as a lab that knew the sizes would state them: the side offsets, which the
+    # differences do not measure, in the shared-offset prior (NoiseModel.as_stated)
     per_trial = [
-        measured.with_priors(**{p: getattr(t.get("noise", noise), p) for p in PRIORS})
+        measured.with_priors(**{p: getattr(t.get("noise", noise).as_stated(), p) for p in PRIORS})
         for t in trials
     ]
     fits = fit_windowed(

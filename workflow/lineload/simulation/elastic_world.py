@@ -327,7 +327,8 @@ def read_dataset(solutions, fingers, depths_mm, rng, noise=TRUE_NOISE):
     Each side is read on the reading grid out to :data:`READ_REACH_MM` (first reading at
     0.05 mm with probability :data:`lineload.simulation.readings.P_FIRST_AT_FINEST`, else
     0.1 mm), with the trial's shared errors (registration offset and rotation, shared tilt,
-    depth error, misplaced wedge) and the side's own (reading, tracing, side offset) at
+    depth error, misplaced wedge) and the side's own (reading, tracing, side offset; the
+    fit measures the first two and states the last in the shared-offset prior) at
     ``noise``'s sizes, applied by :func:`lineload.simulation.errors.read_side_mm` and
     rounded to the enlargement's resolution. The error-free reading is the true profile on
     the same grid, not rounded.
