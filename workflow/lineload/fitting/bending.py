@@ -105,18 +105,6 @@ class _Problem:
         )
         return np.sum((self.y - curves) ** 2, axis=-1)
 
-    def jacobian(self, theta):
-        """d curve / d (L, l_b), in mm per mm, by central differences."""
-        values = np.exp(theta)
-        columns = []
-        for j in range(2):
-            step = 1e-6 * values[j]
-            up, down = values.copy(), values.copy()
-            up[j] += step
-            down[j] -= step
-            columns.append((self.curve(np.log(up)) - self.curve(np.log(down))) / (2.0 * step))
-        return np.column_stack(columns)
-
     def log_jacobian(self, theta):
         """d curve / d (ln L, ln l_b), in mm, by central differences (one evaluation)."""
         step = 1e-6
@@ -257,7 +245,8 @@ def _threshold(problem, theta, j, covariance_mm2):
     n = problem.x.size
     if covariance_mm2 is None:
         return sse_min * np.expm1(CHI2_1DOF_95 / n)
-    jac = problem.jacobian(theta)
+    # in log parameters: the ratio below does not depend on the parameters' scales
+    jac = problem.log_jacobian(theta)
     try:
         inverse = np.linalg.inv(jac.T @ jac)
     except np.linalg.LinAlgError:
