@@ -73,15 +73,18 @@ def wait_for_new_file(process, folder, pattern, before, timeout_s=120):
     raise AssertionError(f"no new file {pattern} in {folder} after {timeout_s} s")
 
 
-#: When to kill a build: after a delay (seconds; early ones fall in the DAG building and
-#: the first job selection) or once a new file exists (mid-way through each stage).  Two
-#: chains, each run in order in one results folder: the claims table and the figures
-#: are made side by side, so whichever comes first would leave the other uncut.
+#: When to kill a build: after a delay (seconds; in the first job selection, then in the
+#: DAG building) or once a new file exists (mid-way through each stage).  Two chains,
+#: each run in order in one results folder: the claims table and the figures are made
+#: side by side, so whichever comes first would leave the other uncut.  The longest
+#: delay comes first, on the fresh folder: a later build starts where the one before it
+#: stopped, and two seconds into it the averaged profiles (started first by the rules'
+#: priorities) may already be written, leaving that stage uncut.
 KILL_CHAINS = [
     [
+        ("after", 2.0),
         ("after", 0.3),
         ("after", 1.0),
-        ("after", 2.0),
         ("file", "data/averaged/*.csv"),
         ("file", "fits/*.csv"),
         ("file", "tables/fits.csv"),
