@@ -25,7 +25,7 @@ EPS = np.finfo(float).eps
 #: geometry); a bound, used as the factor of machine epsilon per point.
 OPERATIONS_PER_POINT = 16
 
-#: Relative width of the final bracket of the grid-and-zoom search
+#: Relative width of the final bracket of the grid-and-Brent search
 #: (``minimize_bounded``'s ``rtol``) and of the root finder (``find_roots``).
 SEARCH_RTOL = 1e-9
 ROOT_RTOL = 1e-10

@@ -50,7 +50,7 @@ def _curve_objective(curve, trials, depth_mm):
 
 
 def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None, delta_at=None):
-    """One-parameter fit in L by the grid and zoom over ``[L_lo, L_SEARCH_SPAN max(x)]``.
+    """One-parameter fit in L by a grid and Brent's method over ``[L_lo, L_SEARCH_SPAN max(x)]``.
 
     Shared by the fits that have no closed form (exact arc, shifted parabola, parabola
     with W0 free): the minimum, the fitted curve's residuals and the interval.
