@@ -52,6 +52,24 @@ def test_the_fit_window_among_the_others_is_not_fitted_twice_and_changes_nothing
     assert rows == again
 
 
+def test_a_refit_without_intervals_finds_the_same_L_and_leaves_the_intervals_out():
+    rng = np.random.default_rng(3)
+    profiles = [arc_deflection_mm(DISTANCE_MM, 1.5, L) for L in (4.0, 9.0, 15.0)]
+    profiles = [w + rng.normal(0.0, 0.01, w.size) for w in profiles]
+    xs, depths = [DISTANCE_MM] * 3, [1.5] * 3
+    models = ("waterbed", "shifted", "arc")
+    for window in (2.0, np.inf):
+        full = fit_windowed(xs, profiles, depths, window, models)
+        alone = fit_windowed(xs, profiles, depths, window, models, intervals=False)
+        for model in models:
+            assert np.array_equal(full[model].params["L_mm"], alone[model].params["L_mm"])
+            assert np.array_equal(full[model].at_bound, alone[model].at_bound)
+            assert np.all(np.isfinite(full[model].params["L_ci_low_mm"]))
+        for model in ("shifted", "arc"):  # the searched fits skip what costs
+            assert np.all(np.isnan(alone[model].params["L_ci_low_mm"]))
+            assert np.all(np.isnan(alone[model].params["L_ci_high_mm"]))
+
+
 def _fit_row(window_min_mm, window_max_mm):
     row = dict.fromkeys(FIT_COLUMNS, np.nan)
     row.update(subject="A", species="human", depth_mm=1.0, fit_window_mm=3.0, n_points=20)

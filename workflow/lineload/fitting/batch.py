@@ -205,9 +205,11 @@ def _fit_flat(
     covariance_mm2=None,
     wedge_sd_mm=0.0,
     prior_covariance_mm2=None,
+    intervals=True,
 ):
     """Fit ``models`` to trials given as concatenated points and counts (``prior_covariance_mm2``:
-    the priors' part of each covariance, for the fits' ``prior_share``)."""
+    the priors' part of each covariance, for the fits' ``prior_share``; ``intervals``: see
+    :func:`fit_windowed`)."""
     offsets = np.cumsum(counts) - counts
     fits = {model: BatchFits(model, counts) for model in models}
     for model in models:
@@ -225,7 +227,7 @@ def _fit_flat(
         if prior_covariance_mm2 is not None:
             prior = [prior_covariance_mm2[i] for i in chunk]
         trials = _Trials.from_flat(
-            x_mm, y_mm, counts[chunk], offsets[chunk], covariance, wedge_sd_mm, prior
+            x_mm, y_mm, counts[chunk], offsets[chunk], covariance, wedge_sd_mm, prior, intervals
         )
         for model in models:
             entry = FAMILIES[model]
@@ -445,6 +447,7 @@ def fit_windowed(
     models=tuple(MODELS),
     noise=None,
     n_sides=None,
+    intervals=True,
 ):
     """Fit models to many trials at once, each on its points inside a fit window.
 
@@ -466,6 +469,9 @@ def fit_windowed(
     n_sides : sequence of array_like, optional
         With ``noise``: how many sides were read at each point of each trial
         (2 everywhere if not given).
+    intervals : bool, optional
+        False: the fits alone, for a refit that only follows a parameter (the
+        searched fits' intervals, which cost about as much as the search, are NaN).
 
     Returns
     -------
@@ -502,6 +508,7 @@ def fit_windowed(
         covariance_mm2,
         wedge_sd_mm,
         prior_covariance_mm2,
+        intervals,
     )
     max_distance_mm = np.full(counts.size, np.nan)
     some = counts > 0
@@ -575,7 +582,9 @@ def fit_trials(
         other = np.inf if other is None else float(other)
         if np.all(np.asarray(window_mm, dtype=float) == other):
             continue  # the fit window itself (the same L: the fits are least squares)
-        refit = fit_windowed(distance_mm, deflection_mm, depth_mm, other, WINDOW_MODELS)
+        refit = fit_windowed(
+            distance_mm, deflection_mm, depth_mm, other, WINDOW_MODELS, intervals=False
+        )
         for model in WINDOW_MODELS:
             spread[model].append(refit[model].params["L_mm"])
     for model, values in spread.items():

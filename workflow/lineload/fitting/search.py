@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from lineload.fitting.goodness import _ChunkFit
-from lineload.fitting.intervals import _interval, _sandwich_delta
+from lineload.fitting.intervals import _interval, _sandwich_delta, at_search_bound
 from lineload.fitting.optimize import minimize_bounded
 
 __all__ = ["BLOCK_ELEMENTS", "L_SEARCH_SPAN"]
@@ -62,13 +62,17 @@ def _fit_by_search(model, trials, objective, residual_at, L_lo, lower_bound=None
     residual = np.full(trials.x.shape, np.nan)
     rows = np.flatnonzero(found)
     residual[rows] = residual_at(rows, L_mm[rows])
-    if delta_at is None:
-        delta, share = _sandwich_delta(trials, residual_at, L_mm, residual)
+    if not trials.intervals:  # the fit alone (a refit that follows L across windows)
+        low, high, share = np.full_like(L_mm, np.nan), np.full_like(L_mm, np.nan), None
+        at_bound = at_search_bound(L_mm, L_lo, L_hi)
     else:
-        delta, share = delta_at(L_mm, residual), None
-    low, high, at_bound = _interval(
-        objective, trials, L_mm, L_lo, L_hi, trials.chi2(residual), delta, residual_at, residual
-    )
+        if delta_at is None:
+            delta, share = _sandwich_delta(trials, residual_at, L_mm, residual)
+        else:
+            delta, share = delta_at(L_mm, residual), None
+        low, high, at_bound = _interval(
+            objective, trials, L_mm, L_lo, L_hi, trials.chi2(residual), delta, residual_at, residual
+        )
     if rows.size:
         residual_at(rows, L_mm[rows])  # restores what residual_at keeps of the best fit (W0)
     errors = {

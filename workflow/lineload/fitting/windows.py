@@ -181,15 +181,28 @@ class _Trials:
     are to honour it, or is None (independent errors of unknown variance).
     ``wedge_sd_mm`` is the standard deviation of the wedge's misplacement along
     the outline, which the log-singular Boussinesq form feels to second order.
+    ``intervals`` False asks the solvers for the fits alone (the refits that only
+    follow a parameter across windows): the searched fits then skip their
+    intervals, which are NaN.
     """
 
     def __init__(
-        self, x, y, mask, n, x_max, covariance=None, wedge_sd_mm=0.0, prior_covariance=None
+        self,
+        x,
+        y,
+        mask,
+        n,
+        x_max,
+        covariance=None,
+        wedge_sd_mm=0.0,
+        prior_covariance=None,
+        intervals=True,
     ):
         self.x, self.y, self.mask, self.n, self.x_max = x, y, mask, n, x_max
         self.covariance = covariance
         self.wedge_sd_mm = wedge_sd_mm
         self.prior_covariance = prior_covariance
+        self.intervals = intervals
 
     @classmethod
     def from_flat(
@@ -201,6 +214,7 @@ class _Trials:
         covariance_mm2=None,
         wedge_sd_mm=0.0,
         prior_covariance_mm2=None,
+        intervals=True,
     ):
         """Trials ``i`` = ``x_mm[offsets[i]:offsets[i] + counts[i]]`` (each with a point).
 
@@ -222,7 +236,7 @@ class _Trials:
             for i, (matrix, n) in enumerate(zip(prior_covariance_mm2, counts, strict=True)):
                 prior[i, :n, :n] = matrix
         x_max = np.fmax.reduce(x, axis=1)
-        return cls(x, y, mask, counts, x_max, covariance, wedge_sd_mm, prior)
+        return cls(x, y, mask, counts, x_max, covariance, wedge_sd_mm, prior, intervals)
 
     def take(self, rows):
         covariance = None if self.covariance is None else self.covariance[rows]
@@ -236,6 +250,7 @@ class _Trials:
             covariance,
             self.wedge_sd_mm,
             prior,
+            self.intervals,
         )
 
     @property
