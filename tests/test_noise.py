@@ -341,3 +341,41 @@ def test_a_digitised_trials_own_reading_error_replaces_the_datasets():
     )
     expected = np.diag((0.02**2 - dataset.reading_sd_mm**2) / sides)
     np.testing.assert_allclose(gap, expected, rtol=0, atol=1e-15)
+
+
+def test_covariances_of_many_trials_are_each_trials_own_and_zero_in_the_padding():
+    from lineload.noise import NoiseModel, average_covariances_mm2
+
+    rng = np.random.default_rng(4)
+    models = [
+        NoiseModel(
+            reading_sd_mm=0.01, tracing_sd_mm=0.004, tracing_length_mm=0.4, depth_sd_mm=0.01
+        ),
+        NoiseModel(reading_sd_mm=0.02, rotation_sd=0.001, shared_offset_sd_mm=0.006),
+        NoiseModel(reading_sd_mm=0.005, tracing_sd_mm=0.0, tracing_length_mm=0.0, depth_sd_mm=0.01),
+    ]
+    lengths = (7, 3, 5)
+    width = max(lengths) + 2
+    x = np.full((3, width), np.nan)
+    sides = np.full((3, width), 7.0)  # the padding's values must not matter
+    w = np.full((3, width), 99.0)
+    for t, n in enumerate(lengths):
+        x[t, :n] = np.sort(rng.uniform(0.05, 3.0, n))
+        sides[t, :n] = rng.choice([1.0, 2.0], n)
+        w[t, :n] = rng.uniform(0.0, 1.0, n)
+    depth = np.array([1.0, 0.5, 2.0])
+    together = average_covariances_mm2(models, x, sides, w, depth)
+    for t, n in enumerate(lengths):
+        alone = models[t].average_covariance_mm2(x[t, :n], sides[t, :n], w[t, :n], depth[t])
+        np.testing.assert_array_equal(together[t, :n, :n], alone)
+        assert np.all(together[t, n:, :] == 0.0) and np.all(together[t, :, n:] == 0.0)
+        assert np.all(np.isfinite(alone))  # a zero tracing length is no NaN
+        np.testing.assert_allclose(alone, alone.T)
+        assert np.all(np.linalg.eigvalsh(alone) > 0)
+    # and what goes in moves it: the rotation reaches one-sided points only
+    one_sided = sides[1, :3] == 1.0
+    plain = models[1].average_covariance_mm2(x[1, :3], sides[1, :3], w[1, :3], depth[1])
+    turned = NoiseModel(reading_sd_mm=0.02, shared_offset_sd_mm=0.006).average_covariance_mm2(
+        x[1, :3], sides[1, :3], w[1, :3], depth[1]
+    )
+    np.testing.assert_array_equal(np.diag(plain) > np.diag(turned), one_sided)

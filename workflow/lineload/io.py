@@ -244,8 +244,10 @@ def csv_text(names, cells, may_quote=None):
     if len(names) > 1 and not any(_QUOTED.search("\x00".join(column)) for column in may_quote):
         # no cell the csv module would quote (nor is an empty cell in a row of
         # several): plain joins give its bytes
-        rows = map(",".join, zip(*cells, strict=True))
-        buffer.write("".join(f"{row}\n" for row in rows))
+        rows = list(map(",".join, zip(*cells, strict=True)))
+        if rows:
+            buffer.write("\n".join(rows))
+            buffer.write("\n")
     else:
         writer.writerows(zip(*cells, strict=True))
     return buffer.getvalue()

@@ -85,6 +85,7 @@ __all__ = [
     "UNMEASURED",
     "NoiseEstimate",
     "NoiseModel",
+    "average_covariances_mm2",
     "constant_explained",
     "draw_side_errors_mm",
     "estimate_noise",
@@ -236,22 +237,11 @@ class NoiseModel:
             ``(n, n)`` covariance (mm^2).
         """
         x = np.asarray(distance_mm, dtype=float)
-        sides = np.asarray(n_sides, dtype=float)
-        both = sides >= 2
-        # independent per side: each pair of points shares the sides read at both
-        shared_sides = np.where(both[:, None] & both[None, :], 2.0, 1.0)
-        weight = shared_sides / np.maximum(sides[:, None] * sides[None, :], 1.0)
-        covariance = self.side_covariance_mm2(x) * weight
-        # a rotation cancels where both sides were read; its sign where one was is
-        # unknown here, so its variance is added to those points alone
-        rotation = np.where(both, 0.0, self.rotation_sd * x)
-        covariance += np.diag(rotation**2)
-        w = np.clip(np.asarray(deflection_mm, dtype=float), 0.0, None)
-        scale = w / depth_mm if depth_mm > 0 else np.zeros_like(w)
-        covariance += self.shared_offset_sd_mm**2
-        covariance += self.shared_tilt_sd**2 * np.outer(x, x)
-        covariance += self.depth_sd_mm**2 * np.outer(scale, scale)
-        return covariance
+        covariances = average_covariances_mm2(
+            [self], x[None], np.asarray(n_sides, dtype=float)[None],
+            np.asarray(deflection_mm, dtype=float)[None], [depth_mm],
+        )  # fmt: skip
+        return covariances[0]
 
     @property
     def mean_offset_sd_mm(self):
@@ -285,6 +275,56 @@ class NoiseModel:
     def as_dict(self):
         """The parameters by name."""
         return asdict(self)
+
+
+def average_covariances_mm2(models, distance_mm, n_sides, deflection_mm, depth_mm):
+    """:meth:`NoiseModel.average_covariance_mm2` of many trials at once.
+
+    Parameters
+    ----------
+    models : sequence of NoiseModel
+        One per trial.
+    distance_mm, n_sides, deflection_mm : numpy.ndarray
+        Shape ``(T, n)``: each trial's points, padded after its last point with NaN
+        distances (whatever the other two hold there).
+    depth_mm : array_like
+        Nominal depth of each trial (mm), shape ``(T,)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(T, n, n)`` (mm^2): each trial's covariance, zero in its padding.
+    """
+    x = np.asarray(distance_mm, dtype=float)
+    points = np.isfinite(x)
+    x = np.where(points, x, 0.0)
+    sides = np.where(points, np.asarray(n_sides, dtype=float), 2.0)
+
+    def size(name, power=2):
+        return np.array([getattr(m, name) for m in models], dtype=float)[:, None, None] ** power
+
+    both = sides >= 2
+    # independent per side: each pair of points shares the sides read at both
+    shared_sides = np.where(both[:, :, None] & both[:, None, :], 2.0, 1.0)
+    weight = shared_sides / np.maximum(sides[:, :, None] * sides[:, None, :], 1.0)
+    length = size("tracing_length_mm", 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        kernel = np.exp(-np.abs(x[:, :, None] - x[:, None, :]) / length)
+    tracing = np.where(size("tracing_sd_mm") > 0, size("tracing_sd_mm") * kernel, 0.0)
+    side = size("reading_sd_mm") * np.eye(x.shape[1]) + tracing + size("side_offset_sd_mm")
+    covariance = side * weight
+    # a rotation cancels where both sides were read; its sign where one was is
+    # unknown here, so its variance is added to those points alone
+    rotation = np.where(both, 0.0, size("rotation_sd", 1)[:, :, 0] * x)
+    covariance += rotation[:, :, None] ** 2 * np.eye(x.shape[1])
+    depth = np.asarray(depth_mm, dtype=float)[:, None]
+    w = np.clip(np.where(points, np.asarray(deflection_mm, dtype=float), 0.0), 0.0, None)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = np.where(depth > 0, w / depth, 0.0)
+    covariance += size("shared_offset_sd_mm")
+    covariance += size("shared_tilt_sd") * (x[:, :, None] * x[:, None, :])
+    covariance += size("depth_sd_mm") * (scale[:, :, None] * scale[:, None, :])
+    return np.where(points[:, :, None] & points[:, None, :], covariance, 0.0)
 
 
 def draw_side_errors_mm(rng, distance_mm, model, kernel="exponential", df=None):

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from lineload.fitting.optimize import CHI2_1DOF_95
+from lineload.noise import average_covariances_mm2
 
 __all__ = ["in_fit_window", "window_covariance", "window_covariances", "window_points"]
 
@@ -137,12 +138,33 @@ def window_covariances(distance_mm, deflection_mm, depth_mm, window_mm, noise, n
     -------
     list of numpy.ndarray
     """
-    return [
-        window_covariance(x, y, depth, window, model, sides)
-        for x, y, depth, window, sides, model in zip(
-            distance_mm, deflection_mm, depth_mm, window_mm, n_sides, noise, strict=True
-        )
-    ]
+    kept = []
+    for x, y, window, sides in zip(distance_mm, deflection_mm, window_mm, n_sides, strict=True):
+        x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        keep = in_fit_window(x, window) & np.isfinite(y)
+        kept.append((x[keep], y[keep], np.asarray(sides, dtype=float)[keep]))
+    counts = np.array([len(x) for x, _, _ in kept], dtype=int)
+    covariances = [None] * counts.size
+    # trials of similar length together: the padded matrices stay small
+    order = np.argsort(counts, kind="stable")
+    for start in range(0, counts.size, _COVARIANCE_BLOCK):
+        block = order[start : start + _COVARIANCE_BLOCK]
+        width = int(counts[block].max(initial=0))
+        padded = np.full((3, block.size, width), np.nan)
+        for row, i in enumerate(block):
+            for column, values in enumerate(kept[i]):
+                padded[column, row, : counts[i]] = values
+        computed = average_covariances_mm2(
+            [noise[i] for i in block], padded[0], padded[2], padded[1],
+            np.asarray(depth_mm, dtype=float)[block],
+        )  # fmt: skip
+        for row, i in enumerate(block):
+            covariances[i] = computed[row, : counts[i], : counts[i]]
+    return covariances
+
+
+#: Trials whose covariances are computed together (:func:`window_covariances`).
+_COVARIANCE_BLOCK = 256
 
 
 def _padded_width(n_points):
