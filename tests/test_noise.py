@@ -343,6 +343,40 @@ def test_a_digitised_trials_own_reading_error_replaces_the_datasets():
     np.testing.assert_allclose(gap, expected, rtol=0, atol=1e-15)
 
 
+def _reference_covariance(model, x, sides, w, depth_mm):
+    """The covariance of a left-right mean written out term by term, one trial."""
+    n = x.size
+    both = sides >= 2
+    covariance = np.zeros((n, n))
+    for i in range(n):
+        for j in range(n):
+            apart = abs(x[i] - x[j])
+            if apart == 0:
+                kernel = 1.0
+            elif model.tracing_length_mm == 0:
+                kernel = 0.0
+            else:
+                kernel = np.exp(-apart / model.tracing_length_mm)
+            side = (
+                model.reading_sd_mm**2 * (i == j)
+                + model.tracing_sd_mm**2 * kernel
+                + model.side_offset_sd_mm**2
+            )
+            # both sides read at both points: the mean halves each side's error
+            shared = 2.0 if both[i] and both[j] else 1.0
+            covariance[i, j] = side * shared / max(sides[i] * sides[j], 1.0)
+            if i == j and not both[i]:
+                covariance[i, j] += (model.rotation_sd * x[i]) ** 2
+            scale_i = max(w[i], 0.0) / depth_mm if depth_mm > 0 else 0.0
+            scale_j = max(w[j], 0.0) / depth_mm if depth_mm > 0 else 0.0
+            covariance[i, j] += (
+                model.shared_offset_sd_mm**2
+                + model.shared_tilt_sd**2 * x[i] * x[j]
+                + model.depth_sd_mm**2 * scale_i * scale_j
+            )
+    return covariance
+
+
 def test_covariances_of_many_trials_are_each_trials_own_and_zero_in_the_padding():
     from lineload.noise import NoiseModel, average_covariances_mm2
 
@@ -352,7 +386,10 @@ def test_covariances_of_many_trials_are_each_trials_own_and_zero_in_the_padding(
             reading_sd_mm=0.01, tracing_sd_mm=0.004, tracing_length_mm=0.4, depth_sd_mm=0.01
         ),
         NoiseModel(reading_sd_mm=0.02, rotation_sd=0.001, shared_offset_sd_mm=0.006),
-        NoiseModel(reading_sd_mm=0.005, tracing_sd_mm=0.0, tracing_length_mm=0.0, depth_sd_mm=0.01),
+        # a zero tracing length: white noise, not NaN
+        NoiseModel(
+            reading_sd_mm=0.005, tracing_sd_mm=0.003, tracing_length_mm=0.0, depth_sd_mm=0.01
+        ),
     ]
     lengths = (7, 3, 5)
     width = max(lengths) + 2
@@ -369,7 +406,11 @@ def test_covariances_of_many_trials_are_each_trials_own_and_zero_in_the_padding(
         alone = models[t].average_covariance_mm2(x[t, :n], sides[t, :n], w[t, :n], depth[t])
         np.testing.assert_array_equal(together[t, :n, :n], alone)
         assert np.all(together[t, n:, :] == 0.0) and np.all(together[t, :, n:] == 0.0)
-        assert np.all(np.isfinite(alone))  # a zero tracing length is no NaN
+        assert np.all(np.isfinite(alone))
+        np.testing.assert_allclose(
+            alone, _reference_covariance(models[t], x[t, :n], sides[t, :n], w[t, :n], depth[t]),
+            rtol=1e-12, atol=0.0,
+        )  # fmt: skip
         np.testing.assert_allclose(alone, alone.T)
         assert np.all(np.linalg.eigvalsh(alone) > 0)
     # and what goes in moves it: the rotation reaches one-sided points only

@@ -104,7 +104,7 @@ def test_global_minimum_beside_a_wider_local_one():
 
 
 def test_inadmissible_values_and_minima_at_the_ends():
-    count = 3
+    count = 4
     low, high = np.full(count, 1.0), np.full(count, 100.0)
 
     def function(values, rows):
@@ -112,6 +112,12 @@ def test_inadmissible_values_and_minima_at_the_ends():
         result = np.where(rows[:, None] == 1, -values, result)  # decreasing: at high
         # row 2: inadmissible (inf) below 10, minimum at the edge of the admissible part
         result = np.where(rows[:, None] == 2, np.where(values < 10.0, np.inf, values), result)
+        # row 3: the same with NaN, and a minimum beside the inadmissible part
+        result = np.where(
+            rows[:, None] == 3,
+            np.where(values < 10.0, np.nan, (np.log(values) - np.log(10.5)) ** 2),
+            result,
+        )
         return result
 
     found_mm, found = minimize_bounded(_objective(function), low, high, rtol=1e-9)
@@ -120,6 +126,7 @@ def test_inadmissible_values_and_minima_at_the_ends():
     assert found_mm[1] == pytest.approx(100.0, rel=1e-8)
     assert found_mm[2] == pytest.approx(10.0, rel=1e-7)
     assert found_mm[2] >= 10.0
+    assert found_mm[3] == pytest.approx(10.5, rel=1e-6)
 
     nowhere, found = minimize_bounded(lambda values, rows: np.full(values.shape, np.inf), low, high)
     assert not found.any() and np.isnan(nowhere).all()

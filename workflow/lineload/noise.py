@@ -286,7 +286,8 @@ def average_covariances_mm2(models, distance_mm, n_sides, deflection_mm, depth_m
         One per trial.
     distance_mm, n_sides, deflection_mm : numpy.ndarray
         Shape ``(T, n)``: each trial's points, padded after its last point with NaN
-        distances (whatever the other two hold there).
+        distances (whatever the other two hold there): a NaN distance is padding, its
+        row and column zero.
     depth_mm : array_like
         Nominal depth of each trial (mm), shape ``(T,)``.
 
@@ -308,8 +309,10 @@ def average_covariances_mm2(models, distance_mm, n_sides, deflection_mm, depth_m
     shared_sides = np.where(both[:, :, None] & both[:, None, :], 2.0, 1.0)
     weight = shared_sides / np.maximum(sides[:, :, None] * sides[:, None, :], 1.0)
     length = size("tracing_length_mm", 1)
+    apart = np.abs(x[:, :, None] - x[:, None, :])
     with np.errstate(divide="ignore", invalid="ignore"):
-        kernel = np.exp(-np.abs(x[:, :, None] - x[:, None, :]) / length)
+        # a point with itself correlates fully, also at a zero length (white noise)
+        kernel = np.where(apart == 0.0, 1.0, np.exp(-apart / length))
     tracing = np.where(size("tracing_sd_mm") > 0, size("tracing_sd_mm") * kernel, 0.0)
     side = size("reading_sd_mm") * np.eye(x.shape[1]) + tracing + size("side_offset_sd_mm")
     covariance = side * weight

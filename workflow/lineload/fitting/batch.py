@@ -471,7 +471,8 @@ def fit_windowed(
         (2 everywhere if not given).
     intervals : bool, optional
         False: the fits alone, for a refit that only follows a parameter (the
-        searched fits' intervals, which cost about as much as the search, are NaN).
+        searched fits' intervals, which cost about as much as the search, and their
+        prior shares are NaN; the waterbed's closed-form fit keeps its cheap interval).
 
     Returns
     -------

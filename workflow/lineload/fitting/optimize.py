@@ -169,10 +169,10 @@ def minimize_bounded(objective, low, high, n_grid=100, rtol=1e-9, lower_bound=No
     A log-spaced grid of ``n_grid`` points finds the basin of each problem's global
     minimum; Brent's method (:func:`_brent`: parabolic steps, golden-section steps
     where those fail) then refines it inside the two grid cells around the best grid
-    point until the bracket is ``rtol`` wide, relative: one evaluation per step,
-    8-30 steps (13 typically) on the fits of the generator's profiles, where a zoom
-    of 17 evenly spaced values per step took about 150 evaluations.  The problems that need more
-    steps go on while the others stop.
+    point until the bracket is ``rtol`` wide, relative: one evaluation per step
+    (``docs/calibration/search_grid.md`` counts them on the fits' objectives), where a
+    zoom of 17 evenly spaced values per step took about 150 evaluations.  The
+    problems that need more steps go on while the others stop.
 
     Parameters
     ----------
@@ -182,12 +182,10 @@ def minimize_bounded(objective, low, high, n_grid=100, rtol=1e-9, lower_bound=No
         Search range of each problem (> 0), shape ``(n,)``.
     n_grid : int, optional
         Number of grid points (100: 7.2 % apart over the fits' range of 1000).  The
-        grid only has to land in the deepest basin: on 12,000 fits of the generator's
-        profiles the objectives had one minimum each (on a grid of 1,000) and a grid of
-        25 found it; with 0.1-0.3 mm of noise added some have two, and of 8,300 such
-        fits of the exact arc a grid of 100 missed the deeper one once (a dip just
-        above the smallest L), 200 never, 50 twice.  A test holds the default to a
-        dense grid on such objectives.
+        grid only has to land in the deepest basin; ``docs/calibration/search_grid.md``
+        counts how often grids of 12 to 200 values miss it on profiles with noise
+        added, where objectives have several minima, and a test holds the default to
+        a dense grid on such objectives.
     rtol : float, optional
         Relative width of the final bracket.
     lower_bound : callable, optional
@@ -223,8 +221,9 @@ def minimize_bounded(objective, low, high, n_grid=100, rtol=1e-9, lower_bound=No
             grid[active, best[active]],
             values[active, best[active]],
             rtol,
-            fa=values[active, before],
-            fb=values[active, after],
+            # a NaN is inadmissible, as in the steps (inf)
+            fa=np.where(np.isnan(values[active, before]), np.inf, values[active, before]),
+            fb=np.where(np.isnan(values[active, after]), np.inf, values[active, after]),
         )
     return minimiser, found
 

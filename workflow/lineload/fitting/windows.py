@@ -128,7 +128,7 @@ def window_covariances(distance_mm, deflection_mm, depth_mm, window_mm, noise, n
     Parameters
     ----------
     distance_mm, deflection_mm, n_sides : sequence of array_like
-        One array per trial.
+        One array per trial (an ``n_sides`` of None: 2 everywhere).
     depth_mm, window_mm : sequence of float
         One value per trial.
     noise : sequence of lineload.noise.NoiseModel
@@ -142,7 +142,8 @@ def window_covariances(distance_mm, deflection_mm, depth_mm, window_mm, noise, n
     for x, y, window, sides in zip(distance_mm, deflection_mm, window_mm, n_sides, strict=True):
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
         keep = in_fit_window(x, window) & np.isfinite(y)
-        kept.append((x[keep], y[keep], np.asarray(sides, dtype=float)[keep]))
+        sides = np.full(x.shape, 2.0) if sides is None else np.asarray(sides, dtype=float)
+        kept.append((x[keep], y[keep], sides[keep]))
     counts = np.array([len(x) for x, _, _ in kept], dtype=int)
     covariances = [None] * counts.size
     # trials of similar length together: the padded matrices stay small
