@@ -160,8 +160,9 @@ def exponential_kernel(distance_mm, length_mm):
     ----------
     distance_mm : array_like
         Positions along the outline (mm), shape ``(..., n)``.
-    length_mm : float
-        Correlation length (mm), > 0.
+    length_mm : float or array_like
+        Correlation length (mm), >= 0 (0: white noise, each reading correlated with
+        itself alone); an array broadcasts against ``(..., n, n)``.
 
     Returns
     -------
@@ -169,7 +170,10 @@ def exponential_kernel(distance_mm, length_mm):
         Shape ``(..., n, n)``.
     """
     x = np.asarray(distance_mm, dtype=float)
-    return np.exp(-np.abs(x[..., :, None] - x[..., None, :]) / length_mm)
+    apart = np.abs(x[..., :, None] - x[..., None, :])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # a reading with itself correlates fully, also at a zero length
+        return np.where(apart == 0.0, 1.0, np.exp(-apart / length_mm))
 
 
 @dataclass(frozen=True)
@@ -308,11 +312,7 @@ def average_covariances_mm2(models, distance_mm, n_sides, deflection_mm, depth_m
     # independent per side: each pair of points shares the sides read at both
     shared_sides = np.where(both[:, :, None] & both[:, None, :], 2.0, 1.0)
     weight = shared_sides / np.maximum(sides[:, :, None] * sides[:, None, :], 1.0)
-    length = size("tracing_length_mm", 1)
-    apart = np.abs(x[:, :, None] - x[:, None, :])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # a point with itself correlates fully, also at a zero length (white noise)
-        kernel = np.where(apart == 0.0, 1.0, np.exp(-apart / length))
+    kernel = exponential_kernel(x, size("tracing_length_mm", 1))
     tracing = np.where(size("tracing_sd_mm") > 0, size("tracing_sd_mm") * kernel, 0.0)
     side = size("reading_sd_mm") * np.eye(x.shape[1]) + tracing + size("side_offset_sd_mm")
     covariance = side * weight

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import sys
 from collections import Counter
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -93,15 +94,41 @@ class _Recorder:
         return found_mm, found
 
 
+@contextmanager
+def _recording():
+    """A fresh :class:`_Recorder` standing in for the fits' minimiser while in use."""
+    original = search.minimize_bounded
+    search.minimize_bounded = recorder = _Recorder()
+    try:
+        yield recorder
+    finally:
+        search.minimize_bounded = original
+
+
+def _table(first_column, rows, first_align="--:"):
+    """Markdown lines of a table: one row per ``(label, recorder)``."""
+    lines = [
+        f"| {first_column} | fits | objectives with two or more minima | "
+        + " | ".join(f"missed, grid of {n}" for n in GRIDS)
+        + " |",
+        f"|{first_align}|--:|--:|" + "--:|" * len(GRIDS),
+    ]
+    for label, recorder in rows:
+        share = 100.0 * recorder.multimodal / max(recorder.fits, 1)
+        lines.append(
+            f"| {label} | {recorder.fits:,} | {recorder.multimodal:,} ({share:.1f} %) | "
+            + " | ".join(str(recorder.missed[n]) for n in GRIDS)
+            + " |"
+        )
+    return lines
+
+
 def study(n_seeds):
     """Rows of the table: one per added noise, every shape, window and thinning."""
     rows = []
     evaluations = Counter()
-    original = search.minimize_bounded
-    try:
-        for added_mm in ADDED_NOISE_MM:
-            recorder = _Recorder()
-            search.minimize_bounded = recorder
+    for added_mm in ADDED_NOISE_MM:
+        with _recording() as recorder:
             rng = np.random.default_rng(2026)
             for shape in SHAPES:
                 for seed in range(n_seeds):
@@ -117,10 +144,8 @@ def study(n_seeds):
                             fit_windowed(
                                 xs, ys, depth, window_mm, ("shifted", "arc"), intervals=False
                             )
-            rows.append((added_mm, recorder))
-            evaluations.update(recorder.evaluations)
-    finally:
-        search.minimize_bounded = original
+        rows.append((f"{added_mm:g}", recorder))
+        evaluations.update(recorder.evaluations)
     return rows, evaluations
 
 
@@ -138,12 +163,9 @@ def sparse_study(n_seeds):
     from lineload.models import arc_deflection_mm
 
     rows = []
-    original = search.minimize_bounded
-    try:
-        for name, x_mm in SPARSE_DESIGNS.items():
-            for noise_mm in (0.1, 0.3):
-                recorder = _Recorder()
-                search.minimize_bounded = recorder
+    for name, x_mm in SPARSE_DESIGNS.items():
+        for noise_mm in (0.1, 0.3):
+            with _recording() as recorder:
                 for seed in range(n_seeds):
                     rng = np.random.default_rng([seed, int(1000 * noise_mm)])
                     depth = rng.uniform(0.5, 1.5, SPARSE_TRIALS)
@@ -156,9 +178,7 @@ def sparse_study(n_seeds):
                         [x_mm] * SPARSE_TRIALS, y, depth, np.inf, ("shifted", "arc"),
                         intervals=False,
                     )  # fmt: skip
-                rows.append((f"{name}, {noise_mm:g} mm", recorder))
-    finally:
-        search.minimize_bounded = original
+            rows.append((f"{name}, {noise_mm:g} mm", recorder))
     return rows
 
 
@@ -173,36 +193,16 @@ def markdown(rows, evaluations, n_seeds, sparse=()):
         "and with every fourth point only. A fit misses when it ends more than "
         f"{MISS:g} (relative) above the least sum of squares on a grid of {DENSE:,} values.",
         "",
-        "| noise added (mm) | fits | objectives with two or more minima | "
-        + " | ".join(f"missed, grid of {n}" for n in GRIDS)
-        + " |",
-        "|--:|--:|--:|" + "--:|" * len(GRIDS),
+        *_table("noise added (mm)", rows),
     ]
-    for added_mm, recorder in rows:
-        share = 100.0 * recorder.multimodal / max(recorder.fits, 1)
-        lines.append(
-            f"| {added_mm:g} | {recorder.fits:,} | {recorder.multimodal:,} ({share:.1f} %) | "
-            + " | ".join(str(recorder.missed[n]) for n in GRIDS)
-            + " |"
-        )
     if sparse:
         lines += [
             "",
             f"Short, very noisy profiles: {SPARSE_TRIALS} arc-made trials per dataset (depth "
             f"0.5-1.5 mm, L 3-6 mm), {n_seeds} datasets per row, all points fitted.",
             "",
-            "| design, noise | fits | objectives with two or more minima | "
-            + " | ".join(f"missed, grid of {n}" for n in GRIDS)
-            + " |",
-            "|---|--:|--:|" + "--:|" * len(GRIDS),
+            *_table("design, noise", sparse, first_align="---"),
         ]
-        for name, recorder in sparse:
-            share = 100.0 * recorder.multimodal / max(recorder.fits, 1)
-            lines.append(
-                f"| {name} | {recorder.fits:,} | {recorder.multimodal:,} ({share:.1f} %) | "
-                + " | ".join(str(recorder.missed[n]) for n in GRIDS)
-                + " |"
-            )
     counts = np.repeat(list(evaluations), list(evaluations.values()))
     lines += [
         "",

@@ -116,10 +116,9 @@ def window_covariance(distance_mm, deflection_mm, depth_mm, window_mm, noise, n_
         ``(n, n)`` (mm^2), ``n`` the points with ``0 < distance <= window`` and a
         finite deflection, in their order (:meth:`NoiseModel.average_covariance_mm2`).
     """
-    x, y = np.asarray(distance_mm, dtype=float), np.asarray(deflection_mm, dtype=float)
-    sides = np.full(x.shape, 2.0) if n_sides is None else np.asarray(n_sides, dtype=float)
-    keep = in_fit_window(x, window_mm) & np.isfinite(y)
-    return noise.average_covariance_mm2(x[keep], sides[keep], y[keep], depth_mm)
+    return window_covariances(
+        [distance_mm], [deflection_mm], [depth_mm], [window_mm], [noise], [n_sides]
+    )[0]
 
 
 def window_covariances(distance_mm, deflection_mm, depth_mm, window_mm, noise, n_sides):
