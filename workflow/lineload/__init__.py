@@ -25,6 +25,8 @@ trials
     What a trial is and how every table names it.
 io
     Reading and writing the human-readable files.
+distributions
+    The normal, t and chi-square functions the claims and the mechanics use.
 
 The wings
 ---------

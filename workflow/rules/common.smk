@@ -12,6 +12,7 @@ from snakemake.utils import min_version, validate
 from lineload.runtime import batches, buildlock, codedeps, settings, startup
 from lineload.rawdata import validation
 from lineload.runtime.interrupt import stop_on_sigterm
+from lineload.runtime.timers import cancel_scheduler_timers
 from lineload.io import load_schema
 from lineload.rawdata.validation import InputError
 

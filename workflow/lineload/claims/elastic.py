@@ -31,6 +31,7 @@ import numpy as np
 from lineload.claims.rows import _n, _row
 from lineload.claims.trials import _averaged_covariance_mm2, _trials, _window_points
 from lineload.claims.verdicts import FAILS, HOLDS, UNTESTABLE
+from lineload.distributions import chi2_quantile
 from lineload.publishing.tables import format_fixed, span_text
 
 __all__ = [
@@ -79,11 +80,9 @@ def layer_call(
         a fraction of W0) and ``call`` (:data:`LAYERED`, :data:`HOMOGENEOUS_ENOUGH` or
         :data:`UNRESOLVED`).
     """
-    from scipy.stats import chi2  # here: the claims package imports without scipy.stats
-
     improvement = max(float(sse_homogeneous_mm2) - float(sse_layered_mm2), 0.0)
     statistic = improvement / noise_var_mm2
-    threshold = float(chi2.ppf(1 - significance, LAYER_PARAMETERS))
+    threshold = float(chi2_quantile(1 - significance, LAYER_PARAMETERS))
     excess = max(improvement - LAYER_PARAMETERS * noise_var_mm2, 0.0)
     gain = math.sqrt(excess / n_points) / depth_mm
     if gain <= margin:

@@ -8,7 +8,6 @@ import math
 
 import numpy as np
 import pandas as pd
-from scipy.stats import norm
 
 from lineload.claims.rows import (
     COORDINATES_FIGURE,
@@ -32,6 +31,7 @@ from lineload.claims.trials import (
     _window_points,
 )
 from lineload.claims.verdicts import FAILS, HOLDS, UNTESTABLE
+from lineload.distributions import normal_quantile
 from lineload.fitting.families import family
 from lineload.fitting.windows import in_fit_window
 from lineload.models import boussinesq_deflection_mm, waterbed_deflection_mm
@@ -55,7 +55,7 @@ def claim_c3(fits, averaged, settings):
         "two): D = sum (f_w - f_B)(2 y - f_w - f_B) is linear in the readings, so its "
         "standard error is 2 sqrt(d' C d), d = f_w - f_B, with C the covariance of the "
         "averaged points from the measured noise (correlated errors included). The waterbed "
-        f"is better in a trial if D exceeds zero by {format_fixed(norm.ppf(1 - alpha), 2)} "
+        f"is better in a trial if D exceeds zero by {format_fixed(normal_quantile(1 - alpha), 2)} "
         f"standard errors (one-sided, significance = {alpha:g}); the Boussinesq form is "
         "better if D is below zero by the one-sided Bonferroni quantile over the trials. "
         "Holds if the waterbed is better in every trial with both fits; does not hold if "
@@ -95,8 +95,8 @@ def claim_c3(fits, averaged, settings):
     sd = np.array([t[2] for t in tests])
     with np.errstate(divide="ignore", invalid="ignore"):
         z = np.where(sd > 0, D / sd, np.sign(D) * np.inf)
-    waterbed = z > norm.ppf(1 - alpha)
-    boussinesq = z < -norm.ppf(1 - alpha / len(tests))
+    waterbed = z > normal_quantile(1 - alpha)
+    boussinesq = z < -normal_quantile(1 - alpha / len(tests))
     usable = np.isfinite(w_rmse) & np.isfinite(b_rmse)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = b_rmse[usable] / w_rmse[usable]
@@ -157,7 +157,7 @@ def _bulge_errors(fit, x, w, sides, bulge, settings):
 def claim_c4(fits, averaged, settings):
     """C4: the predicted bulge beyond L/3 is not in the data, a test per trial."""
     alpha = settings.significance
-    z_one = float(norm.ppf(1.0 - alpha))
+    z_one = float(normal_quantile(1.0 - alpha))
     rule = (
         "Deflection W is positive downward, so the waterbed's bulge is W < 0: skin raised "
         "above its resting surface. Per trial: the averaged points with L/3 < distance < L "
@@ -211,7 +211,7 @@ def claim_c4(fits, averaged, settings):
     f = np.array([r["f"] for r in rows])
     se_m = np.array([r["se_m"] for r in rows])
     se_gap = np.array([r["se_gap"] for r in rows])
-    z_all = float(norm.ppf(1.0 - alpha / len(rows)))
+    z_all = float(normal_quantile(1.0 - alpha / len(rows)))
     with np.errstate(divide="ignore", invalid="ignore"):
         seen = np.where(se_m > 0, m / se_m < -z_all, m < 0)
         # the least bulge that readings at the resting surface refute with power 1 - alpha
@@ -436,8 +436,8 @@ def claim_c9(fits, averaged, settings):
             f"No trial reaches {large:g} mm with the three waterbed fits.",
             rule,
         )
-    z_one = float(norm.ppf(1.0 - alpha))
-    z_all = float(norm.ppf(1.0 - alpha / (len(labels) * len(models))))
+    z_one = float(normal_quantile(1.0 - alpha))
+    z_all = float(normal_quantile(1.0 - alpha / (len(labels) * len(models))))
     short, over = {}, {}
     for model in models:
         m = np.array([r[0] for r in results[model]])

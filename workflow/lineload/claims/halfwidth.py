@@ -6,7 +6,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.stats import norm
 
 from lineload import paper
 from lineload.claims.rows import COORDINATES_FIGURE, _every, _list, _n, _pct, _row, _smallest_margin
@@ -20,6 +19,7 @@ from lineload.claims.trials import (
     _window_points,
 )
 from lineload.claims.verdicts import FAILS, HOLDS, IDENTITY, NO_MARGIN, UNTESTABLE, InternalError
+from lineload.distributions import normal_quantile
 from lineload.fitting.sensitivity import curve_gap_mm
 from lineload.models import arc_deflection_mm, waterbed_deflection_mm, waterbed_shift_mm
 from lineload.publishing.tables import at_bound, format_fixed
@@ -37,7 +37,7 @@ def _scaled_interval(fit, model, z):
     interval scaled by ``z / z_0.975`` (the profile is close to quadratic at these
     widths; :mod:`lineload.simulation.coverage` measures the 95 % interval's coverage)."""
     L_mm = float(fit[f"{model}_L_mm"])
-    scale = z / norm.ppf(0.975)
+    scale = z / normal_quantile(0.975)
     low = float(fit.get(f"{model}_L_ci_low_mm", math.nan))
     high = float(fit.get(f"{model}_L_ci_high_mm", math.nan))
     return L_mm - scale * (L_mm - low), L_mm + scale * (high - L_mm)
@@ -74,11 +74,11 @@ def claim_c5(fits, averaged, settings):
         "parabola (the small-slope solution in measured coordinates) is given beside it, "
         "not deciding."
     )
-    z_inside = norm.ppf(1.0 - alpha)
+    z_inside = normal_quantile(1.0 - alpha)
     outcomes = {}
     for model in (PAPER_FIT, "shifted"):
         rows = [f for f in fits.to_dict("records") if _finite_L(f, model)]
-        z_outside = norm.ppf(1.0 - alpha / (2 * max(len(rows), 1)))
+        z_outside = normal_quantile(1.0 - alpha / (2 * max(len(rows), 1)))
         inside, outside, unsure, L_mm, bounded, windowed = [], [], [], [], [], []
         for fit in rows:
             L_mm.append(float(fit[f"{model}_L_mm"]))
@@ -169,7 +169,7 @@ def claim_c6(fits, averaged, settings):
     """
     margin = settings.shift_margin
     alpha = settings.significance
-    z_equivalence = norm.ppf(1.0 - alpha)
+    z_equivalence = normal_quantile(1.0 - alpha)
     rule = (
         "A property of the paper's method at the data's W₀/L, not counted as evidence about "
         "fingers: both fits are one-parameter curves of the same membrane, so the gap "
@@ -248,7 +248,7 @@ def claim_c6(fits, averaged, settings):
         )
     d = np.array([r["d"] for r in rows])
     sd = np.array([r["sd"] for r in rows])
-    z_difference = norm.ppf(1.0 - alpha / (2 * len(rows)))
+    z_difference = normal_quantile(1.0 - alpha / (2 * len(rows)))
 
     def tests(margin):
         equivalent = (d - z_equivalence * sd > -margin) & (d + z_equivalence * sd < margin)

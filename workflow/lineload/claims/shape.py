@@ -6,13 +6,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.stats import norm
 
 from lineload import paper
 from lineload.claims.rows import _every, _list, _n, _pct, _row, _smallest_margin
 from lineload.claims.statistics import asymmetry_excess, chord_curvature, deformed_extent_se_mm
 from lineload.claims.trials import _averaged_covariance_mm2, _label, _trials, _window_points
 from lineload.claims.verdicts import FAILS, HOLDS, NO_MARGIN, UNTESTABLE
+from lineload.distributions import normal_quantile
 from lineload.publishing.tables import format_fixed
 from lineload.publishing.tables import span_text as _span
 from lineload.trials import DEPTH_DECIMALS
@@ -87,8 +87,8 @@ def claim_c1(fits, averaged, settings):
             ]
         )
     n_pairs = sum(z.size for z in z_by_depth.values())
-    z_one = float(norm.ppf(1.0 - alpha))
-    z_all = float(norm.ppf(1.0 - alpha / n_pairs))
+    z_one = float(normal_quantile(1.0 - alpha))
+    z_all = float(normal_quantile(1.0 - alpha / n_pairs))
     wider = [d for d in shared if (z_by_depth[d] > z_one).all()]
     reversed_ = [d for d in shared if (z_by_depth[d] < -z_all).any()]
     errors = [se for depth in extents.values() for group in depth.values() for _, se in group]
@@ -181,8 +181,8 @@ def claim_c2(fits, averaged, settings):
             NO_MARGIN,
         )
     depths = np.array([v[3] for v in values])
-    z_one = float(norm.ppf(1.0 - alpha))
-    z_all = float(norm.ppf(1.0 - alpha / (2.0 * len(values))))
+    z_one = float(normal_quantile(1.0 - alpha))
+    z_all = float(normal_quantile(1.0 - alpha / (2.0 * len(values))))
     excess = np.array([v[1] for v in values])
     se = np.array([v[2] for v in values])
 
@@ -290,8 +290,8 @@ def claim_c10(fits, averaged, settings):
     weights = se**-2
     pooled = float(np.sum(weights * r) / np.sum(weights))
     pooled_se = float(np.sum(weights) ** -0.5)
-    z_one = float(norm.ppf(1.0 - alpha))
-    z_all = float(norm.ppf(1.0 - alpha / (2.0 * len(tested))))
+    z_one = float(normal_quantile(1.0 - alpha))
+    z_all = float(normal_quantile(1.0 - alpha / (2.0 * len(tested))))
 
     def tests(margin):
         inside = (pooled - z_one * pooled_se > -margin) and (pooled + z_one * pooled_se < margin)

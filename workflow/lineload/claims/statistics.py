@@ -9,9 +9,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
-from scipy.stats import t as student_t
 
+from lineload.distributions import student_t_quantile, student_t_survival
 from lineload.models import waterbed_deflection_mm
 
 __all__ = [
@@ -127,6 +126,8 @@ def waterbed_zero_crossing_mm(depth_mm, L_mm, deflection=None):
     float
         The zero crossing (mm).
     """
+    from scipy.optimize import brentq  # here: the claims' registry imports without scipy.optimize
+
     deflection = deflection or waterbed_deflection_mm
 
     def curve(distance_mm):
@@ -316,7 +317,7 @@ def _slopes_across_subjects(relative, species_of, alpha, variances=None):
         estimate=estimate,
         se=se,
         t=t_value,
-        p=float(student_t.sf(t_value, df)),
-        upper=estimate + float(student_t.ppf(1.0 - alpha, df)) * se,
+        p=float(student_t_survival(t_value, df)),
+        upper=estimate + float(student_t_quantile(1.0 - alpha, df)) * se,
     )
     return test

@@ -1,0 +1,91 @@
+"""The distribution functions of lineload.distributions against scipy.stats, and what the
+claims' and the publishing jobs import."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from lineload import distributions
+
+REPO = Path(__file__).resolve().parents[1]
+
+PROBABILITIES = np.array([1e-12, 1e-6, 0.001, 0.025, 0.05, 0.3, 0.5, 0.8, 0.95, 0.975, 0.999])
+DF = [1, 2, 3, 7.5, 30, 1e4]
+
+
+def close(ours, theirs):
+    # the same special function evaluated either way: agreement to a few units in the
+    # last place (chi2.ppf goes through gammaincinv in both)
+    np.testing.assert_allclose(ours, theirs, rtol=1e-12, atol=1e-300)
+
+
+def test_normal_quantile_is_scipy_stats_norm_ppf():
+    close(distributions.normal_quantile(PROBABILITIES), stats.norm.ppf(PROBABILITIES))
+    # the tails and outside the support as there
+    assert distributions.normal_quantile(0.0) == -np.inf
+    assert distributions.normal_quantile(1.0) == np.inf
+    assert np.isnan(distributions.normal_quantile(1.5))
+    assert np.isnan(stats.norm.ppf(1.5))
+
+
+@pytest.mark.parametrize("df", DF)
+def test_student_t_is_scipy_stats_t(df):
+    t_values = np.array([-40.0, -3.0, -0.5, 0.0, 0.7, 2.1, 9.0])
+    close(distributions.student_t_survival(t_values, df), stats.t.sf(t_values, df))
+    close(distributions.student_t_quantile(PROBABILITIES, df), stats.t.ppf(PROBABILITIES, df))
+
+
+@pytest.mark.parametrize("df", DF)
+def test_chi2_is_scipy_stats_chi2(df):
+    values = np.array([0.0, 1e-3, 0.5, 1.0, 3.84, 12.0, 80.0])
+    close(distributions.chi2_survival(values, df), stats.chi2.sf(values, df))
+    close(distributions.chi2_quantile(PROBABILITIES, df), stats.chi2.ppf(PROBABILITIES, df))
+
+
+def test_a_wrong_formula_would_be_caught():
+    # the comparison above tells a lower tail from an upper one and one df from another
+    with pytest.raises(AssertionError):
+        close(distributions.student_t_survival(2.0, 5), stats.t.cdf(2.0, 5))
+    with pytest.raises(AssertionError):
+        close(distributions.chi2_quantile(0.95, 2), stats.chi2.ppf(0.95, 3))
+
+
+def imported_after(statement):
+    """Which of scipy.stats, scipy.optimize and the claims' rules a fresh interpreter has
+    loaded after ``statement``."""
+    watched = ("scipy.stats", "scipy.optimize", "lineload.claims.table")
+    code = f"import sys\n{statement}\nprint(sorted(m for m in {watched!r} if m in sys.modules))"
+    process = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=REPO / "workflow",
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return process.stdout.strip()
+
+
+def test_the_article_and_report_pages_import_no_claim_rules():
+    # they read the registry and count verdicts; the rules (and scipy.stats, 0.5 s of
+    # each job's start) are the claims table's
+    assert imported_after("import lineload.publishing.article") == "[]"
+    assert imported_after("import lineload.publishing.reportpages") == "[]"
+    assert imported_after("from lineload.claims import summary_sentence, CLAIMS") == "[]"
+
+
+def test_the_claims_table_imports_its_rules_but_not_scipy_stats():
+    # the check can fail: importing the table does load the rules (C7's root finder
+    # imports scipy.optimize when it runs)
+    assert imported_after("import lineload.claims.table") == "['lineload.claims.table']"
+    # a name of the package's public face still resolves, and loads what it needs
+    assert imported_after("from lineload.claims import compute_claims") == (
+        "['lineload.claims.table']"
+    )
+    assert (
+        imported_after("from lineload.claims import waterbed_zero_crossing_mm as z; z(1.0, 3.0)")
+        == "['scipy.optimize']"
+    )

@@ -1,0 +1,109 @@
+"""The few distribution functions the claims and the mechanics use, from scipy.special.
+
+``scipy.stats`` computes these with the same special functions (its ``norm``, ``t``
+and ``chi2`` call ``ndtri``, ``stdtr``, ``stdtrit``, ``chdtrc`` and ``gammaincinv``), but
+importing it takes about half a second, more than the rest of a claims or mechanics job
+imports; ``scipy.special`` is already loaded by ``scipy.optimize``.  Each function here is
+the expression ``scipy.stats`` evaluates for a valid argument (a test holds them to it);
+arguments outside the support give NaN, as there.
+"""
+
+from __future__ import annotations
+
+from scipy import special
+
+__all__ = [
+    "chi2_quantile",
+    "chi2_survival",
+    "normal_quantile",
+    "student_t_quantile",
+    "student_t_survival",
+]
+
+
+def normal_quantile(probability):
+    """Quantile of the standard normal distribution (``scipy.stats.norm.ppf``).
+
+    Parameters
+    ----------
+    probability : float or array_like
+        Lower-tail probability, in [0, 1].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``z`` with ``P(Z <= z) = probability``.
+    """
+    return special.ndtri(probability)
+
+
+def student_t_survival(t_value, df):
+    """Upper-tail probability of Student's t (``scipy.stats.t.sf``).
+
+    Parameters
+    ----------
+    t_value : float or array_like
+        The statistic.
+    df : float or array_like
+        Degrees of freedom (> 0).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``P(T >= t_value)``.
+    """
+    return special.stdtr(df, -t_value)
+
+
+def student_t_quantile(probability, df):
+    """Quantile of Student's t (``scipy.stats.t.ppf``).
+
+    Parameters
+    ----------
+    probability : float or array_like
+        Lower-tail probability, in [0, 1].
+    df : float or array_like
+        Degrees of freedom (> 0).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``t`` with ``P(T <= t) = probability``.
+    """
+    return special.stdtrit(df, probability)
+
+
+def chi2_survival(value, df):
+    """Upper-tail probability of the chi-square distribution (``scipy.stats.chi2.sf``).
+
+    Parameters
+    ----------
+    value : float or array_like
+        The statistic (>= 0).
+    df : float or array_like
+        Degrees of freedom (> 0).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``P(X >= value)``.
+    """
+    return special.chdtrc(df, value)
+
+
+def chi2_quantile(probability, df):
+    """Quantile of the chi-square distribution (``scipy.stats.chi2.ppf``).
+
+    Parameters
+    ----------
+    probability : float or array_like
+        Lower-tail probability, in [0, 1].
+    df : float or array_like
+        Degrees of freedom (> 0).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``x`` with ``P(X <= x) = probability``.
+    """
+    return 2.0 * special.gammaincinv(df / 2.0, probability)
