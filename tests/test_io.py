@@ -221,3 +221,16 @@ def test_a_table_without_rows_has_no_trials(tmp_path):
     path = tmp_path / "averaged.csv"
     path.write_text("subject,depth_mm,distance_mm,deflection_mm\n", encoding="utf-8")
     assert io.read_trials(path) == {}
+
+
+@pytest.mark.parametrize("name", ["config", "subjects", "profiles", "outlines", "forces", "images"])
+def test_a_schema_reads_as_pyyaml_reads_it_and_a_changed_copy_stays_a_copy(name):
+    import yaml
+
+    from lineload.io import SCHEMA_DIR, load_schema
+
+    text = (SCHEMA_DIR / f"{name}.schema.yaml").read_text(encoding="utf-8")
+    first = load_schema(name)
+    assert first == yaml.safe_load(text)  # the libyaml parse gives the same dict
+    first["properties"] = "changed by a caller"
+    assert load_schema(name) == yaml.safe_load(text)  # the cached one is untouched

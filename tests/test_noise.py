@@ -420,3 +420,27 @@ def test_covariances_of_many_trials_are_each_trials_own_and_zero_in_the_padding(
         x[1, :3], sides[1, :3], w[1, :3], depth[1]
     )
     np.testing.assert_array_equal(np.diag(plain) > np.diag(turned), one_sided)
+
+
+def test_the_score_is_the_derivative_of_the_restricted_likelihood():
+    # the analytic gradient the optimiser uses, against central differences of the
+    # objective: these err by about h^2 |f'''| / 6 (truncation; the third derivative by
+    # log-parameters is taken as at most |f|) plus eps |f| / h (rounding), so the bound
+    # below is loose by a factor of ten or more and a gradient off by 0.1 % exceeds it
+    from lineload.noise import _padded, _restricted_terms
+
+    model = NoiseModel(reading_sd_mm=0.008, tracing_sd_mm=0.006, tracing_length_mm=0.5)
+    x, d, design, real, grids, group = _padded(simulated_differences(model, 30, seed=3))
+    step = 1e-5
+    for theta in np.log([[0.008, 0.006, 0.5], [0.02, 0.001, 0.1], [0.003, 0.01, 2.0]]):
+        value, *_, score = _restricted_terms(theta, d, design, grids, group, gradient=True)
+        assert value == _restricted_terms(theta, d, design, grids, group)[0]
+        tolerance = 100 * np.finfo(float).eps * abs(value) / step + step**2 * abs(value)
+        for k in range(3):
+            e = np.eye(3)[k] * step
+            central = (
+                _restricted_terms(theta + e, d, design, grids, group)[0]
+                - _restricted_terms(theta - e, d, design, grids, group)[0]
+            ) / (2 * step)
+            assert abs(score[k] - central) <= tolerance
+            assert abs(1.001 * score[k] - central) > tolerance or abs(score[k]) < 1e-6

