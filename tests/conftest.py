@@ -61,14 +61,13 @@ def write_small_dataset(raw_dir, subjects=None, magnification=20.0, seed=7):
     return raw_dir
 
 
-def batch_of(subject, subject_ids):
+def batch_of(subject, subject_ids, photographs=False):
     """The name of the batch (the files of the per-batch rules) a subject falls in
-    under the default ``subjects_per_job``."""
+    under the default ``subjects_per_job`` (``photographs``: the dataset has some)."""
     from lineload.runtime import batches
 
-    return next(
-        name for name, members in batches.batches(subject_ids).items() if subject in members
-    )
+    split = batches.batches(subject_ids, photographs=photographs)
+    return next(name for name, members in split.items() if subject in members)
 
 
 #: The small dataset's batch (write_small_dataset's subjects, default split).

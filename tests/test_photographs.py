@@ -275,7 +275,7 @@ def test_the_photograph_example_builds_from_images_to_article(photograph_build):
     # the digitised readings are the true profiles, to a few micrometres
     subjects = {s.subject: s for s in shipped_subjects()}
     for name in PHOTOGRAPH_SUBJECTS:
-        batch = batch_of(name, PHOTOGRAPH_SUBJECTS)  # the digitising job's files
+        batch = batch_of(name, PHOTOGRAPH_SUBJECTS, photographs=True)  # the digitising job's
         readings = pd.read_csv(results / "digitised" / f"{batch}.csv")
         readings = readings[readings["subject"] == name]
         for depth in PHOTOGRAPH_DEPTHS_MM:
@@ -870,7 +870,7 @@ def test_a_pair_the_digitise_job_refuses_leaves_its_drawing_and_no_output(tmp_pa
     images = raw / "images"
     shutil.copy(images / "M1_1mm_loaded.png", images / "M1_1mm_rest.png")
     os.utime(images / "M1_1mm_rest.png", (1e9, 1e9))  # older than the check
-    batch = batch_of("M1", ["M1", "M2"])
+    batch = batch_of("M1", ["M1", "M2"], photographs=True)
     target = results / "digitised" / f"{batch}.csv"
     done = run_snakemake(str(target), raw=raw, results=results, config=config)
     output = done.stdout + done.stderr

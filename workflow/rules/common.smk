@@ -59,11 +59,6 @@ except InputError as error:
     startup.abort_inputs(error)
 CONTACT_LENGTH_MM = {s: about.pop("contact_length_mm") for s, about in SUBJECTS.items()}
 SUBJECT_IDS = list(SUBJECTS)
-# Per-subject work runs in batches (Python's start-up paid once per job): see
-# lineload.runtime.batches for the split; a batch of one is named after its subject,
-# a larger one "M1+124".
-BATCHES = batches.batches(SUBJECT_IDS, config["subjects_per_job"])
-BATCH_IDS = list(BATCHES)
 # Subject -> its photographs, for subjects read from images/images.csv (the check
 # reports anything wrong with that sheet), and their readings, digitised into results/.
 # (a photograph that is not there is left for the check to report, in its words)
@@ -72,6 +67,13 @@ PHOTOGRAPHS = {
     for s, files in validation.photograph_files(RAW).items()
     if s in SUBJECTS
 }
+# Per-subject work runs in batches (Python's start-up paid once per job): see
+# lineload.runtime.batches for the split; a batch of one is named after its subject,
+# a larger one "M1+124".
+BATCHES = batches.batches(
+    SUBJECT_IDS, config["subjects_per_job"], photographs=bool(PHOTOGRAPHS)
+)
+BATCH_IDS = list(BATCHES)
 # Subject -> its profile file; a subject without one is the raw-data check's to report.
 RAW_PROFILES = {
     s: RAW_FILES["profiles"][f"{s}.csv"]
