@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ast
 import fcntl
 import json
 import os
@@ -59,6 +60,22 @@ def write_small_dataset(raw_dir, subjects=None, magnification=20.0, seed=7):
         (raw_dir / "profiles" / f"{subject}.csv").write_text("\n".join(rows) + "\n")
     (raw_dir / "subjects.csv").write_text("\n".join(lines) + "\n")
     return raw_dir
+
+
+def imported_after(statement, watched):
+    """Which of the modules ``watched`` a fresh interpreter has loaded after running
+    ``statement`` in the package's folder, sorted."""
+    code = (
+        f"import sys\n{statement}\nprint(sorted(m for m in {tuple(watched)!r} if m in sys.modules))"
+    )
+    process = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=REPO / "workflow",
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return ast.literal_eval(process.stdout.strip())  # the list printed
 
 
 def batch_of(subject, subject_ids, photographs=False):

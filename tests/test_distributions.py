@@ -1,17 +1,12 @@
 """The distribution functions of lineload.distributions against scipy.stats, and what the
 claims' and the publishing jobs import."""
 
-import subprocess
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 from scipy import stats
 
+from conftest import imported_after
 from lineload import distributions
-
-REPO = Path(__file__).resolve().parents[1]
 
 PROBABILITIES = np.array([1e-12, 1e-6, 0.001, 0.025, 0.05, 0.3, 0.5, 0.8, 0.95, 0.975, 0.999])
 DF = [1, 2, 3, 7.5, 30, 1e4]
@@ -54,38 +49,25 @@ def test_a_wrong_formula_would_be_caught():
         close(distributions.chi2_quantile(0.95, 2), stats.chi2.ppf(0.95, 3))
 
 
-def imported_after(statement):
-    """Which of scipy.stats, scipy.optimize and the claims' rules a fresh interpreter has
-    loaded after ``statement``."""
-    watched = ("scipy.stats", "scipy.optimize", "lineload.claims.table")
-    code = f"import sys\n{statement}\nprint(sorted(m for m in {watched!r} if m in sys.modules))"
-    process = subprocess.run(
-        [sys.executable, "-c", code],
-        cwd=REPO / "workflow",
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    return process.stdout.strip()
+#: What the publishing and claims jobs should import only where they need it.
+WATCHED = ("scipy.stats", "scipy.optimize", "lineload.claims.table")
 
 
 def test_the_article_and_report_pages_import_no_claim_rules():
     # they read the registry and count verdicts; the rules (and scipy.stats, 0.5 s of
     # each job's start) are the claims table's
-    assert imported_after("import lineload.publishing.article") == "[]"
-    assert imported_after("import lineload.publishing.reportpages") == "[]"
-    assert imported_after("from lineload.claims import summary_sentence, CLAIMS") == "[]"
+    assert imported_after("import lineload.publishing.article", WATCHED) == []
+    assert imported_after("import lineload.publishing.reportpages", WATCHED) == []
+    assert imported_after("from lineload.claims import summary_sentence, CLAIMS", WATCHED) == []
 
 
 def test_the_claims_table_imports_its_rules_but_not_scipy_stats():
     # the check can fail: importing the table does load the rules (C7's root finder
     # imports scipy.optimize when it runs)
-    assert imported_after("import lineload.claims.table") == "['lineload.claims.table']"
+    assert imported_after("import lineload.claims.table", WATCHED) == ["lineload.claims.table"]
     # a name of the package's public face still resolves, and loads what it needs
-    assert imported_after("from lineload.claims import compute_claims") == (
-        "['lineload.claims.table']"
-    )
-    assert (
-        imported_after("from lineload.claims import waterbed_zero_crossing_mm as z; z(1.0, 3.0)")
-        == "['scipy.optimize']"
-    )
+    assert imported_after("from lineload.claims import compute_claims", WATCHED) == [
+        "lineload.claims.table"
+    ]
+    crossing = "from lineload.claims import waterbed_zero_crossing_mm as z; z(1.0, 3.0)"
+    assert imported_after(crossing, WATCHED) == ["scipy.optimize"]

@@ -430,7 +430,7 @@ def test_the_score_is_the_derivative_of_the_restricted_likelihood():
     from lineload.noise import _padded, _restricted_terms
 
     model = NoiseModel(reading_sd_mm=0.008, tracing_sd_mm=0.006, tracing_length_mm=0.5)
-    x, d, design, real, grids, group = _padded(simulated_differences(model, 30, seed=3))
+    _, d, design, _, grids, group = _padded(simulated_differences(model, 30, seed=3))
     step = 1e-5
     for theta in np.log([[0.008, 0.006, 0.5], [0.02, 0.001, 0.1], [0.003, 0.01, 2.0]]):
         value, *_, score = _restricted_terms(theta, d, design, grids, group, gradient=True)
