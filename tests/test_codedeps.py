@@ -124,3 +124,74 @@ def test_import_statements_over_several_lines_and_look_alikes(tmp_path, package)
         "models.py",
         "paper.py",
     ]
+
+
+LOADED = """
+import ast, json, sys
+sys.path.insert(0, {path_entry!r})
+found = {{}}
+for script in {scripts!r}:
+    for name in [m for m in sys.modules if m == "lineload" or m.startswith("lineload.")]:
+        del sys.modules[name]
+    with open(script, encoding="utf-8") as handle:
+        tree = ast.parse(handle.read())
+    imports = [n for n in tree.body if isinstance(n, (ast.Import, ast.ImportFrom))]
+    exec(compile(ast.Module(body=imports, type_ignores=[]), script, "exec"), {{}})
+    found[script] = sorted(
+        module.__file__
+        for name, module in sys.modules.items()
+        if (name == "lineload" or name.startswith("lineload.")) and module.__file__
+    )
+print(json.dumps(found))
+"""
+
+
+def unseen_dependencies(scripts, package_dir):
+    """Per script, the package files its top-level imports really load (in a fresh
+    interpreter) that :func:`codedeps.script_dependencies` does not list."""
+    import json
+    import subprocess
+    import sys
+
+    code = LOADED.format(path_entry=str(package_dir.parent), scripts=[str(s) for s in scripts])
+    process = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    )
+    loaded = json.loads(process.stdout.strip().splitlines()[-1])
+    unseen = {}
+    for script, files in loaded.items():
+        listed = set(codedeps.script_dependencies(script, package_dir=package_dir))
+        missing = sorted(
+            str(Path(f).relative_to(package_dir))
+            for f in files
+            if f not in listed and Path(f) != package_dir / "__init__.py"
+        )
+        if missing:
+            unseen[Path(script).name] = missing
+    return unseen
+
+
+def test_every_module_a_script_loads_is_one_of_its_dependencies():
+    # a module that a job runs but its rule does not list would not rerun the job when
+    # it changes: e.g. a package face that imports its modules on first use (PEP 562),
+    # which no import statement shows
+    scripts = sorted((Path(codedeps.PACKAGE_DIR).parent / "scripts").glob("*.py"))
+    assert len(scripts) > 20
+    assert unseen_dependencies(scripts, Path(codedeps.PACKAGE_DIR)) == {}
+
+
+def test_a_module_loaded_out_of_sight_of_import_statements_is_found(tmp_path, package):
+    # the check above can fail: a package face importing a module by name
+    write(
+        package,
+        {
+            "__init__.py": "import importlib\n"
+            "def __getattr__(name):\n"
+            "    return getattr(importlib.import_module('lineload.fitting'), name)\n"
+            "curve = __getattr__('curve')\n",
+            "models.py": "curve = 1\n",
+        },
+    )
+    script = tmp_path / "script.py"
+    script.write_text("from lineload import curve\n")
+    assert unseen_dependencies([script], package) == {"script.py": ["fitting.py", "models.py"]}

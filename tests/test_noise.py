@@ -422,25 +422,51 @@ def test_covariances_of_many_trials_are_each_trials_own_and_zero_in_the_padding(
     np.testing.assert_array_equal(np.diag(plain) > np.diag(turned), one_sided)
 
 
+def awkward_trials(model, seed=5):
+    """Trials on several grids (thinned, jittered, of 5 to 40 points, so that shorter
+    ones are padded) and two flat ones whose slope column is dead."""
+    rng = np.random.default_rng(seed)
+    trials = []
+    for k, (x, d, slope) in enumerate(simulated_differences(model, 12, seed=seed)):
+        keep = slice(None, None, 1 + k % 3)
+        x, d, slope = x[keep][: 5 + 3 * k], d[keep][: 5 + 3 * k], slope[keep][: 5 + 3 * k]
+        if k % 4 == 1:  # a grid of its own
+            x = x + rng.uniform(0.0, 0.01, x.size).cumsum()
+        if k in (2, 7):  # a flat profile: its slope term is zero
+            slope = np.zeros_like(slope)
+        trials.append((x, d, slope))
+    return trials
+
+
 def test_the_score_is_the_derivative_of_the_restricted_likelihood():
     # the analytic gradient the optimiser uses, against central differences of the
-    # objective: these err by about h^2 |f'''| / 6 (truncation; the third derivative by
-    # log-parameters is taken as at most |f|) plus eps |f| / h (rounding), so the bound
-    # below is loose by a factor of ten or more and a gradient off by 0.1 % exceeds it
+    # objective (check_score), on regular trials and on awkward ones
     from lineload.noise import _padded, _restricted_terms
 
     model = NoiseModel(reading_sd_mm=0.008, tracing_sd_mm=0.006, tracing_length_mm=0.5)
-    _, d, design, _, grids, group = _padded(simulated_differences(model, 30, seed=3))
-    step = 1e-5
-    for theta in np.log([[0.008, 0.006, 0.5], [0.02, 0.001, 0.1], [0.003, 0.01, 2.0]]):
-        value, *_, score = _restricted_terms(theta, d, design, grids, group, gradient=True)
-        assert value == _restricted_terms(theta, d, design, grids, group)[0]
+    thetas = np.log([[0.008, 0.006, 0.5], [0.02, 0.001, 0.1], [0.003, 0.01, 2.0]])
+    for trials in (simulated_differences(model, 30, seed=3), awkward_trials(model)):
+        _, d, design, _, grids, group = _padded(trials)
+        check_score(_restricted_terms, thetas, d, design, grids, group)
+    # the awkward set is what it says: padding, several grids, dead slope columns
+    _, d, design, real, grids, group = _padded(awkward_trials(model))
+    assert not real.all() and len(grids[0]) > 3
+    assert _restricted_terms(thetas[0], d, design, grids, group)[3][:, 2].sum() == 2
+
+
+def check_score(terms, thetas, d, design, grids, group, step=1e-5):
+    """Central differences err by about h^2 |f'''| / 6 (truncation; the third derivative
+    by log-parameters taken as at most |f|) plus eps |f| / h (rounding): the bound is
+    loose by a factor of ten or more, and a score off by 0.1 % exceeds it."""
+    for theta in thetas:
+        value, *_, score = terms(theta, d, design, grids, group, gradient=True)
+        assert value == terms(theta, d, design, grids, group)[0]
         tolerance = 100 * np.finfo(float).eps * abs(value) / step + step**2 * abs(value)
         for k in range(3):
             e = np.eye(3)[k] * step
             central = (
-                _restricted_terms(theta + e, d, design, grids, group)[0]
-                - _restricted_terms(theta - e, d, design, grids, group)[0]
+                terms(theta + e, d, design, grids, group)[0]
+                - terms(theta - e, d, design, grids, group)[0]
             ) / (2 * step)
             assert abs(score[k] - central) <= tolerance
             assert abs(1.001 * score[k] - central) > tolerance or abs(score[k]) < 1e-6

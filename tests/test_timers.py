@@ -1,6 +1,5 @@
 """The scheduler's wake-up timers cancelled at the end of a build (lineload.runtime.timers)."""
 
-import inspect
 import threading
 import types
 
@@ -31,11 +30,21 @@ def test_only_the_schedulers_timers_are_cancelled():
         ours.cancel()
 
 
-def test_the_timers_are_where_snakemake_starts_them():
-    # an upgrade of Snakemake that moved or renamed them would leave the exit waiting
-    # again: the module named here must be the one that starts the wake-up timers
-    from snakemake.scheduling import job_scheduler
+def test_the_timers_snakemake_starts_are_the_ones_cancelled():
+    # Snakemake's own re-evaluation call, on a stand-in scheduler: the timer it starts is
+    # found and cancelled (an upgrade that started it otherwise, e.g. from another module
+    # or with a bound method, would make this fail rather than leave the exit waiting)
+    from snakemake.scheduling.job_scheduler import JobScheduler
 
-    assert job_scheduler.__name__ == timers.SCHEDULER_MODULE
-    source = inspect.getsource(job_scheduler.JobScheduler)
-    assert "threading.Timer(" in source
+    scheduler = types.SimpleNamespace(_open_jobs=threading.Semaphore(0))
+    before = set(threading.enumerate())
+    JobScheduler._schedule_reevalutation(scheduler, 30)
+    (started,) = set(threading.enumerate()) - before
+    try:
+        assert isinstance(started, threading.Timer)
+        assert timers.cancel_scheduler_timers() == 1
+        started.join(timeout=5)
+        assert not started.is_alive()
+        assert not scheduler._open_jobs.acquire(blocking=False)  # it never fired
+    finally:
+        started.cancel()

@@ -1,16 +1,16 @@
 """The few distribution functions the claims and the mechanics use, from scipy.special.
 
-``scipy.stats`` computes these with the same special functions (its ``norm``, ``t``
-and ``chi2`` call ``ndtri``, ``stdtr``, ``stdtrit``, ``chdtrc`` and ``gammaincinv``), but
+``scipy.stats`` computes these with the same special functions (its ``norm``, ``t`` and
+``chi2`` call ``ndtri``, ``stdtr``, ``stdtrit``, ``chdtrc`` and ``gammaincinv``), but
 importing it takes about half a second, more than the rest of a claims or mechanics job
-imports; ``scipy.special`` is already loaded by ``scipy.optimize``.  Each function here is
-the expression ``scipy.stats`` evaluates for a valid argument (a test holds them to it);
-arguments outside the support give NaN, as there.
+imports.  Each function here is the expression ``scipy.stats`` evaluates inside the
+support (probabilities strictly between 0 and 1, degrees of freedom > 0, a chi-square
+statistic >= 0; a test holds them to it); at and beyond those ends the special functions
+answer, not ``scipy.stats``' own handling of them.  ``scipy.special`` is imported at the
+first call, so that the claims' modules import without scipy.
 """
 
 from __future__ import annotations
-
-from scipy import special
 
 __all__ = [
     "chi2_quantile",
@@ -21,20 +21,27 @@ __all__ = [
 ]
 
 
+def _special():
+    """``scipy.special``, imported at the first call."""
+    from scipy import special
+
+    return special
+
+
 def normal_quantile(probability):
     """Quantile of the standard normal distribution (``scipy.stats.norm.ppf``).
 
     Parameters
     ----------
     probability : float or array_like
-        Lower-tail probability, in [0, 1].
+        Lower-tail probability, in (0, 1).
 
     Returns
     -------
     float or numpy.ndarray
         ``z`` with ``P(Z <= z) = probability``.
     """
-    return special.ndtri(probability)
+    return _special().ndtri(probability)
 
 
 def student_t_survival(t_value, df):
@@ -52,7 +59,7 @@ def student_t_survival(t_value, df):
     float or numpy.ndarray
         ``P(T >= t_value)``.
     """
-    return special.stdtr(df, -t_value)
+    return _special().stdtr(df, -t_value)
 
 
 def student_t_quantile(probability, df):
@@ -61,7 +68,7 @@ def student_t_quantile(probability, df):
     Parameters
     ----------
     probability : float or array_like
-        Lower-tail probability, in [0, 1].
+        Lower-tail probability, in (0, 1).
     df : float or array_like
         Degrees of freedom (> 0).
 
@@ -70,7 +77,7 @@ def student_t_quantile(probability, df):
     float or numpy.ndarray
         ``t`` with ``P(T <= t) = probability``.
     """
-    return special.stdtrit(df, probability)
+    return _special().stdtrit(df, probability)
 
 
 def chi2_survival(value, df):
@@ -88,7 +95,7 @@ def chi2_survival(value, df):
     float or numpy.ndarray
         ``P(X >= value)``.
     """
-    return special.chdtrc(df, value)
+    return _special().chdtrc(df, value)
 
 
 def chi2_quantile(probability, df):
@@ -97,7 +104,7 @@ def chi2_quantile(probability, df):
     Parameters
     ----------
     probability : float or array_like
-        Lower-tail probability, in [0, 1].
+        Lower-tail probability, in (0, 1).
     df : float or array_like
         Degrees of freedom (> 0).
 
@@ -106,4 +113,4 @@ def chi2_quantile(probability, df):
     float or numpy.ndarray
         ``x`` with ``P(X <= x) = probability``.
     """
-    return 2.0 * special.gammaincinv(df / 2.0, probability)
+    return 2.0 * _special().gammaincinv(df / 2.0, probability)

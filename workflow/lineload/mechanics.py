@@ -74,6 +74,7 @@ import numpy as np
 import pandas as pd
 
 from lineload import paper
+from lineload.distributions import chi2_survival
 from lineload.models import arc_geometry, waterbed_load_angle_rad, waterbed_strain
 from lineload.trials import trial_key
 
@@ -290,8 +291,6 @@ class MembraneFit:
     @property
     def p_value(self):
         """Probability of a chi2 at least this large if the model and variances are right."""
-        from lineload.distributions import chi2_survival  # scipy.special, when asked
-
         return float(chi2_survival(self.chi2, self.dof)) if self.dof > 0 else math.nan
 
 

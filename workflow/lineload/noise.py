@@ -518,30 +518,6 @@ def _covariances(theta, x, real):
     return covariance + np.where(real, 0.0, 1.0)[:, :, None] * eye
 
 
-def _covariance_derivatives(theta, x, real):
-    """Derivatives of :func:`_covariances` by each log-parameter, shape ``(3, grids, n, n)``.
-
-    With ``V = 2 (a^2 I + b^2 K)`` and ``K = exp(-|dx| / l)``: ``dV/dlog a = 4 a^2 I``,
-    ``dV/dlog b = 4 b^2 K`` and ``dV/dlog l = 2 b^2 K |dx| / l``; zero on padded rows.
-    """
-    reading, tracing, length = np.exp(theta)
-    kernel = exponential_kernel(x, length)
-    apart = np.abs(x[:, :, None] - x[:, None, :])
-    pair = real[:, :, None] & real[:, None, :]
-    eye = np.eye(x.shape[1])
-    return np.where(
-        pair,
-        np.stack(
-            [
-                np.broadcast_to(4.0 * reading**2 * eye, kernel.shape),
-                4.0 * tracing**2 * kernel,
-                2.0 * tracing**2 * kernel * apart / length,
-            ]
-        ),
-        0.0,
-    )
-
-
 def _restricted_terms(theta, d, design, grids, group, gradient=False):
     """-2 log restricted likelihood (up to a constant), GLS effects and their covariance.
 
@@ -574,20 +550,48 @@ def _restricted_terms(theta, d, design, grids, group, gradient=False):
     covariance = np.linalg.inv(information)
     if not gradient:
         return value, effects, covariance, dead
-    # P = W' (I - H) W with H = Z M^-1 Z', and r = P d = W' e (e: whitened residual);
-    # the trials of a grid share W and dV, so tr(P dV) - r' dV r summed over them is
-    # tr(S dV) with S = n V^-1 - W' R W and R the sum of H + e e' over the grid's trials
-    kept = (zx @ covariance) @ zx_t + residual[:, :, None] * residual[:, None, :]
-    one_hot = np.arange(chol.shape[0])[:, None] == group[None, :]
-    width = d.shape[1]
-    summed = (one_hot @ kept.reshape(len(group), width * width)).reshape(-1, width, width)
-    inverse_factor_t = inverse_factor.transpose(0, 2, 1)
-    per_grid = (
-        one_hot.sum(axis=1)[:, None, None] * (inverse_factor_t @ inverse_factor)
-        - inverse_factor_t @ summed @ inverse_factor
+    return (
+        value,
+        effects,
+        covariance,
+        dead,
+        _score(theta, zx @ covariance, zx, residual, grids, group, inverse_factor),
     )
-    score = np.einsum("gij,kgij->k", per_grid, _covariance_derivatives(theta, *grids))
-    return value, effects, covariance, dead, score
+
+
+def _score(theta, spread, zx, residual, grids, group, inverse_factor):
+    """Gradient of -2 log restricted likelihood by the log-parameters (REML's score).
+
+    Per trial ``tr(P dV) - r' dV r``, with ``P = W' (I - H) W``, ``H = Z M^-1 Z'`` and
+    ``r = P d = W' e`` (``W`` the inverse Cholesky factor, ``Z = W X``, ``e`` the whitened
+    residual).  The trials of one grid share ``W`` and ``dV``, so their sum is
+    ``tr(S dV)`` with ``S = n V^-1 - W' R W`` and ``R`` the sum of ``H + e e'`` over them;
+    ``dV`` by the log-parameters is ``4 a^2 I``, ``4 b^2 K`` and ``2 b^2 K |dx| / l``
+    (``V = 2 (a^2 I + b^2 K)``, ``K = exp(-|dx| / l)``), zero on padded rows.  One grid at
+    a time, so that no array of every trial's or every grid's matrices is held at once.
+    """
+    reading, tracing, length = np.exp(theta)
+    x_grids, real_grids = grids
+    # H + e e' of a trial is A B' with A = [Z M^-1, e] and B = [Z, e]
+    left = np.concatenate([spread, residual[:, :, None]], axis=2)
+    right = np.concatenate([zx, residual[:, :, None]], axis=2)
+    order = np.argsort(group, kind="stable")
+    starts = np.searchsorted(group[order], np.arange(len(x_grids) + 1))
+    score = np.zeros(3)
+    for g, (x, real) in enumerate(zip(x_grids, real_grids, strict=True)):
+        members = order[starts[g] : starts[g + 1]]
+        a = left[members].transpose(1, 0, 2).reshape(x.size, -1)
+        b = right[members].transpose(1, 0, 2).reshape(x.size, -1)
+        inverse = inverse_factor[g]
+        summed = members.size * (inverse.T @ inverse) - inverse.T @ (a @ b.T) @ inverse
+        pair = real[:, None] & real[None, :]
+        kernel = np.where(pair, exponential_kernel(x, length), 0.0)
+        score += [
+            4.0 * reading**2 * summed.diagonal()[real].sum(),
+            4.0 * tracing**2 * np.sum(summed * kernel),
+            2.0 * tracing**2 / length * np.sum(summed * kernel * np.abs(x[:, None] - x[None, :])),
+        ]
+    return score
 
 
 def estimate_noise(trials, max_trials=400):

@@ -51,6 +51,17 @@ from lineload.claims.registry import (
     claim_named,
     claims_using,
 )
+from lineload.claims.settings import ClaimSettings, judged_settings
+from lineload.claims.statistics import (
+    asymmetry_excess,
+    chord_curvature,
+    deformed_extent_mm,
+    deformed_extent_se_mm,
+    waterbed_zero_crossing_mm,
+)
+from lineload.claims.summary import summary_sentence, verdict_counts
+from lineload.claims.table import CLAIM_FUNCTIONS, claims_markdown, compute_claims
+from lineload.claims.trials import trial_key
 from lineload.claims.verdicts import (
     CLAIM_COLUMNS,
     EVIDENCE_VERDICTS,
@@ -65,40 +76,6 @@ from lineload.claims.verdicts import (
     VERDICTS,
     InternalError,
 )
-
-# The rest of the public face is imported when first looked up (PEP 562): the
-# claims' statistics need scipy, the table pandas, and the report pages and the
-# article, which read only the registry and the verdicts, should not pay for them.
-_LAZY = {
-    "ClaimSettings": "settings",
-    "judged_settings": "settings",
-    "asymmetry_excess": "statistics",
-    "chord_curvature": "statistics",
-    "deformed_extent_mm": "statistics",
-    "deformed_extent_se_mm": "statistics",
-    "waterbed_zero_crossing_mm": "statistics",
-    "CLAIM_FUNCTIONS": "table",
-    "claims_markdown": "table",
-    "compute_claims": "table",
-    "summary_sentence": "summary",
-    "verdict_counts": "summary",
-    "trial_key": "trials",
-}
-
-
-def __getattr__(name):
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    from importlib import import_module
-
-    value = getattr(import_module(f"{__name__}.{_LAZY[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_LAZY))
-
 
 __all__ = [
     "CLAIMS",

@@ -12,7 +12,7 @@ claim's family read these names.
     The statement follows from the model's equations alone (C7).  The rule
     checks that the fitted curves obey it, which tests the code, not the
     fingertip; it is not counted as evidence
-    (:func:`lineload.claims.table.verdict_counts`).
+    (:func:`lineload.claims.summary.verdict_counts`).
 """
 
 from __future__ import annotations
@@ -59,7 +59,7 @@ PAPER_SUGGESTION = "the paper's closing suggestion"
 #: A finding of later work by others, tested on these data (not the paper's).
 LATER_WORK = "later work"
 #: What a row of the claims table can be.  Only the paper's claims about fingers are
-#: counted as evidence (:func:`lineload.claims.table.verdict_counts`); the others are
+#: counted as evidence (:func:`lineload.claims.summary.verdict_counts`); the others are
 #: checked and reported apart.  Each claim's kind, and why, is in its registry entry.
 KINDS = (
     PAPER_CLAIM,

@@ -551,7 +551,11 @@ def grid_ylabel(fig, axes, text, fontsize=None):
         # the layout alone places the panels: drawing every artist as well (what
         # draw_without_rendering does after it) changed nothing here and took a
         # quarter of the time
-        fig.get_layout_engine().execute(fig)
+        engine = fig.get_layout_engine()
+        if engine is None:  # no layout engine: a whole draw places the panels
+            fig.draw_without_rendering()
+        else:
+            engine.execute(fig)
         boxes = [ax.get_position() for ax in axes]
         return min(b.y0 for b in boxes), max(b.y1 for b in boxes)
 
